@@ -1,0 +1,180 @@
+#define _POSIX_C_SOURCE 200809L
+#include "sam/sam_common.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
+
+const char *sam_status_name(sam_status status)
+{
+    switch (status) {
+    case SAM_OK: return "ok";
+    case SAM_ERR_INVALID_ARGUMENT: return "invalid argument";
+    case SAM_ERR_IO: return "i/o error";
+    case SAM_ERR_FORMAT: return "format error";
+    case SAM_ERR_CORRUPT: return "corrupt data";
+    case SAM_ERR_UNSUPPORTED: return "unsupported";
+    case SAM_ERR_OUT_OF_MEMORY: return "out of memory";
+    case SAM_ERR_EMPTY: return "empty input";
+    }
+    return "unknown status";
+}
+
+sam_status sam_fail(sam_error *err, sam_status status, const char *fmt, ...)
+{
+    if (err) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err->message, sizeof err->message, fmt, ap);
+        va_end(ap);
+        err->status = status;
+    }
+    return status;
+}
+
+void sam_error_clear(sam_error *err)
+{
+    if (err) {
+        err->status = SAM_OK;
+        err->message[0] = '\0';
+    }
+}
+
+static char *dup_string(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *d = malloc(n);
+    if (d)
+        memcpy(d, s, n);
+    return d;
+}
+
+sam_status sam_atomic_open(sam_atomic_file *file, const char *path, sam_error *err)
+{
+    if (!file || !path || !path[0])
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "atomic write: no output path given");
+    memset(file, 0, sizeof *file);
+    size_t n = strlen(path) + 64;
+    file->path = dup_string(path);
+    file->temp_path = malloc(n);
+    if (!file->path || !file->temp_path) {
+        sam_atomic_abort(file);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    /* The counter keeps two writers in one process from sharing a name. */
+    static _Thread_local unsigned counter;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        snprintf(file->temp_path, n, "%s.tmp.%ld.%u", path, (long)getpid(), counter++);
+        /* "x" refuses to reuse an existing file, so a stale temp is never clobbered. */
+        file->fp = fopen(file->temp_path, "wbx");
+        if (file->fp)
+            return SAM_OK;
+        if (errno != EEXIST)
+            break;
+    }
+    int e = errno;
+    sam_status st = sam_fail(err, SAM_ERR_IO, "%s: cannot create temporary file %s: %s", path,
+                             file->temp_path, strerror(e));
+    sam_atomic_abort(file);
+    return st;
+}
+
+sam_status sam_atomic_commit(sam_atomic_file *file, sam_error *err)
+{
+    if (!file || !file->fp)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "atomic write: file is not open");
+    int failed = 0, e = 0;
+    const char *what = "";
+    if (fflush(file->fp) != 0 || ferror(file->fp)) {
+        failed = 1, e = errno, what = "write";
+    } else if (fsync(fileno(file->fp)) != 0 && errno != EINVAL) {
+        failed = 1, e = errno, what = "fsync";
+    }
+    if (fclose(file->fp) != 0 && !failed)
+        failed = 1, e = errno, what = "close";
+    file->fp = NULL;
+    if (!failed && rename(file->temp_path, file->path) != 0)
+        failed = 1, e = errno, what = "rename";
+    sam_status st = SAM_OK;
+    if (failed) {
+        st = sam_fail(err, SAM_ERR_IO, "%s: %s of %s failed: %s", file->path, what,
+                      file->temp_path, strerror(e));
+        remove(file->temp_path);
+    }
+    free(file->path);
+    free(file->temp_path);
+    memset(file, 0, sizeof *file);
+    return st;
+}
+
+void sam_atomic_abort(sam_atomic_file *file)
+{
+    if (!file)
+        return;
+    if (file->fp) {
+        fclose(file->fp);
+        remove(file->temp_path);
+    }
+    free(file->path);
+    free(file->temp_path);
+    memset(file, 0, sizeof *file);
+}
+
+sam_status sam_read_file(const char *path, uint8_t **data, size_t *size, sam_error *err)
+{
+    if (!path || !data || !size)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "read file: NULL argument");
+    *data = NULL;
+    *size = 0;
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return sam_fail(err, SAM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    size_t cap = 1 << 16, len = 0;
+    uint8_t *buf = malloc(cap + 1);
+    if (!buf) {
+        fclose(fp);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    for (;;) {
+        size_t got = fread(buf + len, 1, cap - len, fp);
+        len += got;
+        if (len < cap) {
+            if (ferror(fp)) {
+                int e = errno;
+                free(buf);
+                fclose(fp);
+                return sam_fail(err, SAM_ERR_IO, "%s: read failed after %zu bytes: %s", path, len,
+                                strerror(e));
+            }
+            break;
+        }
+        uint8_t *grown = realloc(buf, cap * 2 + 1);
+        if (!grown) {
+            free(buf);
+            fclose(fp);
+            return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory after %zu bytes", path,
+                            len);
+        }
+        buf = grown;
+        cap *= 2;
+    }
+    fclose(fp);
+    buf[len] = 0;
+    *data = buf;
+    *size = len;
+    return SAM_OK;
+}
+
+const char *sam_path_basename(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+int sam_path_has_extension(const char *path, const char *suffix)
+{
+    size_t n = strlen(path), m = strlen(suffix);
+    return n >= m && strcasecmp(path + n - m, suffix) == 0;
+}

@@ -1,0 +1,23 @@
+/*
+ * Shared helpers for the cmocka tests. Every test writes only below
+ * SAM_TEST_TMP_DIR (the build tree), never into the source tree.
+ */
+#ifndef SAM_TEST_H
+#define SAM_TEST_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Writes "<SAM_TEST_TMP_DIR>/<name>" into buf (size n) and returns buf. */
+char *sam_test_tmp_path(char *buf, size_t n, const char *name);
+
+/* Writes `size` bytes to `path`, replacing it; fails the running test on error. */
+void sam_test_write_file(const char *path, const void *data, size_t size);
+
+/* Writes a NUL-terminated string to `path` (see sam_test_write_file). */
+void sam_test_write_text(const char *path, const char *text);
+
+/* Returns 1 when `path` exists. */
+int sam_test_file_exists(const char *path);
+
+#endif

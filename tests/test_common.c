@@ -1,0 +1,117 @@
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sam/sam_common.h"
+#include "sam_test.h"
+
+static void test_fail_formats_and_truncates(void **state)
+{
+    (void)state;
+    sam_error err;
+    char long_text[4000];
+    memset(long_text, 'x', sizeof long_text - 1);
+    long_text[sizeof long_text - 1] = 0;
+    assert_int_equal(sam_fail(&err, SAM_ERR_FORMAT, "chunk %s: %s", "POS ", long_text),
+                     SAM_ERR_FORMAT);
+    assert_int_equal(err.status, SAM_ERR_FORMAT);
+    assert_int_equal(strlen(err.message), SAM_ERROR_MESSAGE_SIZE - 1);
+    assert_memory_equal(err.message, "chunk POS : x", 13);
+    assert_int_equal(sam_fail(NULL, SAM_ERR_IO, "no error object"), SAM_ERR_IO);
+    sam_error_clear(&err);
+    assert_int_equal(err.status, SAM_OK);
+    assert_string_equal(err.message, "");
+}
+
+static void test_atomic_commit_replaces_target(void **state)
+{
+    (void)state;
+    char path[512];
+    sam_test_tmp_path(path, sizeof path, "atomic_commit.txt");
+    sam_test_write_text(path, "old");
+    sam_atomic_file f;
+    sam_error err;
+    assert_int_equal(sam_atomic_open(&f, path, &err), SAM_OK);
+    fputs("new contents", f.fp);
+    /* Until commit the old file is untouched. */
+    uint8_t *data;
+    size_t size;
+    assert_int_equal(sam_read_file(path, &data, &size, &err), SAM_OK);
+    assert_string_equal((char *)data, "old");
+    free(data);
+    assert_int_equal(sam_atomic_commit(&f, &err), SAM_OK);
+    assert_int_equal(sam_read_file(path, &data, &size, &err), SAM_OK);
+    assert_int_equal(size, 12);
+    assert_string_equal((char *)data, "new contents");
+    free(data);
+}
+
+static void test_atomic_abort_keeps_target_and_removes_temp(void **state)
+{
+    (void)state;
+    char path[512];
+    sam_test_tmp_path(path, sizeof path, "atomic_abort.txt");
+    sam_test_write_text(path, "keep me");
+    sam_atomic_file f;
+    assert_int_equal(sam_atomic_open(&f, path, NULL), SAM_OK);
+    char temp[1024];
+    snprintf(temp, sizeof temp, "%s", f.temp_path);
+    fputs("half written", f.fp);
+    sam_atomic_abort(&f);
+    assert_false(sam_test_file_exists(temp));
+    uint8_t *data;
+    size_t size;
+    assert_int_equal(sam_read_file(path, &data, &size, NULL), SAM_OK);
+    assert_string_equal((char *)data, "keep me");
+    free(data);
+    sam_atomic_abort(&f); /* twice is harmless */
+}
+
+static void test_atomic_open_in_missing_dir_fails_clearly(void **state)
+{
+    (void)state;
+    sam_atomic_file f;
+    sam_error err;
+    assert_int_equal(sam_atomic_open(&f, "/nonexistent-dir/out.sam", &err), SAM_ERR_IO);
+    assert_non_null(strstr(err.message, "/nonexistent-dir/out.sam"));
+    assert_null(f.fp);
+}
+
+static void test_read_missing_file_names_it(void **state)
+{
+    (void)state;
+    uint8_t *data;
+    size_t size;
+    sam_error err;
+    assert_int_equal(sam_read_file("/nonexistent/file.obj", &data, &size, &err), SAM_ERR_IO);
+    assert_non_null(strstr(err.message, "/nonexistent/file.obj"));
+    assert_null(data);
+}
+
+static void test_paths(void **state)
+{
+    (void)state;
+    assert_string_equal(sam_path_basename("/a/b/c.obj"), "c.obj");
+    assert_string_equal(sam_path_basename("c.obj"), "c.obj");
+    assert_true(sam_path_has_extension("X.OBJ", ".obj"));
+    assert_false(sam_path_has_extension("obj", ".obj"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fail_formats_and_truncates),
+        cmocka_unit_test(test_atomic_commit_replaces_target),
+        cmocka_unit_test(test_atomic_abort_keeps_target_and_removes_temp),
+        cmocka_unit_test(test_atomic_open_in_missing_dir_fails_clearly),
+        cmocka_unit_test(test_read_missing_file_names_it),
+        cmocka_unit_test(test_paths),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
