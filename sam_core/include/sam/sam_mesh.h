@@ -1,0 +1,132 @@
+/*
+ * sam_mesh: triangle meshes with the topology the SAM builder and runtime
+ * need.
+ *
+ * A mesh has two vertex sets:
+ *   - render vertices: what a GPU draws. A position may appear several times
+ *     when a UV or normal seam splits it. `triangles` index render vertices.
+ *   - topological vertices ("topo"): render vertices welded by exact
+ *     position, then split again only where the surface is not a 2-manifold
+ *     there (one topo vertex per fan). Fans, one-rings, back-side choice,
+ *     fan areas and curvature live here; every render copy of a topo vertex
+ *     shares its result (topo_of maps render -> topo, topo_rep back).
+ *
+ * One-rings are stored in fan order (counter-clockwise around the outward
+ * normal). Consecutive entries (ring[k], ring[k+1]) span one triangle of the
+ * fan, so a closed fan (interior vertex) repeats its first neighbour at the
+ * end, and an open fan (boundary vertex) starts and ends at its two boundary
+ * neighbours. Either way, a vertex with t fan triangles has t + 1 entries,
+ * and eq. 16 of the SAM paper is a sum over consecutive pairs with no
+ * special case.
+ *
+ * Loading repairs what cannot be used and reports it (sam_mesh_report):
+ * polygons are fan-triangulated; triangles that repeat a welded vertex or
+ * have (near-)zero area, and duplicates of a triangle, are dropped; vertices
+ * no triangle uses are dropped; non-manifold vertices are split per fan.
+ * Coordinates that are not finite, indices out of range and files with no
+ * usable triangle are errors.
+ *
+ * The caller owns a sam_mesh and frees it with sam_mesh_destroy. Loading is
+ * not thread-safe (OpenMesh's diagnostic streams are process-wide); the
+ * computations on a loaded mesh are.
+ */
+#ifndef SAM_MESH_H
+#define SAM_MESH_H
+
+#include "sam/sam_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sam_mesh {
+    /* Render vertices. */
+    uint32_t vertex_count;
+    float *positions;          /* 3 * vertex_count, model units */
+    float *normals;            /* 3 * vertex_count, unit length */
+    float *uvs;                /* 2 * vertex_count, or NULL when the mesh has none */
+    uint32_t triangle_count;
+    uint32_t *triangles;       /* 3 * triangle_count render vertex indices, CCW from outside */
+
+    /* Topology on welded positions. */
+    uint32_t topo_count;
+    uint32_t *topo_of;         /* vertex_count: render vertex -> topo vertex */
+    uint32_t *topo_rep;        /* topo_count: lowest-index render vertex of each topo vertex */
+    float *topo_normals;       /* 3 * topo_count: area-weighted geometric normals, unit */
+    uint32_t *ring_offsets;    /* topo_count + 1 offsets into ring */
+    uint32_t *ring;            /* topo vertex indices in fan order (see overview) */
+} sam_mesh;
+
+typedef struct sam_mesh_report {
+    uint32_t file_vertices;              /* vertices in the file */
+    uint32_t file_faces;                 /* faces (polygons) in the file */
+    uint32_t polygons_triangulated;      /* faces with more than 3 corners */
+    uint32_t faces_too_small;            /* faces with fewer than 3 corners, dropped */
+    uint32_t degenerate_triangles;       /* repeat a welded vertex, dropped */
+    uint32_t zero_area_triangles;        /* area ~ 0 relative to their edges, dropped */
+    uint32_t duplicate_triangles;        /* same welded vertices as an earlier one, dropped */
+    uint32_t unreferenced_vertices;      /* file vertices no kept triangle uses, dropped */
+    uint32_t non_manifold_vertices;      /* welded positions split into several fans */
+    uint32_t non_manifold_edges;         /* edges with >2 triangles or inconsistent winding */
+    uint32_t boundary_vertices;          /* topo vertices with an open fan */
+    uint32_t seam_vertices;              /* topo vertices with more than one render copy */
+    int normals_from_file;               /* 1 when the file's normals were used */
+    int invalid_file_normals;            /* file normals of zero length replaced */
+} sam_mesh_report;
+
+/* Raw input for sam_mesh_create (a polygon-free triangle list). */
+typedef struct sam_mesh_input {
+    const char *name;          /* for messages, e.g. a file name; may be NULL */
+    uint32_t vertex_count;
+    const float *positions;    /* 3 * vertex_count, required */
+    const float *normals;      /* 3 * vertex_count, or NULL: area-weighted normals are computed */
+    const float *uvs;          /* 2 * vertex_count, or NULL */
+    uint32_t triangle_count;
+    const uint32_t *triangles; /* 3 * triangle_count indices < vertex_count */
+} sam_mesh_input;
+
+/* Loads OBJ, PLY (ASCII and binary), OFF or STL through OpenMesh, then
+ * welds, repairs and builds the topology as described above.
+ * `report` may be NULL. On failure `mesh` is zeroed (nothing to free).
+ * Errors: SAM_ERR_IO (missing/unreadable), SAM_ERR_UNSUPPORTED (extension),
+ * SAM_ERR_FORMAT (unparseable, non-finite coordinate, index out of range:
+ * the message names the element and value), SAM_ERR_EMPTY (empty file, no
+ * usable triangle), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *report, sam_error *err);
+
+/* Builds a mesh from arrays the caller keeps owning (copied). Same repairs,
+ * report and errors as sam_mesh_load. */
+sam_status sam_mesh_create(const sam_mesh_input *input, sam_mesh *mesh, sam_mesh_report *report,
+                           sam_error *err);
+
+/* Frees everything a mesh owns and zeroes it. Safe on a zeroed mesh. */
+void sam_mesh_destroy(sam_mesh *mesh);
+
+/* Axis-aligned bounds of the render positions (model units). */
+void sam_mesh_bounds(const sam_mesh *mesh, float min[3], float max[3]);
+
+/* Reduced fan area F' of every topo vertex (SAM paper eq. 16): one third of
+ * the area of the triangles around it, in (mm_per_unit)^2 * model units^2,
+ * i.e. mm^2 when mm_per_unit converts model units to millimetres.
+ * `out` has topo_count elements. `positions` (3 * vertex_count, render
+ * vertex layout) may be NULL to use the mesh's own, or a deformed pose. */
+void sam_mesh_fan_areas(const sam_mesh *mesh, const float *positions, float mm_per_unit, float *out);
+
+/* Mean curvature H of every topo vertex in 1/model units (cotangent
+ * Laplacian over the one-ring, mixed Voronoi area), positive where the
+ * surface is convex along its outward normal (a sphere of radius R gives
+ * 1/R). Boundary vertices, where the cotangent formula is incomplete, take
+ * the mean of their interior ring neighbours (0 if none).
+ * `out` has topo_count elements. */
+void sam_mesh_mean_curvature(const sam_mesh *mesh, float *out);
+
+/* One-line summary of a report's repairs into buf (size n), e.g.
+ * "dropped 2 degenerate, 1 zero-area triangles; split 1 non-manifold vertex"
+ * or "no repairs". Returns buf. */
+char *sam_mesh_report_summary(const sam_mesh_report *report, char *buf, size_t n);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

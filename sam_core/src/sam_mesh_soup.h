@@ -1,0 +1,41 @@
+/*
+ * Internal: the raw polygon soup a mesh file holds, before any welding,
+ * triangulation or repair. Produced by the OpenMesh reader
+ * (sam_mesh_openmesh.cpp, the project's only C++), consumed by sam_mesh.c.
+ */
+#ifndef SAM_MESH_SOUP_H
+#define SAM_MESH_SOUP_H
+
+#include "sam/sam_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sam_mesh_soup {
+    uint32_t vertex_count;
+    float *positions;       /* 3 * vertex_count */
+    float *normals;         /* 3 * vertex_count, or NULL when the file has none */
+    float *uvs;             /* 2 * vertex_count per-vertex UVs, or NULL */
+    uint32_t face_count;
+    uint32_t *face_offsets; /* face_count + 1 offsets into corner arrays */
+    uint32_t corner_count;
+    uint32_t *corners;      /* vertex index per face corner, < vertex_count */
+    float *corner_uvs;      /* 2 * corner_count per-corner UVs (OBJ vt), or NULL */
+} sam_mesh_soup;
+
+/* Reads OBJ, PLY (ASCII/binary), OFF or STL through OpenMesh's readers into
+ * a soup. Every exception is caught. Indices are checked against the vertex
+ * count here; coordinates are validated by the caller.
+ * Errors: SAM_ERR_IO (missing/unreadable), SAM_ERR_UNSUPPORTED (extension),
+ * SAM_ERR_FORMAT (OpenMesh rejected the file; its diagnostics are quoted),
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_soup_read(const char *path, sam_mesh_soup *soup, sam_error *err);
+
+void sam_mesh_soup_free(sam_mesh_soup *soup);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

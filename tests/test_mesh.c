@@ -1,0 +1,540 @@
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sam/sam_mesh.h"
+#include "sam_test.h"
+
+/* A unit cube with one UV chart per face: 8 positions, 24 UV corners. */
+static const char *cube_obj =
+    "# cube with per-face UV charts\n"
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+    "vt 0 0\nvt 0.3 0\nvt 0.3 0.3\nvt 0 0.3\n"
+    "vt 0.35 0\nvt 0.65 0\nvt 0.65 0.3\nvt 0.35 0.3\n"
+    "vt 0.7 0\nvt 1 0\nvt 1 0.3\nvt 0.7 0.3\n"
+    "vt 0 0.35\nvt 0.3 0.35\nvt 0.3 0.65\nvt 0 0.65\n"
+    "vt 0.35 0.35\nvt 0.65 0.35\nvt 0.65 0.65\nvt 0.35 0.65\n"
+    "vt 0.7 0.35\nvt 1 0.35\nvt 1 0.65\nvt 0.7 0.65\n"
+    "f 1/1 4/2 3/3 2/4\n"      /* z = 0, normal -z */
+    "f 5/5 6/6 7/7 8/8\n"      /* z = 1, +z */
+    "f 1/9 2/10 6/11 5/12\n"   /* y = 0, -y */
+    "f 4/13 8/14 7/15 3/16\n"  /* y = 1, +y */
+    "f 1/17 5/18 8/19 4/20\n"  /* x = 0, -x */
+    "f 2/21 3/22 7/23 6/24\n"; /* x = 1, +x */
+
+static void write_tmp(char *path, size_t n, const char *name, const char *text)
+{
+    sam_test_tmp_path(path, n, name);
+    sam_test_write_text(path, text);
+}
+
+static int ring_is_closed(const sam_mesh *m, uint32_t t)
+{
+    return m->ring[m->ring_offsets[t]] == m->ring[m->ring_offsets[t + 1] - 1];
+}
+
+static uint32_t ring_size(const sam_mesh *m, uint32_t t)
+{
+    return m->ring_offsets[t + 1] - m->ring_offsets[t];
+}
+
+/* Every consecutive ring pair (p, q) of topo vertex t must be a triangle
+ * (t, p, q) of the mesh in that winding: this is what eq. 16 relies on. */
+static void assert_rings_match_triangles(const sam_mesh *m)
+{
+    for (uint32_t t = 0; t < m->topo_count; ++t) {
+        for (uint32_t k = m->ring_offsets[t] + 1; k < m->ring_offsets[t + 1]; ++k) {
+            uint32_t p = m->ring[k - 1], q = m->ring[k];
+            int found = 0;
+            for (uint32_t f = 0; f < m->triangle_count && !found; ++f) {
+                for (int c = 0; c < 3; ++c) {
+                    if (m->topo_of[m->triangles[3 * f + c]] == t &&
+                        m->topo_of[m->triangles[3 * f + (c + 1) % 3]] == p &&
+                        m->topo_of[m->triangles[3 * f + (c + 2) % 3]] == q)
+                        found = 1;
+                }
+            }
+            if (!found)
+                fail_msg("ring pair (%u, %u) of topo vertex %u is not a triangle", p, q, t);
+        }
+    }
+}
+
+static void test_cube_obj_with_uv_seams(void **state)
+{
+    (void)state;
+    char path[512];
+    write_tmp(path, sizeof path, "cube.obj", cube_obj);
+    sam_mesh m;
+    sam_mesh_report rep;
+    sam_error err;
+    assert_int_equal(sam_mesh_load(path, &m, &rep, &err), SAM_OK);
+    assert_int_equal(m.triangle_count, 12);
+    assert_int_equal(m.topo_count, 8);
+    assert_int_equal(m.vertex_count, 24); /* each corner of each face is its own UV */
+    assert_non_null(m.uvs);
+    assert_int_equal(rep.polygons_triangulated, 6);
+    assert_int_equal(rep.seam_vertices, 8);
+    assert_int_equal(rep.boundary_vertices, 0);
+    assert_int_equal(rep.non_manifold_vertices, 0);
+    assert_int_equal(rep.non_manifold_edges, 0);
+    assert_false(rep.normals_from_file);
+
+    float *area = malloc(m.topo_count * sizeof *area);
+    sam_mesh_fan_areas(&m, NULL, 10.0f, area); /* 10 mm per unit: faces are 100 mm^2 */
+    double total = 0;
+    for (uint32_t t = 0; t < m.topo_count; ++t) {
+        assert_true(ring_is_closed(&m, t));
+        total += area[t];
+        /* Every corner has 3 faces; its fan triangles depend on the diagonals,
+         * but the fan area is a third of its triangles' area, between 50 and 100. */
+        assert_true(area[t] > 49.0f && area[t] < 101.0f);
+    }
+    assert_float_equal(total, 600.0, 1e-3);
+    assert_rings_match_triangles(&m);
+
+    /* Render copies of a corner share the topo vertex, position, normal. */
+    for (uint32_t r = 0; r < m.vertex_count; ++r) {
+        uint32_t t = m.topo_of[r], rep_r = m.topo_rep[t];
+        assert_true(rep_r <= r);
+        assert_memory_equal(m.positions + 3 * r, m.positions + 3 * rep_r, 3 * sizeof(float));
+        assert_memory_equal(m.normals + 3 * r, m.normals + 3 * rep_r, 3 * sizeof(float));
+        /* Area-weighted normal of a cube corner points out along the diagonal-ish. */
+        const float *p = m.positions + 3 * r, *n = m.normals + 3 * r;
+        for (int i = 0; i < 3; ++i)
+            assert_true((p[i] - 0.5f) * n[i] > 0.0f);
+    }
+    /* A cube is flat per face: curvature is concentrated at corners, all convex. */
+    float *h = malloc(m.topo_count * sizeof *h);
+    sam_mesh_mean_curvature(&m, h);
+    for (uint32_t t = 0; t < m.topo_count; ++t)
+        assert_true(h[t] > 0.0f);
+    free(h);
+    free(area);
+    sam_mesh_destroy(&m);
+}
+
+static void test_same_cube_in_every_format(void **state)
+{
+    (void)state;
+    static const char *off = "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                             "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 3 7 6 2\n4 0 4 7 3\n4 1 2 6 5\n";
+    static const char *ply = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\n"
+                             "property float y\nproperty float z\nelement face 6\n"
+                             "property list uchar int vertex_indices\nend_header\n"
+                             "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                             "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 3 7 6 2\n4 0 4 7 3\n4 1 2 6 5\n";
+    char path[512];
+    const char *names[] = {"cube.off", "cube_ascii.ply", "cube_bin.ply", "cube.stl"};
+    write_tmp(path, sizeof path, names[0], off);
+    write_tmp(path, sizeof path, names[1], ply);
+
+    /* Binary PLY and binary STL of the same cube, built by hand. */
+    static const float verts[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                      {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    static const int tris[12][3] = {{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                    {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+    {
+        const char *hdr = "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\n"
+                          "property float y\nproperty float z\nelement face 12\n"
+                          "property list uchar int vertex_indices\nend_header\n";
+        unsigned char buf[1024];
+        size_t n = strlen(hdr);
+        memcpy(buf, hdr, n);
+        memcpy(buf + n, verts, sizeof verts);
+        n += sizeof verts;
+        for (int f = 0; f < 12; ++f) {
+            buf[n++] = 3;
+            for (int c = 0; c < 3; ++c) {
+                int32_t i = tris[f][c];
+                memcpy(buf + n, &i, 4);
+                n += 4;
+            }
+        }
+        sam_test_write_file(sam_test_tmp_path(path, sizeof path, names[2]), buf, n);
+    }
+    {
+        unsigned char buf[84 + 12 * 50];
+        memset(buf, 0, sizeof buf);
+        uint32_t count = 12;
+        memcpy(buf + 80, &count, 4);
+        for (int f = 0; f < 12; ++f) {
+            unsigned char *rec = buf + 84 + 50 * f;
+            for (int c = 0; c < 3; ++c)
+                memcpy(rec + 12 + 12 * c, verts[tris[f][c]], 12);
+        }
+        sam_test_write_file(sam_test_tmp_path(path, sizeof path, names[3]), buf, sizeof buf);
+    }
+    for (int i = 0; i < 4; ++i) {
+        sam_mesh m;
+        sam_error err;
+        sam_test_tmp_path(path, sizeof path, names[i]);
+        sam_status st = sam_mesh_load(path, &m, NULL, &err);
+        if (st != SAM_OK)
+            fail_msg("%s: %s", names[i], err.message);
+        assert_int_equal(m.triangle_count, 12);
+        assert_int_equal(m.topo_count, 8);
+        assert_int_equal(m.vertex_count, 8);
+        assert_null(m.uvs);
+        float area[8];
+        sam_mesh_fan_areas(&m, NULL, 1.0f, area);
+        double total = 0;
+        for (int t = 0; t < 8; ++t)
+            total += area[t];
+        assert_float_equal(total, 6.0, 1e-5);
+        assert_rings_match_triangles(&m);
+        sam_mesh_destroy(&m);
+    }
+}
+
+/* A 2x2 grid of quads in the plane z = 0 (an open square sheet). */
+static void test_open_sheet_rings_and_fan_areas(void **state)
+{
+    (void)state;
+    float pos[9 * 3];
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+            pos[3 * (3 * j + i)] = (float)i;
+            pos[3 * (3 * j + i) + 1] = (float)j;
+            pos[3 * (3 * j + i) + 2] = 0.0f;
+        }
+    uint32_t tri[8 * 3];
+    int n = 0;
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            uint32_t a = 3 * j + i, b = a + 1, c = a + 4, d = a + 3;
+            uint32_t t[6] = {a, b, c, a, c, d};
+            memcpy(tri + n, t, sizeof t);
+            n += 6;
+        }
+    sam_mesh_input in = {.name = "sheet", .vertex_count = 9, .positions = pos,
+                         .triangle_count = 8, .triangles = tri};
+    sam_mesh m;
+    sam_mesh_report rep;
+    sam_error err;
+    assert_int_equal(sam_mesh_create(&in, &m, &rep, &err), SAM_OK);
+    assert_int_equal(m.topo_count, 9);
+    assert_int_equal(rep.boundary_vertices, 8);
+    /* Centre vertex 4: interior, 6 triangles (the diagonals a-c meet it in
+     * two quads), closed ring of 7 entries. */
+    assert_true(ring_is_closed(&m, 4));
+    assert_int_equal(ring_size(&m, 4), 7);
+    /* Corner 0: open fan of 2 triangles -> 3 entries, starting and ending at
+     * its boundary neighbours 1 and 3 (CCW around +z: 1 -> 4 -> 3). */
+    assert_false(ring_is_closed(&m, 0));
+    assert_int_equal(ring_size(&m, 0), 3);
+    assert_int_equal(m.ring[m.ring_offsets[0]], 1);
+    assert_int_equal(m.ring[m.ring_offsets[0] + 1], 4);
+    assert_int_equal(m.ring[m.ring_offsets[0] + 2], 3);
+    /* Corner 2 has a single triangle: ring [5, 1]. */
+    assert_int_equal(ring_size(&m, 2), 2);
+    assert_int_equal(m.ring[m.ring_offsets[2]], 5);
+    float area[9];
+    sam_mesh_fan_areas(&m, NULL, 2.0f, area); /* 2 mm per unit: areas x4 */
+    /* Each triangle has area 0.5; the centre has 6 -> 1 unit^2 -> 4 mm^2. */
+    assert_float_equal(area[4], 4.0f, 1e-5);
+    assert_float_equal(area[0], 4.0f * 2 * 0.5f / 3.0f, 1e-5);
+    assert_float_equal(area[2], 4.0f * 0.5f / 3.0f, 1e-5);
+    assert_rings_match_triangles(&m);
+    /* Deformed pose: stretch x by 3; fan areas scale by 3. */
+    float moved[9 * 3];
+    memcpy(moved, m.positions, sizeof moved);
+    for (uint32_t v = 0; v < m.vertex_count; ++v)
+        moved[3 * v] *= 3.0f;
+    float area2[9];
+    sam_mesh_fan_areas(&m, moved, 2.0f, area2);
+    for (int t = 0; t < 9; ++t)
+        assert_float_equal(area2[t], 3.0f * area[t], 1e-4);
+    /* Flat sheet: zero curvature inside, and the boundary takes the mean of
+     * interior neighbours (0 too). Normals +z. */
+    float h[9];
+    sam_mesh_mean_curvature(&m, h);
+    for (int t = 0; t < 9; ++t) {
+        assert_float_equal(h[t], 0.0f, 1e-6);
+        assert_float_equal(m.topo_normals[3 * t + 2], 1.0f, 1e-6);
+    }
+    sam_mesh_destroy(&m);
+}
+
+/* An octahedron-like sphere approximation refined by subdivision gives
+ * curvature ~ 1/R and total fan area ~ 4 pi R^2. */
+static void test_sphere_curvature(void **state)
+{
+    (void)state;
+    /* Subdivide an octahedron 5 times, projecting onto radius 2. */
+    uint32_t nv = 6, nt = 8;
+    float *pos = malloc(6 * 3 * sizeof *pos);
+    uint32_t *tri = malloc(8 * 3 * sizeof *tri);
+    static const float o[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const uint32_t ot[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                      {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    memcpy(pos, o, sizeof o);
+    memcpy(tri, ot, sizeof ot);
+    for (int level = 0; level < 4; ++level) {
+        /* Midpoints are duplicated per triangle; welding merges them. */
+        float *p2 = malloc(((size_t)nv + 3 * nt) * 3 * sizeof *p2);
+        uint32_t *t2 = malloc((size_t)nt * 4 * 3 * sizeof *t2);
+        memcpy(p2, pos, nv * 3 * sizeof *pos);
+        uint32_t nv2 = nv;
+        for (uint32_t f = 0; f < nt; ++f) {
+            uint32_t v[3] = {tri[3 * f], tri[3 * f + 1], tri[3 * f + 2]}, mid[3];
+            for (int e = 0; e < 3; ++e) {
+                /* Canonical order of the endpoints makes both sides' midpoints bit-identical. */
+                uint32_t a = v[e] < v[(e + 1) % 3] ? v[e] : v[(e + 1) % 3];
+                uint32_t b = v[e] < v[(e + 1) % 3] ? v[(e + 1) % 3] : v[e];
+                float m[3];
+                double l = 0;
+                for (int i = 0; i < 3; ++i) {
+                    m[i] = 0.5f * (p2[3 * a + i] + p2[3 * b + i]);
+                    l += (double)m[i] * m[i];
+                }
+                for (int i = 0; i < 3; ++i)
+                    p2[3 * nv2 + i] = (float)(m[i] / sqrt(l));
+                mid[e] = nv2++;
+            }
+            uint32_t sub[12] = {v[0], mid[0], mid[2], mid[0], v[1], mid[1],
+                                mid[2], mid[1], v[2], mid[0], mid[1], mid[2]};
+            memcpy(t2 + 12 * f, sub, sizeof sub);
+        }
+        free(pos);
+        free(tri);
+        pos = p2;
+        tri = t2;
+        nv = nv2;
+        nt *= 4;
+    }
+    for (uint32_t i = 0; i < 3 * nv; ++i)
+        pos[i] *= 2.0f;
+    sam_mesh_input in = {.name = "sphere", .vertex_count = nv, .positions = pos,
+                         .triangle_count = nt, .triangles = tri};
+    sam_mesh m;
+    sam_mesh_report rep;
+    sam_error err;
+    assert_int_equal(sam_mesh_create(&in, &m, &rep, &err), SAM_OK);
+    assert_int_equal(m.topo_count, 4 * 256 + 2); /* V = 4 * 4^4 + 2 */
+    assert_int_equal(rep.unreferenced_vertices, 0);
+    float *h = malloc(m.topo_count * sizeof *h), *area = malloc(m.topo_count * sizeof *area);
+    sam_mesh_mean_curvature(&m, h);
+    sam_mesh_fan_areas(&m, NULL, 1.0f, area);
+    double total = 0, mean_h = 0;
+    for (uint32_t t = 0; t < m.topo_count; ++t) {
+        total += area[t];
+        mean_h += h[t];
+        assert_float_equal(h[t], 0.5f, 0.05f);
+        /* Outward normals. */
+        const float *p = m.positions + 3 * m.topo_rep[t];
+        const float *n = m.topo_normals + 3 * t;
+        assert_true(p[0] * n[0] + p[1] * n[1] + p[2] * n[2] > 1.9f);
+    }
+    mean_h /= m.topo_count;
+    assert_float_equal(mean_h, 0.5, 0.01);
+    assert_float_equal(total, 16.0 * 3.14159265358979, 0.02 * 16.0 * 3.14159265358979);
+    free(h);
+    free(area);
+    free(pos);
+    free(tri);
+    sam_mesh_destroy(&m);
+}
+
+static void test_repairs_are_reported(void **state)
+{
+    (void)state;
+    /* Two tetrahedra touching at one vertex (a bow tie: non-manifold vertex),
+     * plus a degenerate triangle, a zero-area sliver, a duplicate triangle
+     * and an unused vertex. */
+    static const char *obj =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"          /* tet A: 1..4, apex 1 shared */
+        "v -1 0 0\nv 0 -1 0\nv 0 0 -1\n"                /* tet B: 1,5,6,7 */
+        "v 5 5 5\n"                                     /* 8: unused */
+        "v 2 0 0\nv 3 0 0\n"                            /* 9, 10: for the sliver */
+        "v 1 0 0\n"                                     /* 11: same position as 2 */
+        "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+        "f 1 5 6\nf 1 6 7\nf 1 7 5\nf 5 7 6\n"
+        "f 1 2 11\n"                                    /* degenerate after welding */
+        "f 2 9 10\n"                                    /* collinear: zero area */
+        "f 2 4 1\n";                                    /* duplicate of f 1 2 4 */
+    char path[512];
+    write_tmp(path, sizeof path, "repairs.obj", obj);
+    sam_mesh m;
+    sam_mesh_report rep;
+    sam_error err;
+    assert_int_equal(sam_mesh_load(path, &m, &rep, &err), SAM_OK);
+    assert_int_equal(m.triangle_count, 8);
+    assert_int_equal(rep.degenerate_triangles, 1);
+    assert_int_equal(rep.zero_area_triangles, 1);
+    assert_int_equal(rep.duplicate_triangles, 1);
+    assert_int_equal(rep.non_manifold_vertices, 1);
+    /* 8 (unused), 9, 10 (only in the sliver) are dropped; 11 welds with 2 but
+     * is used only by the degenerate triangle. */
+    assert_int_equal(rep.unreferenced_vertices, 4);
+    /* 7 positions, the shared apex split into 2 -> 8 topo vertices. */
+    assert_int_equal(m.topo_count, 8);
+    assert_int_equal(m.vertex_count, 8);
+    for (uint32_t t = 0; t < m.topo_count; ++t)
+        assert_true(ring_is_closed(&m, t));
+    assert_rings_match_triangles(&m);
+    char summary[256];
+    sam_mesh_report_summary(&rep, summary, sizeof summary);
+    assert_non_null(strstr(summary, "1 degenerate triangles dropped"));
+    assert_non_null(strstr(summary, "1 non-manifold vertices split"));
+    sam_mesh_destroy(&m);
+}
+
+static void test_non_manifold_edge(void **state)
+{
+    (void)state;
+    /* Three triangles sharing the edge 0-1 (a "book" with three pages). */
+    float pos[5 * 3] = {0, 0, 0, 1, 0, 0, 0.5f, 1, 0, 0.5f, -1, 0, 0.5f, 0, 1};
+    uint32_t tri[9] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    sam_mesh_input in = {.name = "book", .vertex_count = 5, .positions = pos,
+                         .triangle_count = 3, .triangles = tri};
+    sam_mesh m;
+    sam_mesh_report rep;
+    assert_int_equal(sam_mesh_create(&in, &m, &rep, NULL), SAM_OK);
+    assert_int_equal(rep.non_manifold_edges, 1);
+    assert_rings_match_triangles(&m);
+    /* Every topo vertex's fans still cover each triangle exactly once. */
+    uint32_t pairs = 0;
+    for (uint32_t t = 0; t < m.topo_count; ++t)
+        pairs += ring_size(&m, t) - 1;
+    assert_int_equal(pairs, 3 * m.triangle_count);
+    sam_mesh_destroy(&m);
+}
+
+static void test_file_normals_are_used_and_normalised(void **state)
+{
+    (void)state;
+    static const char *obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                             "vn 0 0 2\nvn 0 0 3\nvn 0 0 0\n"
+                             "f 1//1 2//2 3//3\n";
+    char path[512];
+    write_tmp(path, sizeof path, "normals.obj", obj);
+    sam_mesh m;
+    sam_mesh_report rep;
+    sam_error err;
+    sam_status st = sam_mesh_load(path, &m, &rep, &err);
+    if (st != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_true(rep.normals_from_file);
+    assert_int_equal(rep.invalid_file_normals, 1);
+    for (uint32_t v = 0; v < m.vertex_count; ++v)
+        assert_float_equal(m.normals[3 * v + 2], 1.0f, 1e-6);
+    sam_mesh_destroy(&m);
+}
+
+static void expect_error(const char *name, const char *text, sam_status expected, const char *needle)
+{
+    char path[512];
+    if (text)
+        write_tmp(path, sizeof path, name, text);
+    else
+        sam_test_tmp_path(path, sizeof path, name);
+    sam_mesh m;
+    sam_error err;
+    sam_status st = sam_mesh_load(path, &m, NULL, &err);
+    if (st != expected)
+        fail_msg("%s: expected status %s, got %s (%s)", name, sam_status_name(expected),
+                 sam_status_name(st), st ? err.message : "");
+    if (!strstr(err.message, needle))
+        fail_msg("%s: message \"%s\" lacks \"%s\"", name, err.message, needle);
+    if (!strstr(err.message, name))
+        fail_msg("%s: message \"%s\" does not name the file", name, err.message);
+    assert_null(m.positions);
+    assert_int_equal(m.vertex_count, 0);
+}
+
+static void test_bad_inputs_give_one_clear_error(void **state)
+{
+    (void)state;
+    expect_error("does_not_exist.obj", NULL, SAM_ERR_IO, "cannot open");
+    expect_error("empty.obj", "", SAM_ERR_EMPTY, "empty");
+    expect_error("garbage.ply", "\x7f\x01 this is not a ply file \xff\xfe", SAM_ERR_FORMAT, "");
+    /* OpenMesh's OBJ parser skips a "nan" vertex, so the face's index is what fails. */
+    expect_error("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", SAM_ERR_FORMAT, "refers to vertex");
+    {
+        const char *hdr = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                          "property float y\nproperty float z\nelement face 1\n"
+                          "property list uchar int vertex_indices\nend_header\n";
+        unsigned char buf[512];
+        size_t n = strlen(hdr);
+        memcpy(buf, hdr, n);
+        float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        v[4] = NAN;
+        memcpy(buf + n, v, sizeof v);
+        n += sizeof v;
+        buf[n++] = 3;
+        int32_t idx[3] = {0, 1, 2};
+        memcpy(buf + n, idx, sizeof idx);
+        n += sizeof idx;
+        char path[512];
+        sam_test_write_file(sam_test_tmp_path(path, sizeof path, "nan.ply"), buf, n);
+        expect_error("nan.ply", NULL, SAM_ERR_FORMAT, "vertex 1 has a non-finite coordinate");
+    }
+    expect_error("range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", SAM_ERR_FORMAT, "vertex 7");
+    expect_error("no_faces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", SAM_ERR_EMPTY, "no faces");
+    expect_error("all_degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", SAM_ERR_EMPTY,
+                 "no usable triangle");
+    expect_error("mesh.xyz", "1 2 3\n", SAM_ERR_UNSUPPORTED, "unsupported");
+}
+
+static void test_create_rejects_bad_arrays(void **state)
+{
+    (void)state;
+    float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    uint32_t tri[3] = {0, 1, 3};
+    sam_mesh_input in = {.name = "arrays", .vertex_count = 3, .positions = pos,
+                         .triangle_count = 1, .triangles = tri};
+    sam_mesh m;
+    sam_error err;
+    assert_int_equal(sam_mesh_create(&in, &m, NULL, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "arrays"));
+    in.triangle_count = 0;
+    assert_int_equal(sam_mesh_create(&in, &m, NULL, &err), SAM_ERR_EMPTY);
+    in.positions = NULL;
+    assert_int_equal(sam_mesh_create(&in, &m, NULL, &err), SAM_ERR_INVALID_ARGUMENT);
+}
+
+/* Every truncated prefix of a small OBJ and binary PLY loads or fails cleanly. */
+static void test_truncated_prefixes(void **state)
+{
+    (void)state;
+    char path[512];
+    size_t n = strlen(cube_obj);
+    for (size_t len = 0; len < n; len += 3) {
+        sam_test_write_file(sam_test_tmp_path(path, sizeof path, "prefix.obj"), cube_obj, len);
+        sam_mesh m;
+        sam_error err;
+        sam_status st = sam_mesh_load(path, &m, NULL, &err);
+        if (st == SAM_OK) {
+            assert_true(m.triangle_count > 0);
+            assert_rings_match_triangles(&m);
+            sam_mesh_destroy(&m);
+        } else {
+            assert_true(strlen(err.message) > 0);
+        }
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_cube_obj_with_uv_seams),
+        cmocka_unit_test(test_same_cube_in_every_format),
+        cmocka_unit_test(test_open_sheet_rings_and_fan_areas),
+        cmocka_unit_test(test_sphere_curvature),
+        cmocka_unit_test(test_repairs_are_reported),
+        cmocka_unit_test(test_non_manifold_edge),
+        cmocka_unit_test(test_file_normals_are_used_and_normalised),
+        cmocka_unit_test(test_bad_inputs_give_one_clear_error),
+        cmocka_unit_test(test_create_rejects_bad_arrays),
+        cmocka_unit_test(test_truncated_prefixes),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
