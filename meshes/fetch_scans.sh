@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# Copies real scanned meshes from the Debian package libcgal-demo (its CGAL
+# data archive) into meshes/scans/, which git ignores. Installs the package
+# with apt-get when it is missing. Safe to run again: files whose contents
+# are already there are left alone.
+#
+#   meshes/fetch_scans.sh [DEST_DIR]      (default: the scans/ folder beside this script)
+set -euo pipefail
+
+PACKAGE=libcgal-demo
+# stable name : path inside the package's data archive
+MESHES=(
+  "bunny.off:data/meshes/bunny00.off"
+  "armadillo.off:data/meshes/armadillo.off"
+  "dragon.off:data/meshes/ChineseDragon-10kv.off"
+  "elephant.off:data/meshes/elephant.off"
+)
+
+die() {
+  echo "fetch_scans.sh: $*" >&2
+  exit 1
+}
+
+case "${1:-}" in
+  -h|--help)
+    sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'
+    exit 0
+    ;;
+esac
+[ $# -le 1 ] || die "too many arguments (usage: fetch_scans.sh [DEST_DIR])"
+dest=${1:-"$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/scans"}
+
+installed() {
+  [ "$(dpkg-query -W -f='${Status}' "$PACKAGE" 2>/dev/null || true)" = "install ok installed" ]
+}
+
+if ! installed; then
+  command -v apt-get >/dev/null || die "$PACKAGE is not installed and apt-get is not available"
+  sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || die "$PACKAGE is not installed; run as root or install sudo"
+    sudo=(sudo)
+  fi
+  echo "fetch_scans.sh: installing $PACKAGE" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  # A fresh machine may have no package lists yet: update once and retry.
+  if ! "${sudo[@]}" apt-get install -y --no-install-recommends "$PACKAGE" >&2; then
+    "${sudo[@]}" apt-get update >&2 || die "apt-get update failed"
+    "${sudo[@]}" apt-get install -y --no-install-recommends "$PACKAGE" >&2 \
+      || die "apt-get install $PACKAGE failed"
+  fi
+  installed || die "$PACKAGE is still not installed after apt-get"
+fi
+version=$(dpkg-query -W -f='${Version}' "$PACKAGE")
+
+archive=$(dpkg -L "$PACKAGE" | grep '/data\.tar\.gz$' | head -n 1 || true)
+[ -n "$archive" ] && [ -f "$archive" ] \
+  || die "$PACKAGE $version ships no data.tar.gz (dpkg -L $PACKAGE | grep tar)"
+
+mkdir -p "$dest" || die "cannot create $dest"
+work=$(mktemp -d "$dest/.fetch.XXXXXX") || die "cannot create a temporary folder in $dest"
+trap 'rm -rf "$work"' EXIT
+
+members=()
+for entry in "${MESHES[@]}"; do
+  members+=("${entry#*:}")
+done
+listing=$(tar -tzf "$archive") || die "cannot list $archive"
+for m in "${members[@]}"; do
+  grep -qxF "$m" <<<"$listing" || die "$archive ($PACKAGE $version) has no $m"
+done
+tar -xzf "$archive" -C "$work" "${members[@]}" || die "cannot extract from $archive"
+
+# Prints "VERTICES FACES" from an OFF header (comments and blank lines skipped).
+off_counts() {
+  awk '
+    { sub(/#.*/, "") }
+    { for (i = 1; i <= NF; ++i) tok[n++] = $i }
+    n >= 4 { exit }
+    END {
+      if (n < 4 || tok[0] !~ /^[A-Z]*OFF$/ || tok[1] !~ /^[0-9]+$/ || tok[2] !~ /^[0-9]+$/) exit 1
+      print tok[1], tok[2]
+    }' "$1"
+}
+
+for entry in "${MESHES[@]}"; do
+  name=${entry%%:*}
+  src=${entry#*:}
+  file="$work/$src"
+  counts=$(off_counts "$file") || die "$src in $archive is not an OFF mesh"
+  read -r vertices faces <<<"$counts"
+  [ "$vertices" -gt 0 ] && [ "$faces" -gt 0 ] || die "$src in $archive is empty"
+  if [ -f "$dest/$name" ] && cmp -s "$file" "$dest/$name"; then
+    state=unchanged
+  else
+    mv -f "$file" "$dest/$name"
+    state=written
+  fi
+  printf '%s/%s: %s vertices, %s faces (%s %s: %s) %s\n' \
+    "$dest" "$name" "$vertices" "$faces" "$PACKAGE" "$version" "$src" "$state"
+done
