@@ -1,0 +1,120 @@
+/*
+ * samfile: the .sam container (version 1) that sam_build writes and the
+ * runtime loads: a mesh extended, per vertex, with its n best back-side
+ * samples and their form-factor constants K', plus the adjacency buffer.
+ *
+ * On disk (little-endian whatever the host): a 16-byte header
+ *   "SAMF", u32 version = 1, u32 chunk count, u32 flags = 0,
+ * then chunks, each
+ *   4-byte tag, u32 reserved = 0, u64 payload length, payload,
+ *   zero padding to a multiple of 8, u32 CRC-32 (zlib) of the payload, u32 0.
+ * Required tags: INFO (JSON), POS , NRM , TRI , SIDX, SKPR, FANA, ADJO, ADJV;
+ * optional: UV  . Unknown tags are skipped and counted; a duplicated tag is
+ * an error. The writer emits the chunks in the order of samfile_data below,
+ * so reading a file and writing it again gives the same bytes (less any
+ * unknown chunks, which are not kept).
+ *
+ * Every load error is one line naming the file, the chunk and the values
+ * found, e.g. "ear.sam: chunk SIDX: sample index 5123 of vertex 17 is out of
+ * range (vertex_count 4096)". Allocations on read are sized from payload
+ * lengths already checked against the input size, so a hostile header cannot
+ * make the reader allocate much more than the input.
+ *
+ * Limitation of the format: a chunk's CRC covers its payload only, so a
+ * damaged tag of the optional UV chunk reads as an unknown chunk and the file
+ * loads without UVs. Damage anywhere else in a file is always detected.
+ *
+ * No function here keeps global state; all are thread-safe on distinct data
+ * (cJSON itself records its last syntax error in a global, which this module
+ * never reads).
+ */
+#ifndef SAMFILE_H
+#define SAMFILE_H
+
+#include "sam/sam_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SAMFILE_VERSION 1u
+/* Pads a vertex's sample list when it has fewer than n back-side vertices. */
+#define SAMFILE_NO_SAMPLE 0xFFFFFFFFu
+#define SAMFILE_MAX_SAMPLES_PER_VERTEX 64u
+/* A normal is accepted when its length is within this of 1. */
+#define SAMFILE_NORMAL_TOLERANCE 1e-3
+
+/*
+ * The content of a .sam file, as structs of arrays. vc = vertex_count,
+ * tc = triangle_count, n = samples_per_vertex. Every array is required
+ * except `uvs` (NULL when the file has no UV chunk) and `adjacency` (NULL
+ * allowed only when adjacency_count is 0).
+ */
+typedef struct samfile_data {
+    uint32_t vertex_count;       /* >= 1 */
+    uint32_t triangle_count;     /* >= 1 */
+    uint32_t samples_per_vertex; /* n, 1..SAMFILE_MAX_SAMPLES_PER_VERTEX */
+    /* INFO: NUL-terminated UTF-8 JSON object, exactly from '{' to '}', with
+     * numbers vertex_count, triangle_count, samples_per_vertex equal to the
+     * counts above and mm_per_unit (> 0, finite); other keys are free. */
+    char *info_json;
+    float *positions;             /* POS : 3*vc, x,y,z in model units, finite */
+    float *normals;               /* NRM : 3*vc, unit length (SAMFILE_NORMAL_TOLERANCE) */
+    float *uvs;                   /* UV  : 2*vc, finite, or NULL */
+    uint32_t *triangles;          /* TRI : 3*tc vertex indices < vc */
+    uint32_t *sample_index;       /* SIDX: n*vc, per vertex best first; each < vc or
+                                   * SAMFILE_NO_SAMPLE, and only pads after a pad */
+    float *sample_kprime;         /* SKPR: 3*n*vc, RGB K' per sample, finite, >= 0 */
+    float *fan_area;              /* FANA: vc, reduced fan area in mm^2 at rest, finite, >= 0 */
+    uint32_t *adjacency_offsets;  /* ADJO: vc+1, [0] = 0, non-decreasing, [vc] = adjacency_count */
+    uint32_t adjacency_count;     /* entries in ADJV */
+    uint32_t *adjacency;          /* ADJV: one-ring neighbours < vc, in fan order */
+    uint32_t unknown_chunk_count; /* set by read: chunks with unknown tags skipped; ignored by write */
+} samfile_data;
+
+/*
+ * Checks the semantic rules listed on samfile_data (the same checks a read
+ * applies after decoding). Messages start with "samfile data: chunk TAG: ".
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL data, a NULL required array, a rule
+ * broken), SAM_ERR_EMPTY (vertex_count or triangle_count is 0).
+ */
+sam_status samfile_validate(const samfile_data *data, sam_error *err);
+
+/*
+ * Validates `data` (messages name `path`), then writes it atomically: a
+ * failed write leaves no file behind and an existing file at `path`
+ * untouched. `data` stays owned by the caller; unknown_chunk_count is
+ * ignored. Errors: those of samfile_validate, SAM_ERR_IO (cannot create,
+ * write or rename; the message names the path and strerror).
+ */
+sam_status samfile_write(const char *path, const samfile_data *data, sam_error *err);
+
+/*
+ * Reads and validates the .sam file at `path` into `out`, whose arrays are
+ * newly allocated and released with samfile_free. On failure `out` is left
+ * zeroed with nothing to free. Errors: SAM_ERR_INVALID_ARGUMENT (NULL
+ * argument), SAM_ERR_IO, and those of samfile_read_memory.
+ */
+sam_status samfile_read(const char *path, samfile_data *out, sam_error *err);
+
+/*
+ * As samfile_read, from `size` bytes at `bytes` (not kept, not modified).
+ * `name` labels messages; NULL gives "<memory>".
+ * Errors: SAM_ERR_FORMAT (bad magic, truncation, framing, payload sizes),
+ * SAM_ERR_UNSUPPORTED (version other than 1, nonzero header flags),
+ * SAM_ERR_CORRUPT (CRC mismatch, counts that disagree between chunks,
+ * values out of range), SAM_ERR_EMPTY (no vertices or no triangles),
+ * SAM_ERR_OUT_OF_MEMORY.
+ */
+sam_status samfile_read_memory(const uint8_t *bytes, size_t size, const char *name, samfile_data *out,
+                               sam_error *err);
+
+/* Frees the arrays of a samfile_data filled by a read and zeroes it. Safe on
+ * a zeroed struct and on NULL. Do not call it on caller-built data. */
+void samfile_free(samfile_data *data);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
