@@ -1,0 +1,114 @@
+/*
+ * sam_image: float RGB/RGBA images, read from and written to OpenEXR (through
+ * the OpenEXR Core C API) and 8-bit PNG (through libpng).
+ *
+ * A sam_image holds width * height * channels floats, interleaved per pixel,
+ * row-major with the top row first. channels is 3 (RGB) or 4 (RGBA). EXR
+ * values are linear; PNG values are 8/16-bit and the caller says whether
+ * they are sRGB-encoded (decoded to / encoded from linear here) or stored as
+ * given (sam_png_encoding). Alpha is never sRGB-encoded.
+ *
+ * Images larger than SAM_IMAGE_MAX_PIXELS are refused: such a size in a file
+ * is far more likely corruption than a real environment map or render.
+ *
+ * Writers are atomic (sam_atomic_open/commit): on failure no file is left
+ * behind and an existing file at the path is untouched.
+ *
+ * Every function is reentrant; none keeps global state.
+ */
+#ifndef SAM_IMAGE_H
+#define SAM_IMAGE_H
+
+#include "sam/sam_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* 2^28 pixels: a 16384 x 16384 image is the largest square accepted. */
+#define SAM_IMAGE_MAX_PIXELS (1u << 28)
+
+typedef struct sam_image {
+    uint32_t width;
+    uint32_t height;
+    uint32_t channels; /* 3 (RGB) or 4 (RGBA) */
+    float *pixels;     /* width * height * channels floats, row-major, top row first (owned) */
+} sam_image;
+
+typedef enum sam_exr_type {
+    SAM_EXR_HALF = 0, /* 16-bit float channels */
+    SAM_EXR_FLOAT = 1 /* 32-bit float channels */
+} sam_exr_type;
+
+typedef enum sam_png_encoding {
+    SAM_PNG_SRGB = 0,  /* file holds sRGB-encoded colour; the image holds linear values */
+    SAM_PNG_LINEAR = 1 /* file and image hold the same values (data, or already encoded) */
+} sam_png_encoding;
+
+/* Allocates a zero-filled width x height image with `channels` (3 or 4)
+ * channels into `image` (its previous contents are overwritten, not freed).
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL image, zero size, channels not 3/4,
+ * more than SAM_IMAGE_MAX_PIXELS pixels), SAM_ERR_OUT_OF_MEMORY. On failure
+ * `image` is zeroed. */
+sam_status sam_image_create(sam_image *image, uint32_t width, uint32_t height, uint32_t channels,
+                            sam_error *err);
+
+/* Frees the pixels and zeroes `image`. Safe on a zeroed image and on NULL. */
+void sam_image_destroy(sam_image *image);
+
+/* Reads the first part of an OpenEXR file: scanline or tiled (level 0 of a
+ * mip/rip-mapped file), with half, float or uint channels and any compression
+ * the Core library decodes. The image covers the data window. Channels R, G,
+ * B (any order in the file) give RGB; without them a Y channel is replicated
+ * to RGB; an A channel adds alpha (channels = 4). Other channels are ignored.
+ * `image` receives a new image (previous contents are overwritten, not
+ * freed); the caller frees it with sam_image_destroy. On failure `image` is
+ * zeroed.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL path/image), SAM_ERR_IO (cannot
+ * open), SAM_ERR_FORMAT (not an EXR, bad header, truncated or corrupt
+ * chunks, no usable channels: the message names the channels found),
+ * SAM_ERR_UNSUPPORTED (deep data, subsampled channels, more than
+ * SAM_IMAGE_MAX_PIXELS pixels), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_image_read_exr(const char *path, sam_image *image, sam_error *err);
+
+/* Writes `image` as a single-part scanline EXR with ZIP compression and
+ * channels R, G, B (and A when channels = 4) of the given type. Values that
+ * do not fit a half become +-inf in SAM_EXR_HALF.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL arguments, an invalid image, an
+ * unknown type), SAM_ERR_IO (create/write/rename failed; nothing is left at
+ * `path`), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_image_write_exr(const char *path, const sam_image *image, sam_exr_type type,
+                               sam_error *err);
+
+/* Writes `image` as an 8-bit RGB or RGBA PNG. Values are clamped to [0, 1]
+ * (NaN becomes 0); with SAM_PNG_SRGB colour channels are sRGB-encoded and the
+ * file is tagged sRGB, with SAM_PNG_LINEAR they are stored as given and no
+ * colour-space chunk is written.
+ * Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_IO (nothing is left at `path`),
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_image_write_png(const char *path, const sam_image *image,
+                               sam_png_encoding encoding, sam_error *err);
+
+/* Reads any PNG libpng can expand to 8- or 16-bit RGB(A): grey, grey+alpha,
+ * palette (with tRNS transparency as alpha), RGB, RGBA, 1..16 bits,
+ * interlaced or not. Values are scaled to [0, 1]; with SAM_PNG_SRGB colour
+ * channels are decoded from sRGB to linear. The file's gAMA/sRGB/iCCP chunks
+ * are ignored: `encoding` alone says how to interpret the values. channels is
+ * 4 when the file has alpha, else 3. `image` receives a new image as for
+ * sam_image_read_exr; on failure it is zeroed.
+ * Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_IO (cannot read), SAM_ERR_FORMAT
+ * (not a PNG, truncated, corrupt: libpng's message), SAM_ERR_UNSUPPORTED
+ * (more than SAM_IMAGE_MAX_PIXELS pixels), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_image_read_png(const char *path, sam_image *image, sam_png_encoding encoding,
+                              sam_error *err);
+
+/* sRGB transfer functions (IEC 61966-2-1) on one value; inputs outside
+ * [0, 1] follow the same formulas (negative inputs of the linear segment). */
+float sam_srgb_to_linear(float encoded);
+float sam_linear_to_srgb(float linear);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

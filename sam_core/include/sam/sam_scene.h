@@ -1,0 +1,226 @@
+/*
+ * sam_scene: scene files. A scene is a JSON object naming the object to
+ * render (a mesh plus material and scale, or a prebuilt .sam), its lights,
+ * environment, camera, output resolution and rendering choices. The viewer,
+ * the headless renderer, the comparison tool and the benchmarks all read
+ * the same files; the viewer writes them back to record a screenshot's scene.
+ *
+ * File format (keys not listed are errors, so a typo never goes unnoticed):
+ *
+ *   "mesh": "head.obj"  OR  "sam": "head.sam"      exactly one, required
+ *   "material": "skin" | "marble" | ... | "my_profile.json"
+ *        a sam_profile preset name, else a profile file (sam_profile_load).
+ *        Required with "mesh"; optional with "sam" (absent: the material the
+ *        .sam records applies).
+ *   "scale": {"mm_per_unit": 1.0} OR {"size_mm": 180.0}
+ *        exactly one key, value > 0. Required with "mesh"; optional with
+ *        "sam" (absent: the scale the .sam records applies).
+ *   "albedo": [r, g, b]            each in [0, 1]; default [0.8, 0.8, 0.8]
+ *   "lights": [light, ...]         default none; at most SAM_SCENE_MAX_LIGHTS
+ *   "environment": {"map": "sky.exr", "intensity": 1.0, "rotation_deg": 0.0}
+ *        optional; "map" required inside it (a latitude-longitude EXR),
+ *        intensity >= 0 (default 1), rotation about +Y in degrees (default 0)
+ *   "camera": {"position": [x,y,z], "target": [x,y,z], "up": [0,1,0],
+ *              "fov_deg": 40, "near": n, "far": f}
+ *        optional (absent: has_camera = 0 and the renderer frames the
+ *        object). position and target required inside it and distinct;
+ *        up default [0,1,0], not parallel to the view direction; fov_deg is
+ *        the vertical field of view in (0, 180), default 40; near > 0 and
+ *        far > near, each default 0 = chosen by the renderer from the
+ *        object's bounds.
+ *   "resolution": [width, height]  integers in 1..16384; default [1280, 720]
+ *   "technique": "sam" | "none" | "tsm" | "transmittance"   default "sam"
+ *   "diffusion": "screen" | "texture" | "preintegrated"     default "screen"
+ *   "tonemap": "aces" | "reinhard"                           default "aces"
+ *   "exposure": EV, finite, in [-32, 32]                     default 0
+ *
+ * Lights ("type" required; every other key optional unless marked):
+ *   {"type": "point", "position": [..] (required), "color", "intensity", "shadow"}
+ *   {"type": "spot", "position": [..] (required), "direction": [..] (required),
+ *    "inner_angle_deg", "outer_angle_deg", "color", "intensity", "shadow"}
+ *   {"type": "directional", "direction": [..] (required), "color",
+ *    "intensity", "shadow"}
+ *   {"type": "area", "vertices": [[x,y,z], ...] (required), "color",
+ *    "intensity", "two_sided", "shadow"}
+ *   color: [r,g,b] each >= 0, default [1,1,1]; intensity >= 0, default 1;
+ *   shadow: default true; two_sided: default false.
+ *   Spot angles are half-angles from the axis in degrees with
+ *   0 <= inner <= outer < 90; outer defaults to 30, inner to 2/3 of outer.
+ *   Directions are the way light travels, non-zero, stored normalised.
+ *   Area vertices: 3..SAM_AREA_LIGHT_MAX_VERTICES, planar (every vertex
+ *   within 1e-3 of the polygon's size from its plane), convex, with no
+ *   repeated or collinear consecutive vertices; the light emits on the side
+ *   its vertices wind counter-clockwise around (the stored normal), or on
+ *   both sides when two_sided.
+ *   Units: positions are in the mesh's model units. Point and spot lights
+ *   give irradiance color * intensity / d^2 at distance d, a directional
+ *   light irradiance color * intensity, an area light radiance
+ *   color * intensity.
+ *
+ * Relative paths (mesh, sam, environment map, profile file) resolve against
+ * the scene file's directory; the scene stores absolute paths, and each
+ * referenced file must exist when the scene is loaded.
+ *
+ * Every error names the scene file and the key's path with the value found,
+ * e.g. "scene.json: lights[0].intensity: expected a finite number >= 0,
+ * found -1". A JSON syntax error gives the line and column.
+ *
+ * A sam_scene is plain data. All its pointers are malloc'd and owned by the
+ * scene; sam_scene_destroy frees them. Nothing here keeps global state.
+ */
+#ifndef SAM_SCENE_H
+#define SAM_SCENE_H
+
+#include "sam/sam_common.h"
+#include "sam/sam_profile.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SAM_SCENE_MAX_LIGHTS 64
+#define SAM_AREA_LIGHT_MAX_VERTICES 8
+#define SAM_SCENE_MAX_RESOLUTION 16384
+
+typedef enum sam_light_type {
+    SAM_LIGHT_POINT = 0,
+    SAM_LIGHT_SPOT = 1,
+    SAM_LIGHT_DIRECTIONAL = 2,
+    SAM_LIGHT_AREA = 3
+} sam_light_type;
+
+typedef struct sam_light {
+    sam_light_type type;
+    float color[3];  /* linear RGB, >= 0 */
+    float intensity; /* >= 0 */
+    int shadow;      /* 1: casts shadows */
+
+    float position[3];       /* point, spot (model units) */
+    float direction[3];      /* spot axis, directional: unit, the way light travels */
+    float inner_angle_deg;   /* spot: full intensity inside this half-angle */
+    float outer_angle_deg;   /* spot: no light outside this half-angle */
+
+    uint32_t vertex_count;                            /* area: 3..8 */
+    float vertices[SAM_AREA_LIGHT_MAX_VERTICES][3];   /* area: convex planar polygon */
+    float normal[3]; /* area: unit normal of the emitting side (derived from the winding) */
+    float area;      /* area: polygon area in model units^2 (derived) */
+    int two_sided;   /* area: 1 emits on both sides */
+} sam_light;
+
+typedef enum sam_scale_kind {
+    SAM_SCALE_FROM_SAM = 0,    /* no "scale" key: the .sam's recorded scale applies */
+    SAM_SCALE_MM_PER_UNIT = 1, /* scale_value millimetres per model unit */
+    SAM_SCALE_SIZE_MM = 2      /* scale_value = bounding-box diagonal in millimetres */
+} sam_scale_kind;
+
+typedef enum sam_technique {
+    SAM_TECHNIQUE_SAM = 0,          /* spatial adjacency maps */
+    SAM_TECHNIQUE_NONE = 1,         /* no translucency through the object */
+    SAM_TECHNIQUE_TSM = 2,          /* d'Eon's translucent shadow maps */
+    SAM_TECHNIQUE_TRANSMITTANCE = 3 /* Jimenez's shadow-map transmittance */
+} sam_technique;
+
+typedef enum sam_diffusion {
+    SAM_DIFFUSION_SCREEN = 0,       /* separable screen-space blur */
+    SAM_DIFFUSION_TEXTURE = 1,      /* texture-space sum of Gaussians */
+    SAM_DIFFUSION_PREINTEGRATED = 2 /* Penner's pre-integrated lookup */
+} sam_diffusion;
+
+typedef enum sam_tonemap {
+    SAM_TONEMAP_ACES = 0,
+    SAM_TONEMAP_REINHARD = 1
+} sam_tonemap;
+
+typedef struct sam_environment {
+    char *map;          /* absolute path of the EXR, NULL when the scene has no environment */
+    float intensity;    /* >= 0 */
+    float rotation_deg; /* about +Y */
+} sam_environment;
+
+typedef struct sam_camera {
+    float position[3];
+    float target[3];
+    float up[3];      /* unit */
+    float fov_deg;    /* vertical, (0, 180) */
+    float near_plane; /* > 0, or 0 = automatic */
+    float far_plane;  /* > near_plane, or 0 = automatic */
+} sam_camera;
+
+typedef struct sam_scene {
+    char *mesh_path; /* absolute; exactly one of mesh_path and sam_path is non-NULL */
+    char *sam_path;
+
+    char *material;      /* preset name as written, absolute profile path, or NULL ("sam" only) */
+    sam_profile profile; /* the material's profile; meaningful when material != NULL */
+
+    sam_scale_kind scale_kind;
+    float scale_value; /* > 0 unless scale_kind == SAM_SCALE_FROM_SAM */
+
+    float albedo[3]; /* each in [0, 1] */
+
+    sam_light *lights; /* light_count entries */
+    size_t light_count;
+
+    sam_environment environment;
+
+    int has_camera; /* 0: no "camera" key; `camera` holds defaults and is not used */
+    sam_camera camera;
+
+    uint32_t width, height; /* 1..SAM_SCENE_MAX_RESOLUTION */
+    sam_technique technique;
+    sam_diffusion diffusion;
+    sam_tonemap tonemap;
+    float exposure; /* EV */
+} sam_scene;
+
+/* Sets every field to its default: no mesh, no material, no lights, no
+ * environment, no camera. Frees nothing: call it on a new scene only. A
+ * caller building a scene by hand sets mesh_path etc. to malloc'd strings
+ * and `lights` to a malloc'd array; sam_scene_destroy frees them. */
+void sam_scene_init(sam_scene *scene);
+
+/* Reads and parses the scene file at `path`. On success the caller owns
+ * `scene` and frees it with sam_scene_destroy; on failure `scene` holds
+ * nothing to free (it is left as by sam_scene_init).
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL arguments), SAM_ERR_IO (cannot
+ * read the scene, or a referenced file is missing: the message gives its
+ * absolute path), SAM_ERR_FORMAT (JSON syntax with line and column, unknown
+ * keys, wrong types, values out of range: key path and value), and the
+ * profile loader's errors for "material", SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_scene_load(const char *path, sam_scene *scene, sam_error *err);
+
+/* Parses `size` bytes of JSON text (no NUL terminator needed). Relative
+ * paths resolve against `base_dir` (NULL: the current directory); messages
+ * start with `name` (NULL: "scene"). Errors and ownership as sam_scene_load. */
+sam_status sam_scene_parse(const char *text, size_t size, const char *base_dir, const char *name,
+                           sam_scene *scene, sam_error *err);
+
+/* Writes `scene` as a scene file at `path`, atomically. Paths are written
+ * absolute (a relative one in `scene` is taken against the current
+ * directory), numbers in the shortest form that reads back to the same
+ * float, optional values always explicitly, so loading the file gives the
+ * same scene. The text is checked by parsing it back before anything is
+ * written, so an invalid scene (a missing file, a value out of range) fails
+ * with the parser's message and leaves no file.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL arguments), the parser's errors
+ * for an invalid scene (an enum or value out of range, a missing file:
+ * SAM_ERR_FORMAT or SAM_ERR_IO naming `path` and the key), SAM_ERR_IO,
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_scene_write(const char *path, const sam_scene *scene, sam_error *err);
+
+/* Frees everything the scene owns and re-initialises it (sam_scene_init).
+ * Safe on an initialised or destroyed scene and on NULL. */
+void sam_scene_destroy(sam_scene *scene);
+
+/* Names used in scene files ("point", "sam", "screen", "aces", ...);
+ * "unknown" for a value outside the enum. */
+const char *sam_light_type_name(sam_light_type type);
+const char *sam_technique_name(sam_technique technique);
+const char *sam_diffusion_name(sam_diffusion diffusion);
+const char *sam_tonemap_name(sam_tonemap tonemap);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

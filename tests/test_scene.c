@@ -1,0 +1,745 @@
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <cmocka.h>
+
+#include "sam/sam_common.h"
+#include "sam/sam_scene.h"
+#include "sam_test.h"
+
+/* Every test works in <tmp>/scene, where setup puts the files scenes refer
+ * to: only their existence matters to the loader, except the profile. */
+static char dir[512];
+
+static void dir_file(char *buf, size_t n, const char *name)
+{
+    snprintf(buf, n, "%s/%s", dir, name);
+}
+
+static void put_file(const char *name, const char *text)
+{
+    char path[640];
+    dir_file(path, sizeof path, name);
+    sam_test_write_text(path, text);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    sam_test_tmp_path(dir, sizeof dir, "scene");
+    mkdir(dir, 0755);
+    char sub[640];
+    dir_file(sub, sizeof sub, "profiles");
+    mkdir(sub, 0755);
+    dir_file(sub, sizeof sub, "sub");
+    mkdir(sub, 0755);
+    put_file("head.obj", "v 0 0 0\n");
+    put_file("head.sam", "SAMF");
+    put_file("sky.exr", "not read by the scene loader");
+    put_file("profiles/custom.json",
+             "{\"type\": \"dipole\", \"sigma_s_prime\": [1.0, 1.2, 1.4], "
+             "\"sigma_a\": [0.01, 0.02, 0.03], \"eta\": 1.4}");
+    put_file("profiles/bad_profile.json",
+             "{\"type\": \"dipole\", \"sigma_s_prime\": [1, 1, 1], \"sigma_a\": [0.1, -5, 0.1], "
+             "\"eta\": 1.3}");
+    return 0;
+}
+
+static sam_status parse(const char *text, sam_scene *scene, sam_error *err)
+{
+    return sam_scene_parse(text, strlen(text), dir, "scene.json", scene, err);
+}
+
+/* A scene using every key and every light type. No trailing newline, so
+ * every proper prefix is incomplete JSON. */
+static const char full_scene[] =
+    "{\n"
+    "  \"mesh\": \"head.obj\",\n"
+    "  \"material\": \"profiles/custom.json\",\n"
+    "  \"scale\": {\"size_mm\": 180},\n"
+    "  \"albedo\": [0.9, 0.7, 0.6],\n"
+    "  \"lights\": [\n"
+    "    {\"type\": \"point\", \"position\": [1, 2, 3], \"color\": [1, 0.5, 0.25],\n"
+    "     \"intensity\": 10, \"shadow\": false},\n"
+    "    {\"type\": \"spot\", \"position\": [0, 5, 0], \"direction\": [0, -2, 0],\n"
+    "     \"inner_angle_deg\": 15, \"outer_angle_deg\": 25, \"color\": [1, 1, 1], \"intensity\": 3},\n"
+    "    {\"type\": \"directional\", \"direction\": [3, 0, -4], \"color\": [0.1, 0.2, 0.3],\n"
+    "     \"intensity\": 2, \"shadow\": true},\n"
+    "    {\"type\": \"area\", \"vertices\": [[0, 4, 0], [1, 4, 0], [1, 4, 1], [0, 4, 1]],\n"
+    "     \"color\": [2, 2, 2], \"intensity\": 0.5, \"two_sided\": true, \"shadow\": false}\n"
+    "  ],\n"
+    "  \"environment\": {\"map\": \"sky.exr\", \"intensity\": 0.25, \"rotation_deg\": 90},\n"
+    "  \"camera\": {\"position\": [0, 1, 5], \"target\": [0, 1, 0], \"up\": [0, 2, 0],\n"
+    "             \"fov_deg\": 35, \"near\": 0.1, \"far\": 100},\n"
+    "  \"resolution\": [640, 480],\n"
+    "  \"technique\": \"tsm\",\n"
+    "  \"diffusion\": \"texture\",\n"
+    "  \"tonemap\": \"reinhard\",\n"
+    "  \"exposure\": -1.5\n"
+    "}";
+
+static void assert_vec3(const float v[3], float x, float y, float z)
+{
+    assert_float_equal(v[0], x, 1e-6f);
+    assert_float_equal(v[1], y, 1e-6f);
+    assert_float_equal(v[2], z, 1e-6f);
+}
+
+static void test_full_scene_loads(void **state)
+{
+    (void)state;
+    char path[640], want[640];
+    dir_file(path, sizeof path, "full.json");
+    sam_test_write_text(path, full_scene);
+    sam_scene s;
+    sam_error err;
+    if (sam_scene_load(path, &s, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+
+    dir_file(want, sizeof want, "head.obj");
+    assert_string_equal(s.mesh_path, want);
+    assert_null(s.sam_path);
+    dir_file(want, sizeof want, "profiles/custom.json");
+    assert_string_equal(s.material, want);
+    assert_int_equal(s.profile.kind, SAM_PROFILE_DIPOLE);
+    assert_float_equal(s.profile.sigma_s_prime[2], 1.4f, 1e-6f);
+    assert_float_equal(s.profile.eta, 1.4f, 1e-6f);
+    assert_int_equal(s.scale_kind, SAM_SCALE_SIZE_MM);
+    assert_float_equal(s.scale_value, 180.0f, 0.0f);
+    assert_vec3(s.albedo, 0.9f, 0.7f, 0.6f);
+
+    assert_int_equal(s.light_count, 4);
+    const sam_light *l = s.lights;
+    assert_int_equal(l[0].type, SAM_LIGHT_POINT);
+    assert_vec3(l[0].position, 1, 2, 3);
+    assert_vec3(l[0].color, 1, 0.5f, 0.25f);
+    assert_float_equal(l[0].intensity, 10.0f, 0.0f);
+    assert_int_equal(l[0].shadow, 0);
+
+    assert_int_equal(l[1].type, SAM_LIGHT_SPOT);
+    assert_vec3(l[1].position, 0, 5, 0);
+    assert_vec3(l[1].direction, 0, -1, 0); /* normalised */
+    assert_float_equal(l[1].inner_angle_deg, 15.0f, 0.0f);
+    assert_float_equal(l[1].outer_angle_deg, 25.0f, 0.0f);
+    assert_float_equal(l[1].intensity, 3.0f, 0.0f);
+    assert_int_equal(l[1].shadow, 1); /* default */
+
+    assert_int_equal(l[2].type, SAM_LIGHT_DIRECTIONAL);
+    assert_vec3(l[2].direction, 0.6f, 0, -0.8f);
+    assert_vec3(l[2].color, 0.1f, 0.2f, 0.3f);
+    assert_int_equal(l[2].shadow, 1);
+
+    assert_int_equal(l[3].type, SAM_LIGHT_AREA);
+    assert_int_equal(l[3].vertex_count, 4);
+    assert_vec3(l[3].vertices[2], 1, 4, 1);
+    /* (x, z) = (0,0) -> (1,0) -> (1,1) -> (0,1) winds counter-clockwise
+     * seen from below: the light faces -y, down onto the object. */
+    assert_vec3(l[3].normal, 0, -1, 0);
+    assert_float_equal(l[3].area, 1.0f, 1e-6f);
+    assert_int_equal(l[3].two_sided, 1);
+    assert_int_equal(l[3].shadow, 0);
+
+    dir_file(want, sizeof want, "sky.exr");
+    assert_string_equal(s.environment.map, want);
+    assert_float_equal(s.environment.intensity, 0.25f, 0.0f);
+    assert_float_equal(s.environment.rotation_deg, 90.0f, 0.0f);
+
+    assert_int_equal(s.has_camera, 1);
+    assert_vec3(s.camera.position, 0, 1, 5);
+    assert_vec3(s.camera.target, 0, 1, 0);
+    assert_vec3(s.camera.up, 0, 1, 0);
+    assert_float_equal(s.camera.fov_deg, 35.0f, 0.0f);
+    assert_float_equal(s.camera.near_plane, 0.1f, 0.0f);
+    assert_float_equal(s.camera.far_plane, 100.0f, 0.0f);
+    assert_int_equal(s.width, 640);
+    assert_int_equal(s.height, 480);
+    assert_int_equal(s.technique, SAM_TECHNIQUE_TSM);
+    assert_int_equal(s.diffusion, SAM_DIFFUSION_TEXTURE);
+    assert_int_equal(s.tonemap, SAM_TONEMAP_REINHARD);
+    assert_float_equal(s.exposure, -1.5f, 0.0f);
+    sam_scene_destroy(&s);
+    assert_null(s.lights);
+    sam_scene_destroy(&s); /* twice is harmless */
+}
+
+static void test_defaults(void **state)
+{
+    (void)state;
+    sam_scene s;
+    sam_error err;
+    assert_int_equal(parse("{\"sam\": \"head.sam\"}", &s, &err), SAM_OK);
+    char want[640];
+    dir_file(want, sizeof want, "head.sam");
+    assert_string_equal(s.sam_path, want);
+    assert_null(s.mesh_path);
+    assert_null(s.material);
+    assert_int_equal(s.scale_kind, SAM_SCALE_FROM_SAM);
+    assert_vec3(s.albedo, 0.8f, 0.8f, 0.8f);
+    assert_int_equal(s.light_count, 0);
+    assert_null(s.lights);
+    assert_null(s.environment.map);
+    assert_int_equal(s.has_camera, 0);
+    assert_int_equal(s.width, 1280);
+    assert_int_equal(s.height, 720);
+    assert_int_equal(s.technique, SAM_TECHNIQUE_SAM);
+    assert_int_equal(s.diffusion, SAM_DIFFUSION_SCREEN);
+    assert_int_equal(s.tonemap, SAM_TONEMAP_ACES);
+    assert_float_equal(s.exposure, 0.0f, 0.0f);
+    sam_scene_destroy(&s);
+
+    /* Defaults inside lights, environment and camera; a preset material;
+     * "./" and repeated slashes in paths. */
+    assert_int_equal(
+        parse("{\"mesh\": \"./sub/..//head.obj\", \"material\": \"Marble\", "
+              "\"scale\": {\"mm_per_unit\": 2.5},"
+              " \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 0]},"
+              "              {\"type\": \"spot\", \"position\": [0, 1, 0], \"direction\": [0, -1, 0]},"
+              "              {\"type\": \"spot\", \"position\": [0, 1, 0], \"direction\": [0, -1, 0],"
+              "               \"outer_angle_deg\": 60},"
+              "              {\"type\": \"area\", \"vertices\": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}],"
+              " \"environment\": {\"map\": \"sky.exr\"},"
+              " \"camera\": {\"position\": [0, 0, 3], \"target\": [0, 0, 0]}}",
+              &s, &err),
+        SAM_OK);
+    dir_file(want, sizeof want, "sub/../head.obj");
+    assert_string_equal(s.mesh_path, want);
+    assert_string_equal(s.material, "Marble");
+    assert_int_equal(s.profile.kind, SAM_PROFILE_DIPOLE);
+    assert_int_equal(s.scale_kind, SAM_SCALE_MM_PER_UNIT);
+    assert_float_equal(s.scale_value, 2.5f, 0.0f);
+    assert_vec3(s.lights[0].color, 1, 1, 1);
+    assert_float_equal(s.lights[0].intensity, 1.0f, 0.0f);
+    assert_int_equal(s.lights[0].shadow, 1);
+    assert_float_equal(s.lights[1].outer_angle_deg, 30.0f, 0.0f);
+    assert_float_equal(s.lights[1].inner_angle_deg, 20.0f, 1e-5f);
+    assert_float_equal(s.lights[2].inner_angle_deg, 40.0f, 1e-5f);
+    assert_int_equal(s.lights[3].two_sided, 0);
+    assert_vec3(s.lights[3].normal, 0, 0, 1);
+    assert_float_equal(s.lights[3].area, 0.5f, 1e-6f);
+    assert_float_equal(s.environment.intensity, 1.0f, 0.0f);
+    assert_float_equal(s.environment.rotation_deg, 0.0f, 0.0f);
+    assert_int_equal(s.has_camera, 1);
+    assert_vec3(s.camera.up, 0, 1, 0);
+    assert_float_equal(s.camera.fov_deg, 40.0f, 0.0f);
+    assert_float_equal(s.camera.near_plane, 0.0f, 0.0f);
+    assert_float_equal(s.camera.far_plane, 0.0f, 0.0f);
+    sam_scene_destroy(&s);
+
+    /* sam_scene_init gives the same defaults as an empty file would. */
+    sam_scene init;
+    sam_scene_init(&init);
+    assert_int_equal(init.width, 1280);
+    assert_vec3(init.albedo, 0.8f, 0.8f, 0.8f);
+    assert_float_equal(init.camera.fov_deg, 40.0f, 0.0f);
+    assert_float_equal(init.environment.intensity, 1.0f, 0.0f);
+}
+
+static void assert_same_floats(const float *a, const float *b, size_t n, const char *what)
+{
+    if (memcmp(a, b, n * sizeof *a) != 0)
+        fail_msg("%s differs after the round trip", what);
+}
+
+static void assert_same_string(const char *a, const char *b)
+{
+    if (!a || !b)
+        assert_true(a == b);
+    else
+        assert_string_equal(a, b);
+}
+
+static void assert_scenes_equal(const sam_scene *a, const sam_scene *b)
+{
+    assert_same_string(a->mesh_path, b->mesh_path);
+    assert_same_string(a->sam_path, b->sam_path);
+    assert_same_string(a->material, b->material);
+    if (a->material)
+        assert_memory_equal(&a->profile, &b->profile, sizeof a->profile);
+    assert_int_equal(a->scale_kind, b->scale_kind);
+    assert_same_floats(&a->scale_value, &b->scale_value, 1, "scale");
+    assert_same_floats(a->albedo, b->albedo, 3, "albedo");
+    assert_int_equal(a->light_count, b->light_count);
+    for (size_t i = 0; i < a->light_count; ++i) {
+        const sam_light *x = &a->lights[i], *y = &b->lights[i];
+        assert_int_equal(x->type, y->type);
+        assert_same_floats(x->color, y->color, 3, "light color");
+        assert_same_floats(&x->intensity, &y->intensity, 1, "light intensity");
+        assert_int_equal(x->shadow, y->shadow);
+        if (x->type == SAM_LIGHT_POINT || x->type == SAM_LIGHT_SPOT)
+            assert_same_floats(x->position, y->position, 3, "light position");
+        if (x->type == SAM_LIGHT_SPOT || x->type == SAM_LIGHT_DIRECTIONAL)
+            assert_same_floats(x->direction, y->direction, 3, "light direction");
+        if (x->type == SAM_LIGHT_SPOT) {
+            assert_same_floats(&x->inner_angle_deg, &y->inner_angle_deg, 1, "inner angle");
+            assert_same_floats(&x->outer_angle_deg, &y->outer_angle_deg, 1, "outer angle");
+        }
+        if (x->type == SAM_LIGHT_AREA) {
+            assert_int_equal(x->vertex_count, y->vertex_count);
+            assert_same_floats(&x->vertices[0][0], &y->vertices[0][0], 3 * x->vertex_count,
+                               "area vertices");
+            assert_same_floats(x->normal, y->normal, 3, "area normal");
+            assert_same_floats(&x->area, &y->area, 1, "area");
+            assert_int_equal(x->two_sided, y->two_sided);
+        }
+    }
+    assert_same_string(a->environment.map, b->environment.map);
+    assert_same_floats(&a->environment.intensity, &b->environment.intensity, 1, "env intensity");
+    assert_same_floats(&a->environment.rotation_deg, &b->environment.rotation_deg, 1,
+                       "env rotation");
+    assert_int_equal(a->has_camera, b->has_camera);
+    if (a->has_camera) {
+        assert_same_floats(a->camera.position, b->camera.position, 3, "camera position");
+        assert_same_floats(a->camera.target, b->camera.target, 3, "camera target");
+        assert_same_floats(a->camera.up, b->camera.up, 3, "camera up");
+        assert_same_floats(&a->camera.fov_deg, &b->camera.fov_deg, 1, "fov");
+        assert_same_floats(&a->camera.near_plane, &b->camera.near_plane, 1, "near");
+        assert_same_floats(&a->camera.far_plane, &b->camera.far_plane, 1, "far");
+    }
+    assert_int_equal(a->width, b->width);
+    assert_int_equal(a->height, b->height);
+    assert_int_equal(a->technique, b->technique);
+    assert_int_equal(a->diffusion, b->diffusion);
+    assert_int_equal(a->tonemap, b->tonemap);
+    assert_same_floats(&a->exposure, &b->exposure, 1, "exposure");
+}
+
+static void test_round_trip(void **state)
+{
+    (void)state;
+    char in[640], out[640];
+    dir_file(in, sizeof in, "full.json");
+    sam_test_write_text(in, full_scene);
+    sam_scene a, b;
+    sam_error err;
+    assert_int_equal(sam_scene_load(in, &a, &err), SAM_OK);
+    /* Written into another directory: absolute paths keep it loadable. */
+    dir_file(out, sizeof out, "sub/written.json");
+    if (sam_scene_write(out, &a, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    if (sam_scene_load(out, &b, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_scenes_equal(&a, &b);
+    sam_scene_destroy(&b);
+
+    /* Numbers are written short: 0.9f as 0.9, not 0.899999976. */
+    uint8_t *text;
+    size_t size;
+    assert_int_equal(sam_read_file(out, &text, &size, &err), SAM_OK);
+    assert_non_null(strstr((char *)text, "0.9"));
+    assert_null(strstr((char *)text, "0.8999"));
+    free(text);
+
+    /* Awkward floats survive bit for bit. */
+    a.albedo[0] = 0.1f;
+    a.albedo[1] = nextafterf(0.3f, 1.0f);
+    a.albedo[2] = 1e-30f;
+    a.exposure = -0.0f;
+    a.lights[0].position[0] = 3.4e38f;
+    a.lights[0].position[1] = -1.17549435e-38f;
+    a.camera.fov_deg = 179.99998f;
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_OK);
+    assert_int_equal(sam_scene_load(out, &b, &err), SAM_OK);
+    assert_scenes_equal(&a, &b);
+    sam_scene_destroy(&b);
+    sam_scene_destroy(&a);
+}
+
+static void test_write_hand_built_scene(void **state)
+{
+    (void)state;
+    char out[640], sam_file[640];
+    sam_scene a, b;
+    sam_error err;
+    sam_scene_init(&a);
+    dir_file(sam_file, sizeof sam_file, "head.sam");
+    a.sam_path = strdup(sam_file);
+    a.material = strdup("skin");
+    a.light_count = 2;
+    a.lights = calloc(2, sizeof *a.lights);
+    a.lights[0].type = SAM_LIGHT_DIRECTIONAL;
+    a.lights[0].direction[2] = -1.0f;
+    a.lights[0].color[0] = a.lights[0].color[1] = a.lights[0].color[2] = 1.0f;
+    a.lights[0].intensity = 4.0f;
+    a.lights[1].type = SAM_LIGHT_AREA;
+    a.lights[1].vertex_count = 3;
+    const float tri[3][3] = {{0, 0, 2}, {0, 1, 2}, {1, 0, 2}};
+    memcpy(a.lights[1].vertices, tri, sizeof tri);
+    a.lights[1].intensity = 1.0f;
+    a.lights[1].normal[2] = -1.0f;
+    a.lights[1].area = 0.5f;
+    a.technique = SAM_TECHNIQUE_TRANSMITTANCE;
+    a.diffusion = SAM_DIFFUSION_PREINTEGRATED;
+    dir_file(out, sizeof out, "hand.json");
+    if (sam_scene_write(out, &a, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    if (sam_scene_load(out, &b, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_int_equal(b.profile.kind, SAM_PROFILE_GAUSSIAN_SUM);
+    a.profile = b.profile; /* the hand-built scene never resolved its material */
+    assert_scenes_equal(&a, &b);
+    sam_scene_destroy(&b);
+
+    /* An invalid scene is refused with the loader's message, and no file. */
+    remove(out);
+    a.has_camera = 1;
+    a.camera.position[2] = 3.0f;
+    a.camera.fov_deg = 200.0f;
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "hand.json: camera.fov_deg: expected a number in (0, 180), "
+                                        "found 200"));
+    assert_false(sam_test_file_exists(out));
+    a.camera.fov_deg = 40.0f;
+    a.technique = (sam_technique)9;
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "technique: unknown technique"));
+    a.technique = SAM_TECHNIQUE_SAM;
+    a.lights[0].intensity = NAN;
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "lights[0].intensity: expected a number >= 0"));
+    assert_false(sam_test_file_exists(out));
+    a.lights[0].intensity = 1.0f;
+    assert_int_equal(sam_scene_write("/nonexistent-dir/s.json", &a, &err), SAM_ERR_IO);
+    assert_non_null(strstr(err.message, "/nonexistent-dir/s.json"));
+    free(a.sam_path);
+    a.sam_path = NULL;
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "hand.json: mesh: missing"));
+    assert_false(sam_test_file_exists(out));
+    assert_int_equal(sam_scene_write(out, NULL, &err), SAM_ERR_INVALID_ARGUMENT);
+    sam_scene_destroy(&a);
+}
+
+typedef struct error_case {
+    const char *json;
+    sam_status status;
+    const char *message; /* expected substring; "@" stands for the scene directory */
+} error_case;
+
+static const error_case error_cases[] = {
+    /* the messages the contract quotes */
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"point\", \"position\": [0,0,0]},"
+     " {\"type\": \"point\", \"position\": [0,0,0], \"colour\": [1,1,1]}]}",
+     SAM_ERR_FORMAT,
+     "scene.json: lights[1].colour: unknown key (expected one of: type, position, color, "
+     "intensity, shadow)"},
+    {"{\"sam\": \"head.sam\", \"camera\": {\"position\": [0,0,1], \"target\": [0,0,0], "
+     "\"fov_deg\": 200}}",
+     SAM_ERR_FORMAT, "scene.json: camera.fov_deg: expected a number in (0, 180), found 200"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"sun\"}]}", SAM_ERR_FORMAT,
+     "scene.json: lights[0].type: unknown light type \"sun\" (expected point, spot, "
+     "directional, area)"},
+    {"{\"sam\": \"head.sam\", \"material\": \"profiles/bad_profile.json\"}", SAM_ERR_FORMAT,
+     "scene.json: material: @/profiles/bad_profile.json"},
+    {"{\"sam\": \"head.sam\", \"material\": \"velvet\"}", SAM_ERR_IO,
+     "scene.json: material: \"velvet\" is neither a preset (skin, apple"},
+    {"{\"mesh\": \"missing.obj\", \"material\": \"skin\", \"scale\": {\"size_mm\": 1}}",
+     SAM_ERR_IO, "scene.json: mesh: file not found: @/missing.obj"},
+    {"{\"sam\": \"nothing/here.sam\"}", SAM_ERR_IO, "scene.json: sam: file not found: @/nothing/here.sam"},
+    {"{\"sam\": \"profiles\"}", SAM_ERR_IO, "scene.json: sam: not a regular file: @/profiles"},
+    {"{\"sam\": \"head.sam\", \"environment\": {\"map\": \"night.exr\"}}", SAM_ERR_IO,
+     "scene.json: environment.map: file not found: @/night.exr"},
+    {"{\n  \"sam\": \"head.sam\",\n  \"albedo\": [0.5, 0.5,, 0.5]\n}", SAM_ERR_FORMAT,
+     "scene.json: line 3, column 23: JSON syntax error at \", 0.5]\""},
+    {"{\"sam\": \"head.sam\",\n\"exposure\": 1} trailing", SAM_ERR_FORMAT,
+     "scene.json: line 2, column 16: unexpected text after the JSON object"},
+    {"", SAM_ERR_FORMAT, "scene.json: empty scene"},
+    {" \n ", SAM_ERR_FORMAT, "scene.json: empty scene"},
+    {"[1, 2]", SAM_ERR_FORMAT, "scene.json: expected a JSON object, found an array of 2 elements"},
+    /* structure */
+    {"{\"sam\": \"head.sam\", \"sam\": \"head.sam\"}", SAM_ERR_FORMAT, "scene.json: sam: duplicate key"},
+    {"{\"sam\": \"head.sam\", \"Mesh\": 1}", SAM_ERR_FORMAT,
+     "scene.json: Mesh: unknown key (expected one of: mesh, sam, material"},
+    {"{\"sam\": \"head.sam\", \"mesh\": \"head.obj\"}", SAM_ERR_FORMAT,
+     "scene.json: sam: expected either \"mesh\" or \"sam\", found both"},
+    {"{\"albedo\": [1, 1, 1]}", SAM_ERR_FORMAT, "scene.json: mesh: missing (give \"mesh\" or \"sam\")"},
+    {"{\"sam\": 5}", SAM_ERR_FORMAT, "scene.json: sam: expected a non-empty string, found 5"},
+    {"{\"sam\": \"\"}", SAM_ERR_FORMAT, "scene.json: sam: expected a non-empty string, found \"\""},
+    {"{\"mesh\": \"head.obj\", \"scale\": {\"size_mm\": 1}}", SAM_ERR_FORMAT,
+     "scene.json: material: missing (required with \"mesh\")"},
+    {"{\"mesh\": \"head.obj\", \"material\": \"skin\"}", SAM_ERR_FORMAT,
+     "scene.json: scale: missing (required with \"mesh\""},
+    {"{\"sam\": \"head.sam\", \"scale\": {\"size_mm\": 1, \"mm_per_unit\": 1}}", SAM_ERR_FORMAT,
+     "scene.json: scale: expected exactly one of mm_per_unit and size_mm, found both"},
+    {"{\"sam\": \"head.sam\", \"scale\": {}}", SAM_ERR_FORMAT,
+     "scene.json: scale: expected exactly one of mm_per_unit and size_mm, found neither"},
+    {"{\"sam\": \"head.sam\", \"scale\": {\"size_mm\": -3}}", SAM_ERR_FORMAT,
+     "scene.json: scale.size_mm: expected a number > 0 (finite), found -3"},
+    {"{\"sam\": \"head.sam\", \"scale\": {\"inches\": 3}}", SAM_ERR_FORMAT,
+     "scene.json: scale.inches: unknown key (expected one of: mm_per_unit, size_mm)"},
+    {"{\"sam\": \"head.sam\", \"scale\": 3}", SAM_ERR_FORMAT, "scene.json: scale: expected {"},
+    /* vectors and colours */
+    {"{\"sam\": \"head.sam\", \"albedo\": [0.5, 0.5]}", SAM_ERR_FORMAT,
+     "scene.json: albedo: expected an array of 3 numbers, found an array of 2 elements"},
+    {"{\"sam\": \"head.sam\", \"albedo\": [0.5, 1.5, 0.5]}", SAM_ERR_FORMAT,
+     "scene.json: albedo: expected values in [0, 1], found albedo[1] = 1.5"},
+    {"{\"sam\": \"head.sam\", \"albedo\": [0.5, \"x\", 0.5]}", SAM_ERR_FORMAT,
+     "scene.json: albedo[1]: expected a number >= 0 (finite), found \"x\""},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"point\", \"position\": [0, 1e999, 0]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].position[1]: expected a number (finite), found inf"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"point\", \"position\": [0, 1e39, 0]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].position[1]: expected a number (finite), found 1e+39"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"point\", \"position\": [0, 0, 0], "
+     "\"color\": [1, -1, 1]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].color[1]: expected a number >= 0 (finite), found -1"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"point\", \"position\": [0, 0, 0], "
+     "\"intensity\": -2}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].intensity: expected a number >= 0 (finite), found -2"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"point\", \"position\": [0, 0, 0], "
+     "\"shadow\": 1}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].shadow: expected true or false, found 1"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 0]}]}",
+     SAM_ERR_FORMAT,
+     "scene.json: lights[0].direction: expected a non-zero direction, found [0, 0, 0]"},
+    /* lights */
+    {"{\"sam\": \"head.sam\", \"lights\": {}}", SAM_ERR_FORMAT,
+     "scene.json: lights: expected an array of lights, found an object"},
+    {"{\"sam\": \"head.sam\", \"lights\": [7]}", SAM_ERR_FORMAT,
+     "scene.json: lights[0]: expected an object, found 7"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"position\": [0, 0, 0]}]}", SAM_ERR_FORMAT,
+     "scene.json: lights[0].type: missing (expected point, spot, directional, area)"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"point\"}]}", SAM_ERR_FORMAT,
+     "scene.json: lights[0].position: missing (required for a point light)"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"spot\", \"position\": [0, 0, 0]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].direction: missing (required for a spot light)"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], "
+     "\"position\": [0, 0, 0]}]}",
+     SAM_ERR_FORMAT,
+     "scene.json: lights[0].position: unknown key (expected one of: type, direction, color, "
+     "intensity, shadow)"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"spot\", \"position\": [0, 0, 0], "
+     "\"direction\": [0, 0, 1], \"inner_angle_deg\": 40, \"outer_angle_deg\": 30}]}",
+     SAM_ERR_FORMAT,
+     "scene.json: lights[0].inner_angle_deg: expected a number <= outer_angle_deg (30), found 40"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"spot\", \"position\": [0, 0, 0], "
+     "\"direction\": [0, 0, 1], \"outer_angle_deg\": 90}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].outer_angle_deg: expected a number in (0, 90), found 90"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\"}]}", SAM_ERR_FORMAT,
+     "scene.json: lights[0].vertices: missing (required for an area light)"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\", \"vertices\": [[0,0,0], [1,0,0]]}]}",
+     SAM_ERR_FORMAT,
+     "scene.json: lights[0].vertices: expected an array of 3 to 8 points [x, y, z], found an "
+     "array of 2 elements"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\", \"vertices\": [[0,0,0], [1,0,0], "
+     "[1,1,0], [0.5,1.5,0], [0,1,0], [0,0.9,0], [0,0.8,0], [0,0.7,0], [0,0.6,0]]}]}",
+     SAM_ERR_FORMAT, "found an array of 9 elements"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\", \"vertices\": [[0,0,0], [1,0,0], "
+     "[1,1]]}]}",
+     SAM_ERR_FORMAT,
+     "scene.json: lights[0].vertices[2]: expected an array of 3 numbers, found an array of 2 "
+     "elements"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\", \"vertices\": [[0,0,0], [1,0,0], "
+     "[2,0,0]]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].vertices: degenerate polygon"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\", \"vertices\": [[0,0,0], [1,0,0], "
+     "[1,1,0.1], [0,1,0]]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].vertices: not planar: vertices[0] is"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\", \"vertices\": [[0,0,0], [2,0,0], "
+     "[2,2,0], [1,0.5,0], [0,2,0]]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].vertices: not convex: the outline turns back at "
+     "vertices[3]"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\", \"vertices\": [[0,0,0], [1,0,0], "
+     "[2,0,0], [2,1,0], [0,1,0]]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].vertices: vertices[1] is collinear with its neighbours"},
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\", \"vertices\": [[0,0,0], [1,0,0], "
+     "[1,0,0], [0,1,0]]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].vertices: vertices[1] and vertices[2] coincide"},
+    /* a pentagram: every corner turns left, but the outline goes round twice */
+    {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"area\", \"vertices\": [[0,1,0], "
+     "[0.587785,-0.809017,0], [-0.951057,0.309017,0], [0.951057,0.309017,0], "
+     "[-0.587785,-0.809017,0]]}]}",
+     SAM_ERR_FORMAT, "scene.json: lights[0].vertices: not convex: the outline winds around 2 times"},
+    /* environment and camera */
+    {"{\"sam\": \"head.sam\", \"environment\": {\"intensity\": 2}}", SAM_ERR_FORMAT,
+     "scene.json: environment.map: missing"},
+    {"{\"sam\": \"head.sam\", \"environment\": {\"map\": \"sky.exr\", \"intensity\": -1}}",
+     SAM_ERR_FORMAT, "scene.json: environment.intensity: expected a number >= 0 (finite), found -1"},
+    {"{\"sam\": \"head.sam\", \"environment\": \"sky.exr\"}", SAM_ERR_FORMAT,
+     "scene.json: environment: expected an object, found \"sky.exr\""},
+    {"{\"sam\": \"head.sam\", \"camera\": {\"target\": [0,0,0]}}", SAM_ERR_FORMAT,
+     "scene.json: camera.position: missing"},
+    {"{\"sam\": \"head.sam\", \"camera\": {\"position\": [1,2,3], \"target\": [1,2,3]}}",
+     SAM_ERR_FORMAT, "scene.json: camera.target: equals camera.position [1, 2, 3]"},
+    {"{\"sam\": \"head.sam\", \"camera\": {\"position\": [0,5,0], \"target\": [0,0,0]}}",
+     SAM_ERR_FORMAT,
+     "scene.json: camera.up: [0, 1, 0] is parallel to the view direction [0, -1, 0]"},
+    {"{\"sam\": \"head.sam\", \"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], "
+     "\"near\": 0}}",
+     SAM_ERR_FORMAT, "scene.json: camera.near: expected a number > 0 (finite), found 0"},
+    {"{\"sam\": \"head.sam\", \"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], "
+     "\"near\": 10, \"far\": 5}}",
+     SAM_ERR_FORMAT, "scene.json: camera.far: expected a number greater than near (10), found 5"},
+    {"{\"sam\": \"head.sam\", \"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], "
+     "\"aperture\": 2}}",
+     SAM_ERR_FORMAT,
+     "scene.json: camera.aperture: unknown key (expected one of: position, target, up, fov_deg, "
+     "near, far)"},
+    /* image and technique settings */
+    {"{\"sam\": \"head.sam\", \"resolution\": [0, 480]}", SAM_ERR_FORMAT,
+     "scene.json: resolution[0]: expected an integer in [1, 16384], found 0"},
+    {"{\"sam\": \"head.sam\", \"resolution\": [640, 16385]}", SAM_ERR_FORMAT,
+     "scene.json: resolution[1]: expected an integer in [1, 16384], found 16385"},
+    {"{\"sam\": \"head.sam\", \"resolution\": [640.5, 480]}", SAM_ERR_FORMAT,
+     "scene.json: resolution[0]: expected an integer in [1, 16384], found 640.5"},
+    {"{\"sam\": \"head.sam\", \"resolution\": [640]}", SAM_ERR_FORMAT,
+     "scene.json: resolution: expected [width, height], found an array of 1 elements"},
+    {"{\"sam\": \"head.sam\", \"technique\": \"magic\"}", SAM_ERR_FORMAT,
+     "scene.json: technique: unknown technique \"magic\" (expected sam, none, tsm, transmittance)"},
+    {"{\"sam\": \"head.sam\", \"diffusion\": \"SCREEN\"}", SAM_ERR_FORMAT,
+     "scene.json: diffusion: unknown diffusion \"SCREEN\" (expected screen, texture, "
+     "preintegrated)"},
+    {"{\"sam\": \"head.sam\", \"tonemap\": null}", SAM_ERR_FORMAT,
+     "scene.json: tonemap: expected a non-empty string, found null"},
+    {"{\"sam\": \"head.sam\", \"exposure\": 40}", SAM_ERR_FORMAT,
+     "scene.json: exposure: expected a number in [-32, 32], found 40"},
+};
+
+static void test_errors(void **state)
+{
+    (void)state;
+    for (size_t i = 0; i < sizeof error_cases / sizeof error_cases[0]; ++i) {
+        const error_case *c = &error_cases[i];
+        char want[1024];
+        const char *at = strchr(c->message, '@');
+        if (at)
+            snprintf(want, sizeof want, "%.*s%s%s", (int)(at - c->message), c->message, dir,
+                     at + 1);
+        else
+            snprintf(want, sizeof want, "%s", c->message);
+        sam_scene s;
+        sam_error err;
+        sam_status st = parse(c->json, &s, &err);
+        if (st != c->status || !strstr(err.message, want))
+            fail_msg("case %zu: expected status %d and \"%s\", got status %d and \"%s\"", i,
+                     (int)c->status, want, (int)st, st == SAM_OK ? "" : err.message);
+        /* A failed parse leaves nothing to free. */
+        assert_null(s.lights);
+        assert_null(s.mesh_path);
+        assert_null(s.sam_path);
+        assert_null(s.material);
+        assert_null(s.environment.map);
+    }
+}
+
+static void test_too_many_lights(void **state)
+{
+    (void)state;
+    size_t cap = 64 + 70 * (SAM_SCENE_MAX_LIGHTS + 1);
+    char *json = malloc(cap);
+    size_t len = (size_t)snprintf(json, cap, "{\"sam\": \"head.sam\", \"lights\": [");
+    for (int i = 0; i <= SAM_SCENE_MAX_LIGHTS; ++i)
+        len += (size_t)snprintf(json + len, cap - len,
+                                "%s{\"type\": \"point\", \"position\": [0, %d, 0]}", i ? ", " : "",
+                                i);
+    snprintf(json + len, cap - len, "]}");
+    sam_scene s;
+    sam_error err;
+    assert_int_equal(parse(json, &s, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "lights: 65 lights, more than the limit of 64"));
+    free(json);
+}
+
+static void test_every_truncation_fails(void **state)
+{
+    (void)state;
+    const size_t size = strlen(full_scene);
+    assert_int_equal(full_scene[size - 1], '}');
+    sam_scene s;
+    sam_error err;
+    assert_int_equal(parse(full_scene, &s, &err), SAM_OK);
+    sam_scene_destroy(&s);
+    for (size_t len = 0; len < size; ++len) {
+        /* An exact-size copy without a terminator: reading past it is a bug
+         * the sanitizer build catches. */
+        char *copy = malloc(len ? len : 1);
+        memcpy(copy, full_scene, len);
+        sam_status st = sam_scene_parse(copy, len, dir, "scene.json", &s, &err);
+        free(copy);
+        if (st == SAM_OK)
+            fail_msg("a prefix of %zu of %zu bytes parsed", len, size);
+        assert_int_equal(st, SAM_ERR_FORMAT);
+        assert_non_null(strstr(err.message, "scene.json: "));
+        assert_null(s.lights);
+        assert_null(s.mesh_path);
+    }
+    /* The syntax errors say where. */
+    assert_int_equal(sam_scene_parse(full_scene, 40, dir, "scene.json", &s, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "scene.json: line 3, column 17: the JSON text ends before "
+                                        "its value is complete"));
+}
+
+static void test_load_errors_and_relative_paths(void **state)
+{
+    (void)state;
+    sam_scene s;
+    sam_error err;
+    assert_int_equal(sam_scene_load("/nonexistent/scene.json", &s, &err), SAM_ERR_IO);
+    assert_non_null(strstr(err.message, "/nonexistent/scene.json"));
+    assert_int_equal(sam_scene_parse(NULL, 0, NULL, NULL, &s, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(sam_scene_load("x.json", NULL, &err), SAM_ERR_INVALID_ARGUMENT);
+
+    /* A scene in a subdirectory resolves against its own directory. */
+    char path[640], want[640];
+    dir_file(path, sizeof path, "sub/up.json");
+    sam_test_write_text(path, "{\"sam\": \"../head.sam\", \"material\": \"../profiles/custom.json\","
+                              " \"environment\": {\"map\": \"../sky.exr\"}}");
+    if (sam_scene_load(path, &s, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    dir_file(want, sizeof want, "sub/../head.sam");
+    assert_string_equal(s.sam_path, want);
+    dir_file(want, sizeof want, "sub/../profiles/custom.json");
+    assert_string_equal(s.material, want);
+    assert_int_equal(s.profile.kind, SAM_PROFILE_DIPOLE);
+    sam_scene_destroy(&s);
+
+    /* The same names from the scene directory itself are missing files. */
+    dir_file(path, sizeof path, "up.json");
+    sam_test_write_text(path, "{\"sam\": \"../head.sam\"}");
+    assert_int_equal(sam_scene_load(path, &s, &err), SAM_ERR_IO);
+    assert_non_null(strstr(err.message, "up.json: sam: file not found: "));
+    assert_non_null(strstr(err.message, "/scene/../head.sam"));
+
+    /* Absolute references are used as they are. */
+    char json[1024], abs[640];
+    dir_file(abs, sizeof abs, "head.obj");
+    snprintf(json, sizeof json,
+             "{\"mesh\": \"%s\", \"material\": \"skin\", \"scale\": {\"mm_per_unit\": 1}}", abs);
+    assert_int_equal(sam_scene_parse(json, strlen(json), "/nonexistent", "abs.json", &s, &err),
+                     SAM_OK);
+    assert_string_equal(s.mesh_path, abs);
+    sam_scene_destroy(&s);
+}
+
+static void test_names(void **state)
+{
+    (void)state;
+    assert_string_equal(sam_light_type_name(SAM_LIGHT_AREA), "area");
+    assert_string_equal(sam_light_type_name((sam_light_type)17), "unknown");
+    assert_string_equal(sam_technique_name(SAM_TECHNIQUE_TRANSMITTANCE), "transmittance");
+    assert_string_equal(sam_diffusion_name(SAM_DIFFUSION_PREINTEGRATED), "preintegrated");
+    assert_string_equal(sam_tonemap_name(SAM_TONEMAP_REINHARD), "reinhard");
+    assert_string_equal(sam_tonemap_name((sam_tonemap)-1), "unknown");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_full_scene_loads),
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_round_trip),
+        cmocka_unit_test(test_write_hand_built_scene),
+        cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_too_many_lights),
+        cmocka_unit_test(test_every_truncation_fails),
+        cmocka_unit_test(test_load_errors_and_relative_paths),
+        cmocka_unit_test(test_names),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
