@@ -1,0 +1,187 @@
+/*
+ * sam_profile: radial diffusion profiles R_d(r) of translucent materials.
+ *
+ * A profile maps a distance r in millimetres to an RGB reflectance density in
+ * mm^-2, so that 2*pi * integral_0^inf r R_d(r) dr is the total diffuse
+ * reflectance. Two kinds exist:
+ *   - a sum of Gaussians  R(r) = sum_i w_i G(v_i, r),
+ *     G(v, r) = exp(-r^2 / 2v) / (2 pi v), variances v in mm^2
+ *     (the d'Eon/Luebke six-Gaussian skin preset, or a user file);
+ *   - the dipole of Jensen et al. 2001 from sigma_s', sigma_a (mm^-1) and eta
+ *     (the measured media presets, or a user "custom dipole").
+ * Every profile also gives its total diffuse reflectance, a radius of
+ * influence, an 8-Gaussian fit for texture-space diffusion (d'Eon App. A for
+ * dipoles, exact for sums of <= 8 Gaussians) and a 1D separable kernel for
+ * screen-space diffusion (Jimenez et al., separable SSS, eq. 1).
+ *
+ * A sam_profile is a plain value: no heap memory, copy it freely, no destroy.
+ * Evaluation functions are pure and thread-safe.
+ */
+#ifndef SAM_PROFILE_H
+#define SAM_PROFILE_H
+
+#include "sam/sam_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SAM_PROFILE_MAX_GAUSSIANS 32
+#define SAM_PROFILE_FIT_GAUSSIANS 8
+#define SAM_PROFILE_NAME_SIZE 64
+#define SAM_KERNEL_MAX_TAPS 33
+
+/* Bound on the relative RMS error (d'Eon eq. 10) of the 8-Gaussian fit that
+ * every preset meets in every channel (measured: at most 0.274%, skimmilk
+ * blue; see sam_profile_fit.c). */
+#define SAM_PROFILE_FIT_ERROR_BOUND 0.005f
+
+/* Fraction of each channel's 1D (marginal) energy that a separable kernel
+ * leaves outside its tap range +-width_mm. */
+#define SAM_PROFILE_KERNEL_TAIL 0.01
+
+typedef enum sam_profile_kind {
+    SAM_PROFILE_GAUSSIAN_SUM = 0,
+    SAM_PROFILE_DIPOLE = 1
+} sam_profile_kind;
+
+typedef struct sam_profile {
+    sam_profile_kind kind;
+    char name[SAM_PROFILE_NAME_SIZE]; /* preset name, "custom", or the file's "name" or base name */
+
+    /* SAM_PROFILE_GAUSSIAN_SUM */
+    uint32_t gaussian_count;                        /* 1..SAM_PROFILE_MAX_GAUSSIANS */
+    float variance[SAM_PROFILE_MAX_GAUSSIANS];      /* mm^2, > 0 */
+    float weight[SAM_PROFILE_MAX_GAUSSIANS][3];     /* RGB, >= 0 */
+
+    /* SAM_PROFILE_DIPOLE */
+    float sigma_s_prime[3]; /* reduced scattering, mm^-1, > 0 */
+    float sigma_a[3];       /* absorption, mm^-1, >= 0 */
+    float eta;              /* relative index of refraction, > 0 */
+} sam_profile;
+
+/* A fit with shared variances: one blur per Gaussian, RGB weights. */
+typedef struct sam_gaussian_fit {
+    uint32_t count;                              /* number of Gaussians used, <= 8 */
+    float variance[SAM_PROFILE_FIT_GAUSSIANS];   /* mm^2, ascending */
+    float weight[SAM_PROFILE_FIT_GAUSSIANS][3];  /* RGB */
+} sam_gaussian_fit;
+
+/* A 1D separable kernel for two-pass screen-space blurring. */
+typedef struct sam_separable_kernel {
+    uint32_t taps;                              /* odd, 9..33 */
+    float offset_mm[SAM_KERNEL_MAX_TAPS];       /* ascending, centre tap at taps/2 is 0 */
+    float weight[SAM_KERNEL_MAX_TAPS][3];       /* RGB; each channel sums to 1 */
+    float width_mm;                             /* Jimenez "width": tap range is +-width_mm */
+    float strength[3];                          /* Jimenez "strength" per channel */
+    float falloff[3];                           /* Jimenez "falloff" per channel */
+} sam_separable_kernel;
+
+/* Number of built-in presets and the i-th name (NULL past the end).
+ * Presets: "skin" (d'Eon six Gaussians) and the Jensen 2001 media of
+ * DESIGN.md ("apple", "chicken1", ..., "wholemilk"). */
+size_t sam_profile_preset_count(void);
+const char *sam_profile_preset_name(size_t index);
+
+/* Fills `out` with a preset, name compared case-insensitively.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (unknown name; the message lists the
+ * valid names). */
+sam_status sam_profile_preset(const char *name, sam_profile *out, sam_error *err);
+
+/* A custom dipole, named "custom". Errors: SAM_ERR_INVALID_ARGUMENT naming
+ * the parameter and value (non-finite, sigma_s' <= 0, sigma_a < 0, eta <= 0
+ * or eta outside about (0.733, 3.85), where Jensen's F_dr(eta) leaves
+ * (-1, 1) and the dipole's boundary term breaks down). */
+sam_status sam_profile_dipole(const float sigma_s_prime[3], const float sigma_a[3], float eta,
+                              sam_profile *out, sam_error *err);
+
+/* A sum of `count` Gaussians, named "custom"; `variance` has count elements
+ * (mm^2), `weight` count RGB triples. Errors: SAM_ERR_INVALID_ARGUMENT
+ * (count outside 1..32, a variance not > 0, a weight < 0, a non-finite
+ * value, or every weight zero). */
+sam_status sam_profile_gaussian_sum(uint32_t count, const float *variance, const float (*weight)[3],
+                                    sam_profile *out, sam_error *err);
+
+/* Loads a user profile from a file. A name ending in ".json" (any case), or
+ * a file whose first non-blank character is '{', is JSON:
+ *   {"type": "gaussians", "name": "my_skin",
+ *    "gaussians": [{"variance": 0.0064, "weight": [0.233, 0.455, 0.649]}, ...]}
+ *   {"type": "dipole", "sigma_s_prime": [r, g, b], "sigma_a": [r, g, b], "eta": 1.3}
+ * ("kind" is accepted for "type", so sam_profile_to_json's output loads
+ * back; "name" is optional; any other key is an error.) Otherwise text:
+ * '#' starts a comment; either 1..32 lines "gaussian <variance_mm2> <w_r>
+ * <w_g> <w_b>", or a line "dipole" followed by "sigma_s_prime r g b",
+ * "sigma_a r g b" and "eta x" lines; optionally "name <word>".
+ * Values must be finite floats with variance > 0, weights >= 0 (not all 0),
+ * sigma_s' > 0, sigma_a >= 0, eta > 0 and |F_dr(eta)| < 1 (eta in about
+ * (0.733, 3.85)); eta is required in files. The name defaults to the file
+ * name without directory and extension (at most 63 bytes).
+ * Errors: SAM_ERR_IO (cannot read), SAM_ERR_FORMAT naming the file and the
+ * key path (e.g. "gaussians[2].weight[1]") or line, and the value found. */
+sam_status sam_profile_load(const char *path, sam_profile *out, sam_error *err);
+
+/* A preset name, else a path to a profile file (sam_profile_load).
+ * Errors: those of sam_profile_load; SAM_ERR_IO when the spec is neither a
+ * preset nor a readable file (the message lists the presets). */
+sam_status sam_profile_from_spec(const char *spec, sam_profile *out, sam_error *err);
+
+/* R_d(r) in mm^-2 for r >= 0 (mm; a negative r is read as |r|). */
+void sam_profile_eval(const sam_profile *profile, float r_mm, float out_rgb[3]);
+
+/* Total diffuse reflectance 2 pi int r R_d(r) dr per channel (closed form). */
+void sam_profile_total_reflectance(const sam_profile *profile, float out_rgb[3]);
+
+/* Smallest radius (mm) beyond which the remaining radial energy
+ * 2 pi int_r^inf s R_d(s) ds is at most `tolerance` times the channel's
+ * total, maximised over the non-zero channels. tolerance in (0, 1); 0 for
+ * tolerance >= 1, +infinity for tolerance <= 0 or NaN. Bisection on the
+ * closed-form remaining energy, so the bound holds to float rounding. */
+float sam_profile_radius(const sam_profile *profile, float tolerance);
+
+/* The 8-Gaussian fit with variances shared by R, G and B: exact for a sum
+ * of <= 8 distinct Gaussians (count may then be < 8), otherwise a fit
+ * seeded by d'Eon App. A whose weights keep each channel's total
+ * reflectance (eq. 9); error below SAM_PROFILE_FIT_ERROR_BOUND for the
+ * presets. Takes a few milliseconds. Errors: SAM_ERR_INVALID_ARGUMENT. */
+sam_status sam_profile_fit_gaussians(const sam_profile *profile, sam_gaussian_fit *fit,
+                                     sam_error *err);
+
+/* Relative RMS power error of a fit against the profile (d'Eon eq. 10)
+ * for one channel (0..2), by numerical integration. 0 when both are zero in
+ * that channel; NaN for an invalid channel or fit. */
+float sam_profile_fit_error(const sam_profile *profile, const sam_gaussian_fit *fit, int channel);
+
+/* The separable kernel with `taps` samples (odd, 9..33; callers use 17):
+ * Jimenez eq. 1 on the 1D marginal of the profile's red channel, with
+ * width, strength and falloff fitted to each channel's own marginal (see
+ * sam_profile_kernel.c). Offsets are in mm, quadratically spaced over
+ * +-width_mm; every channel's weights sum to 1 (the total reflectance is
+ * applied separately). Takes a few milliseconds.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (taps, or a profile with no energy). */
+sam_status sam_profile_separable_kernel(const sam_profile *profile, uint32_t taps,
+                                        sam_separable_kernel *kernel, sam_error *err);
+
+/* Relative error (Jimenez eq. 3, as sqrt(sum (T_k - w_k)^2 / sum T_k^2)) of
+ * one channel (0..2) of a kernel against the target tap weights T_k: the
+ * mass of the channel's normalised 1D marginal over each tap's cell (between
+ * the midpoints to its neighbours, the outer cells ending at +-width_mm).
+ * NaN for an invalid channel or kernel. */
+float sam_profile_kernel_error(const sam_profile *profile, const sam_separable_kernel *kernel,
+                               int channel);
+
+/* Energy of the profile inside the strip |x| <= x_mm, i.e. the mass of its
+ * 1D marginal int R(sqrt(x^2 + y^2)) dy over [-x_mm, x_mm] (what one pass of
+ * a separable blur sees); tends to the total reflectance for large x_mm.
+ * Numerical (Simpson rule), relative accuracy about 1e-7. */
+void sam_profile_marginal_mass(const sam_profile *profile, float x_mm, float out_rgb[3]);
+
+/* Writes a JSON object describing the profile (kind, name, parameters) into
+ * buf (size n), e.g. for a .sam INFO chunk. Returns the length it needed
+ * (excluding NUL), like snprintf. */
+size_t sam_profile_to_json(const sam_profile *profile, char *buf, size_t n);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,71 @@
+/*
+ * Internal: double-precision evaluation, energy integrals and a radial
+ * quadrature rule shared by the sam_profile_*.c files (presets and closed
+ * forms, loaders, the Gaussian fit, the separable kernel).
+ */
+#ifndef SAM_PROFILE_INTERNAL_H
+#define SAM_PROFILE_INTERNAL_H
+
+#include <math.h>
+
+#include "sam/sam_profile.h"
+
+#define SAM_PROFILE_PI 3.14159265358979323846
+
+/* Derived constants of one channel of a Jensen 2001 dipole. */
+typedef struct sam_dipole_channel {
+    double alpha;    /* reduced albedo alpha' = sigma_s' / sigma_t' */
+    double sigma_tr; /* effective transport coefficient, mm^-1 */
+    double z_r;      /* real source depth, mm */
+    double z_v;      /* virtual source height, mm */
+} sam_dipole_channel;
+
+/* G(v, r) = exp(-r^2 / 2v) / (2 pi v), unit energy over the plane. */
+static inline double sam_profile_gaussian(double v, double r)
+{
+    return exp(-r * r / (2 * v)) / (2 * SAM_PROFILE_PI * v);
+}
+
+/* Fresnel diffuse reflectance F_dr(eta) (Jensen 2001's fit). */
+double sam_profile_fdr(double eta);
+
+void sam_profile_dipole_channel(const sam_profile *p, int channel, sam_dipole_channel *d);
+
+/* R_d(r) of one channel / of all three, in double precision. */
+double sam_profile_eval_channel_d(const sam_profile *p, int channel, double r);
+void sam_profile_eval_d(const sam_profile *p, double r, double out[3]);
+
+/* 2 pi int_0^inf s R(s) ds (closed form). */
+void sam_profile_total_d(const sam_profile *p, double out[3]);
+
+/* 2 pi int_r^inf s R(s) ds and 2 pi int_0^r s R(s) ds, both in closed form
+ * and each free of cancellation in its own range. */
+void sam_profile_outer_d(const sam_profile *p, double r, double out[3]);
+void sam_profile_inner_d(const sam_profile *p, double r, double out[3]);
+
+/* Radius (double) where the remaining energy fraction of every non-zero
+ * channel is <= tolerance; 0 when every channel is zero. */
+double sam_profile_radius_d(const sam_profile *p, double tolerance);
+
+/* Smallest length scale of the profile (mm): below it R is flat. */
+double sam_profile_scale_min(const sam_profile *p);
+
+/* A radius beyond which the profile holds a negligible (1e-12) fraction of
+ * its energy: the upper end of every quadrature. */
+double sam_profile_scale_max(const sam_profile *p);
+
+/* Composite Simpson rule on a logarithmic grid r_k = r_lo e^{k h},
+ * k = 0..n (n even, n + 1 nodes written to r and w) such that
+ * sum_k w[k] f(r[k]) approximates int_0^inf r f(r) dr for an f that is flat
+ * below r_lo and negligible beyond r_hi. */
+void sam_profile_radial_rule(double r_lo, double r_hi, int n, double *r, double *w);
+
+/* Checks of one parameter; NULL when valid, else what is wrong with it
+ * ("must be > 0", ...), for messages that add the file, key or line. */
+const char *sam_profile_check_variance(double v);
+const char *sam_profile_check_weight(double w);
+const char *sam_profile_check_sigma_s_prime(double s);
+const char *sam_profile_check_sigma_a(double s);
+const char *sam_profile_check_eta(double eta);
+
+#endif
