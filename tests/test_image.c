@@ -54,21 +54,6 @@ static uint8_t *read_all(const char *path, size_t *size)
     return data;
 }
 
-/* Counts files in the test directory whose names start with "<base>.tmp.". */
-static int count_temp_files(const char *base)
-{
-    char prefix[256];
-    snprintf(prefix, sizeof prefix, "%s.tmp.", base);
-    DIR *dir = opendir(SAM_TEST_TMP_DIR);
-    assert_non_null(dir);
-    int count = 0;
-    struct dirent *e;
-    while ((e = readdir(dir)) != NULL)
-        count += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
-    closedir(dir);
-    return count;
-}
-
 /* One channel of a test EXR written through the Core API. */
 typedef struct test_channel {
     const char *name;
@@ -291,7 +276,7 @@ static void exr_round_trip(sam_exr_type type, uint32_t channels, const char *nam
         assert_int_equal(list->entries[k].pixel_type,
                          type == SAM_EXR_HALF ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT);
     exr_finish(&ctxt);
-    assert_int_equal(count_temp_files(name), 0);
+    assert_int_equal(sam_test_count_temp_files(name), 0);
     sam_image_destroy(&src);
     sam_image_destroy(&back);
 }
@@ -859,7 +844,7 @@ static void test_failed_writes_leave_no_file(void **state)
         assert_int_equal(write_capped(path, &img, png, 4096, &err), SAM_ERR_IO);
         assert_non_null(strstr(err.message, names[png]));
         assert_false(sam_test_file_exists(path));
-        assert_int_equal(count_temp_files(names[png]), 0);
+        assert_int_equal(sam_test_count_temp_files(names[png]), 0);
 
         /* An existing file survives a failed write untouched. */
         sam_test_write_text(path, "previous contents");
@@ -868,7 +853,7 @@ static void test_failed_writes_leave_no_file(void **state)
         uint8_t *data = read_all(path, &size);
         assert_string_equal((char *)data, "previous contents");
         free(data);
-        assert_int_equal(count_temp_files(names[png]), 0);
+        assert_int_equal(sam_test_count_temp_files(names[png]), 0);
     }
 
     /* A missing directory fails before anything is written. */

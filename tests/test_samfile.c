@@ -281,20 +281,6 @@ static bytes load(const char *path)
     return b;
 }
 
-/* True when a temporary file of an atomic write to `name` is left in the tmp dir. */
-static int temp_left_behind(const char *name)
-{
-    char prefix[256];
-    snprintf(prefix, sizeof prefix, "%s.tmp.", name);
-    DIR *dir = opendir(SAM_TEST_TMP_DIR);
-    assert_non_null(dir);
-    int found = 0;
-    for (struct dirent *e; (e = readdir(dir)) != NULL;)
-        found |= strncmp(e->d_name, prefix, strlen(prefix)) == 0;
-    closedir(dir);
-    return found;
-}
-
 /* ---- round trips and the exact layout ---- */
 
 static void round_trip(int with_uv)
@@ -789,7 +775,7 @@ static void test_semantic_violations(void **state)
                      err.message);
         assert_false(sam_test_file_exists(path));
     }
-    assert_false(temp_left_behind("samfile_invalid.sam"));
+    assert_false(sam_test_count_temp_files("samfile_invalid.sam"));
 }
 
 static void test_validate_accepts_edge_cases(void **state)
@@ -858,7 +844,7 @@ static void test_write_keeps_old_file_when_validation_fails(void **state)
     bytes after = load(path);
     assert_int_equal(before.n, after.n);
     assert_memory_equal(before.p, after.p, before.n);
-    assert_false(temp_left_behind("samfile_keep.sam"));
+    assert_false(sam_test_count_temp_files("samfile_keep.sam"));
     free(before.p);
     free(after.p);
 }

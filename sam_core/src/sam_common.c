@@ -42,7 +42,7 @@ void sam_error_clear(sam_error *err)
     }
 }
 
-static char *dup_string(const char *s)
+char *sam_strdup(const char *s)
 {
     size_t n = strlen(s) + 1;
     char *d = malloc(n);
@@ -57,7 +57,7 @@ sam_status sam_atomic_open(sam_atomic_file *file, const char *path, sam_error *e
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "atomic write: no output path given");
     memset(file, 0, sizeof *file);
     size_t n = strlen(path) + 64;
-    file->path = dup_string(path);
+    file->path = sam_strdup(path);
     file->temp_path = malloc(n);
     if (!file->path || !file->temp_path) {
         sam_atomic_abort(file);

@@ -83,17 +83,6 @@ void sam_scene_destroy(sam_scene *scene)
 }
 
 /* ------------------------------------------------------------------------ */
-/* Paths                                                                     */
-
-static char *dup_string(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *d = malloc(n);
-    if (d)
-        memcpy(d, s, n);
-    return d;
-}
-
 /* The current directory in a new malloc'd string, or NULL. */
 static char *current_dir(void)
 {
@@ -436,7 +425,7 @@ static sam_status parse_material(const parser *p, const cJSON *item, sam_scene *
         return st;
     sam_error perr;
     if (is_preset(spec)) {
-        scene->material = dup_string(spec);
+        scene->material = sam_strdup(spec);
         if (!scene->material)
             return out_of_memory(p);
         if ((st = sam_profile_from_spec(spec, &scene->profile, &perr)) != SAM_OK)

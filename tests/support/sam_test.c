@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
+#include <dirent.h>
 #include <sys/stat.h>
 
 #include <cmocka.h>
@@ -36,4 +37,18 @@ int sam_test_file_exists(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0;
+}
+
+int sam_test_count_temp_files(const char *name)
+{
+    char prefix[512];
+    snprintf(prefix, sizeof prefix, "%s.tmp.", name);
+    DIR *dir = opendir(SAM_TEST_TMP_DIR);
+    if (!dir)
+        fail_msg("cannot list %s", SAM_TEST_TMP_DIR);
+    int count = 0;
+    for (struct dirent *e; (e = readdir(dir)) != NULL;)
+        count += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
+    closedir(dir);
+    return count;
 }

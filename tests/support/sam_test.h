@@ -17,6 +17,10 @@ void sam_test_write_file(const char *path, const void *data, size_t size);
 /* Writes a NUL-terminated string to `path` (see sam_test_write_file). */
 void sam_test_write_text(const char *path, const char *text);
 
+/* Number of files in SAM_TEST_TMP_DIR whose names start with "<name>.tmp.":
+ * temporaries an atomic write to <name> left behind. */
+int sam_test_count_temp_files(const char *name);
+
 /* Returns 1 when `path` exists. */
 int sam_test_file_exists(const char *path);
 

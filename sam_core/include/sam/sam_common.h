@@ -86,6 +86,9 @@ void sam_atomic_abort(sam_atomic_file *file);
  * parsers can use it directly. Errors: SAM_ERR_IO. */
 sam_status sam_read_file(const char *path, uint8_t **data, size_t *size, sam_error *err);
 
+/* malloc'd copy of a NUL-terminated string (caller frees), NULL when out of memory. */
+char *sam_strdup(const char *s);
+
 /* Returns a pointer to the file name part of `path` (after the last '/'). */
 const char *sam_path_basename(const char *path);
 

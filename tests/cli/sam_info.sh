@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# sam_info: summaries of valid meshes and .sam files, one error line and exit
+# status 1 for bad ones, 2 for bad usage. Args: BIN_DIR SOURCE_DIR TMP_DIR
+set -u
+bin=$1 src=$2 tmp=$3
+rm -rf "$tmp" && mkdir -p "$tmp"
+fail() { echo "FAIL: $*"; exit 1; }
+
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' > "$tmp/tet.obj"
+out=$("$bin/sam_info" --mm-per-unit 10 "$tmp/tet.obj") || fail "valid mesh rejected"
+grep -q "triangles: *4" <<<"$out" || fail "no triangle count in: $out"
+grep -q "welded vertices: *4" <<<"$out" || fail "no welded count in: $out"
+grep -q "mm^2" <<<"$out" || fail "fan areas not in mm^2: $out"
+
+# A .sam file from the container's seed corpus.
+sam=$(ls "$src"/fuzz/corpus/samfile/*.sam 2>/dev/null | head -1)
+[ -n "$sam" ] || fail "no seed .sam file in fuzz/corpus/samfile"
+out=$("$bin/sam_info" "$sam") || fail "valid .sam rejected: $out"
+grep -q "SAM v1" <<<"$out" || fail "no SAM header in: $out"
+grep -q "samples per vertex" <<<"$out" || fail "no sample count in: $out"
+
+# Bad inputs: exit 1, exactly one stderr line naming the file, no stdout.
+printf 'v 0 0 0\n' > "$tmp/nofaces.obj"
+head -c 40 "$sam" > "$tmp/truncated.sam"
+: > "$tmp/empty.off"
+for bad in "$tmp/missing.obj" "$tmp/nofaces.obj" "$tmp/truncated.sam" "$tmp/empty.off"; do
+  "$bin/sam_info" "$bad" > "$tmp/out.txt" 2> "$tmp/err.txt"
+  rc=$?
+  [ $rc -eq 1 ] || fail "$bad: exit status $rc, expected 1"
+  [ "$(wc -l < "$tmp/err.txt")" -eq 1 ] || fail "$bad: expected one error line, got: $(cat "$tmp/err.txt")"
+  grep -q "$(basename "$bad")" "$tmp/err.txt" || fail "$bad: error does not name the file: $(cat "$tmp/err.txt")"
+  [ ! -s "$tmp/out.txt" ] || fail "$bad: printed a summary for a bad file"
+done
+
+# One bad file among good ones still fails, and the good one is summarised.
+"$bin/sam_info" "$tmp/tet.obj" "$tmp/missing.obj" > "$tmp/out.txt" 2>/dev/null
+[ $? -eq 1 ] || fail "mixed good/bad files should exit 1"
+grep -q "tet.obj: mesh" "$tmp/out.txt" || fail "good file not summarised"
+
+"$bin/sam_info" --help | grep -q "usage: sam_info" || fail "--help"
+"$bin/sam_info" > /dev/null 2>&1; [ $? -eq 2 ] || fail "no arguments should exit 2"
+"$bin/sam_info" --bogus x > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown option should exit 2"
+"$bin/sam_info" --mm-per-unit -1 "$tmp/tet.obj" > /dev/null 2>&1; [ $? -eq 2 ] || fail "negative scale should exit 2"
+echo "sam_info cli: ok"
