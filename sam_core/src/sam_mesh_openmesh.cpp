@@ -9,6 +9,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <cerrno>
+#include <iostream>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -167,19 +168,17 @@ template <class T> T *copy_out(const std::vector<T> &v)
     return p;
 }
 
-// Redirects OpenMesh's process-wide diagnostic streams into a string for the
-// duration of one read, so its messages end up in our error instead of on
-// stderr. OpenMesh leaks a little memory on every connect/disconnect pair, so
-// the capture stream is connected once for the life of the process and only
-// cleared per read. This is the module's one piece of global state, forced by
-// OpenMesh's global streams; it is why loads are not thread-safe.
+// Captures OpenMesh's diagnostics for the duration of one read, so they end
+// up in our error message instead of on stderr. OpenMesh's omerr() is a
+// process-wide multiplexer feeding std::cerr; reconnecting its targets leaks
+// (its disconnect never frees the target), so instead std::cerr's buffer is
+// swapped for a string buffer and restored afterwards. Both are process-wide,
+// which is why loads are not thread-safe.
 class DiagnosticCapture {
 public:
     DiagnosticCapture()
     {
-        static std::ostringstream *sink = connect_sink();
-        captured_ = sink;
-        captured_->str(std::string());
+        saved_ = std::cerr.rdbuf(captured_.rdbuf());
         log_was_enabled_ = omlog().is_enabled();
         out_was_enabled_ = omout().is_enabled();
         omlog().disable();
@@ -188,6 +187,7 @@ public:
     ~DiagnosticCapture()
     {
         omerr().flush();
+        std::cerr.rdbuf(saved_);
         if (log_was_enabled_)
             omlog().enable();
         if (out_was_enabled_)
@@ -196,7 +196,7 @@ public:
     std::string text()
     {
         omerr().flush();
-        std::string s = captured_->str();
+        std::string s = captured_.str();
         for (char &c : s)
             if (c == '\n' || c == '\r')
                 c = ' ';
@@ -206,14 +206,8 @@ public:
     }
 
 private:
-    static std::ostringstream *connect_sink()
-    {
-        static std::ostringstream stream;
-        omerr().disconnect(std::cerr);
-        omerr().connect(stream);
-        return &stream;
-    }
-    std::ostringstream *captured_;
+    std::ostringstream captured_;
+    std::streambuf *saved_;
     bool log_was_enabled_, out_was_enabled_;
 };
 
