@@ -482,6 +482,22 @@ static void test_bad_inputs_give_one_clear_error(void **state)
     expect_error("all_degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", SAM_ERR_EMPTY,
                  "no usable triangle");
     expect_error("mesh.xyz", "1 2 3\n", SAM_ERR_UNSUPPORTED, "unsupported");
+    /* Header counts beyond the file's size are refused before OpenMesh
+     * would allocate for them. */
+    expect_error("huge.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+                 "property float z\nend_header\n0 0 0\n",
+                 SAM_ERR_FORMAT, "declares 4000000000 elements");
+    expect_error("huge.off", "OFF\n# comment\n3 999999999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
+                 "999999999 faces");
+    {
+        unsigned char stl[84 + 50];
+        memset(stl, 0, sizeof stl);
+        stl[83] = 0x10; /* 268 million triangles in a 134-byte file */
+        char path[512];
+        sam_test_write_file(sam_test_tmp_path(path, sizeof path, "huge.stl"), stl, sizeof stl);
+        expect_error("huge.stl", NULL, SAM_ERR_FORMAT, "declares 268435456 triangles");
+    }
 }
 
 static void test_create_rejects_bad_arrays(void **state)

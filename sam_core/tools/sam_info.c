@@ -11,6 +11,8 @@
 #include <cjson/cJSON.h>
 
 #include "sam/sam_mesh.h"
+#include "sam/sam_profile.h"
+#include "sam/sam_scene.h"
 #include "sam/samfile.h"
 
 static void usage(FILE *out)
@@ -19,7 +21,8 @@ static void usage(FILE *out)
             "usage: sam_info [--mm-per-unit X] FILE...\n"
             "\n"
             "Validates each FILE and prints its summary, or one error line naming what is wrong.\n"
-            "  FILE  a .sam file (from sam_build) or a mesh: .obj, .ply (ASCII or binary), .off, .stl\n"
+            "  FILE  a .sam file (from sam_build), a mesh (.obj, .ply ASCII or binary, .off, .stl),\n"
+            "        a scene (.json with a \"mesh\" or \"sam\" key) or a material profile (.json, .txt)\n"
             "\n"
             "options:\n"
             "  --mm-per-unit X  scale used to print a mesh's fan areas in mm^2 (default 1)\n"
@@ -145,6 +148,74 @@ static int info_sam(const char *path)
     return 0;
 }
 
+static int info_scene(const char *path)
+{
+    sam_scene scene;
+    sam_error err;
+    if (sam_scene_load(path, &scene, &err) != SAM_OK) {
+        fprintf(stderr, "sam_info: %s\n", err.message);
+        return 1;
+    }
+    printf("%s: scene\n", path);
+    printf("  object:            %s\n", scene.mesh_path ? scene.mesh_path : scene.sam_path);
+    printf("  material:          %s\n", scene.material ? scene.material : "(from the .sam)");
+    if (scene.scale_kind == SAM_SCALE_MM_PER_UNIT)
+        printf("  scale:             %g mm per unit\n", scene.scale_value);
+    else if (scene.scale_kind == SAM_SCALE_SIZE_MM)
+        printf("  scale:             %g mm diagonal\n", scene.scale_value);
+    else
+        printf("  scale:             (from the .sam)\n");
+    size_t count[4] = {0, 0, 0, 0};
+    for (size_t i = 0; i < scene.light_count; ++i)
+        count[scene.lights[i].type]++;
+    printf("  lights:            %zu (%zu point, %zu spot, %zu directional, %zu area)\n", scene.light_count,
+           count[SAM_LIGHT_POINT], count[SAM_LIGHT_SPOT], count[SAM_LIGHT_DIRECTIONAL], count[SAM_LIGHT_AREA]);
+    printf("  environment:       %s\n", scene.environment.map ? scene.environment.map : "none");
+    printf("  camera:            %s\n", scene.has_camera ? "given" : "framed automatically");
+    printf("  output:            %ux%u, technique %s, diffusion %s, tonemap %s, exposure %g EV\n",
+           scene.width, scene.height, sam_technique_name(scene.technique), sam_diffusion_name(scene.diffusion),
+           sam_tonemap_name(scene.tonemap), scene.exposure);
+    sam_scene_destroy(&scene);
+    return 0;
+}
+
+static int info_profile(const char *path)
+{
+    sam_profile profile;
+    sam_gaussian_fit fit;
+    sam_error err;
+    if (sam_profile_load(path, &profile, &err) != SAM_OK ||
+        sam_profile_fit_gaussians(&profile, &fit, &err) != SAM_OK) {
+        fprintf(stderr, "sam_info: %s\n", err.message);
+        return 1;
+    }
+    float total[3];
+    sam_profile_total_reflectance(&profile, total);
+    printf("%s: material profile \"%s\" (%s)\n", path, profile.name,
+           profile.kind == SAM_PROFILE_DIPOLE ? "dipole" : "sum of Gaussians");
+    printf("  total reflectance: (%.4f, %.4f, %.4f)\n", total[0], total[1], total[2]);
+    printf("  radius:            %.3f mm holds 99%%, %.3f mm holds 99.9%% of the energy\n",
+           sam_profile_radius(&profile, 0.01f), sam_profile_radius(&profile, 0.001f));
+    printf("  8-Gaussian fit:    error %.3f%%, %.3f%%, %.3f%% (d'Eon eq. 10)\n",
+           100 * sam_profile_fit_error(&profile, &fit, 0), 100 * sam_profile_fit_error(&profile, &fit, 1),
+           100 * sam_profile_fit_error(&profile, &fit, 2));
+    return 0;
+}
+
+/* A .json file is a scene when it names a mesh or a .sam, else a profile. */
+static int is_scene(const char *path)
+{
+    uint8_t *text;
+    size_t size;
+    if (sam_read_file(path, &text, &size, NULL) != SAM_OK)
+        return 1; /* let the scene loader report the I/O error */
+    cJSON *root = cJSON_ParseWithLength((const char *)text, size);
+    int scene = !root || cJSON_HasObjectItem(root, "mesh") || cJSON_HasObjectItem(root, "sam");
+    cJSON_Delete(root);
+    free(text);
+    return scene;
+}
+
 int main(int argc, char **argv)
 {
     float mm_per_unit = 1.0f;
@@ -174,8 +245,15 @@ int main(int argc, char **argv)
             continue;
         }
         ++files;
-        failed |= sam_path_has_extension(argv[i], ".sam") ? info_sam(argv[i])
-                                                           : info_mesh(argv[i], mm_per_unit);
+        const char *f = argv[i];
+        if (sam_path_has_extension(f, ".sam"))
+            failed |= info_sam(f);
+        else if (sam_path_has_extension(f, ".json"))
+            failed |= is_scene(f) ? info_scene(f) : info_profile(f);
+        else if (sam_path_has_extension(f, ".txt"))
+            failed |= info_profile(f);
+        else
+            failed |= info_mesh(f, mm_per_unit);
     }
     if (!files) {
         usage(stderr);

@@ -19,11 +19,25 @@ out=$("$bin/sam_info" "$sam") || fail "valid .sam rejected: $out"
 grep -q "SAM v1" <<<"$out" || fail "no SAM header in: $out"
 grep -q "samples per vertex" <<<"$out" || fail "no sample count in: $out"
 
+# Scenes and material profiles.
+cat > "$tmp/scene.json" <<JSON
+{"mesh": "tet.obj", "material": "marble", "scale": {"mm_per_unit": 10},
+ "lights": [{"type": "point", "position": [0, 3, 0]}, {"type": "directional", "direction": [0, -1, 0]}]}
+JSON
+out=$("$bin/sam_info" "$tmp/scene.json") || fail "valid scene rejected"
+grep -q "lights: *2 (1 point, 0 spot, 1 directional, 0 area)" <<<"$out" || fail "scene lights: $out"
+out=$("$bin/sam_info" "$src/tests/data/profile_jade.json" "$src/tests/data/profile_gaussians.txt") \
+  || fail "valid profiles rejected"
+grep -q "8-Gaussian fit" <<<"$out" || fail "profile summary: $out"
+printf '{"mesh": "tet.obj", "material": "marble", "scale": {"mm_per_unit": 10}, "lihgts": []}' > "$tmp/typo.json"
+printf '{"type": "dipole", "sigma_s_prime": [1, 1, 1], "sigma_a": [0, 0, -1], "eta": 1.3}' > "$tmp/badprofile.json"
+
 # Bad inputs: exit 1, exactly one stderr line naming the file, no stdout.
 printf 'v 0 0 0\n' > "$tmp/nofaces.obj"
 head -c 40 "$sam" > "$tmp/truncated.sam"
 : > "$tmp/empty.off"
-for bad in "$tmp/missing.obj" "$tmp/nofaces.obj" "$tmp/truncated.sam" "$tmp/empty.off"; do
+for bad in "$tmp/missing.obj" "$tmp/nofaces.obj" "$tmp/truncated.sam" "$tmp/empty.off" \
+           "$tmp/typo.json" "$tmp/badprofile.json"; do
   "$bin/sam_info" "$bad" > "$tmp/out.txt" 2> "$tmp/err.txt"
   rc=$?
   [ $rc -eq 1 ] || fail "$bad: exit status $rc, expected 1"
