@@ -121,6 +121,32 @@ static void test_cube_obj_with_uv_seams(void **state)
     sam_mesh_destroy(&m);
 }
 
+static const float cube_verts[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                       {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+static const int cube_tris[12][3] = {{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                     {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+
+/* The cube as a binary little-endian PLY in buf (>= 1024 bytes); returns its size. */
+static size_t cube_binary_ply(unsigned char *buf)
+{
+    const char *hdr = "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\n"
+                      "property float y\nproperty float z\nelement face 12\n"
+                      "property list uchar int vertex_indices\nend_header\n";
+    size_t n = strlen(hdr);
+    memcpy(buf, hdr, n);
+    memcpy(buf + n, cube_verts, sizeof cube_verts);
+    n += sizeof cube_verts;
+    for (int f = 0; f < 12; ++f) {
+        buf[n++] = 3;
+        for (int c = 0; c < 3; ++c) {
+            int32_t i = cube_tris[f][c];
+            memcpy(buf + n, &i, 4);
+            n += 4;
+        }
+    }
+    return n;
+}
+
 static void test_same_cube_in_every_format(void **state)
 {
     (void)state;
@@ -136,28 +162,9 @@ static void test_same_cube_in_every_format(void **state)
     write_tmp(path, sizeof path, names[0], off);
     write_tmp(path, sizeof path, names[1], ply);
 
-    /* Binary PLY and binary STL of the same cube, built by hand. */
-    static const float verts[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                                      {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-    static const int tris[12][3] = {{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-                                    {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
     {
-        const char *hdr = "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\n"
-                          "property float y\nproperty float z\nelement face 12\n"
-                          "property list uchar int vertex_indices\nend_header\n";
         unsigned char buf[1024];
-        size_t n = strlen(hdr);
-        memcpy(buf, hdr, n);
-        memcpy(buf + n, verts, sizeof verts);
-        n += sizeof verts;
-        for (int f = 0; f < 12; ++f) {
-            buf[n++] = 3;
-            for (int c = 0; c < 3; ++c) {
-                int32_t i = tris[f][c];
-                memcpy(buf + n, &i, 4);
-                n += 4;
-            }
-        }
+        size_t n = cube_binary_ply(buf);
         sam_test_write_file(sam_test_tmp_path(path, sizeof path, names[2]), buf, n);
     }
     {
@@ -168,7 +175,7 @@ static void test_same_cube_in_every_format(void **state)
         for (int f = 0; f < 12; ++f) {
             unsigned char *rec = buf + 84 + 50 * f;
             for (int c = 0; c < 3; ++c)
-                memcpy(rec + 12 + 12 * c, verts[tris[f][c]], 12);
+                memcpy(rec + 12 + 12 * c, cube_verts[cube_tris[f][c]], 12);
         }
         sam_test_write_file(sam_test_tmp_path(path, sizeof path, names[3]), buf, sizeof buf);
     }
@@ -456,8 +463,14 @@ static void test_bad_inputs_give_one_clear_error(void **state)
     expect_error("does_not_exist.obj", NULL, SAM_ERR_IO, "cannot open");
     expect_error("empty.obj", "", SAM_ERR_EMPTY, "empty");
     expect_error("garbage.ply", "\x7f\x01 this is not a ply file \xff\xfe", SAM_ERR_FORMAT, "");
-    /* OpenMesh's OBJ parser skips a "nan" vertex, so the face's index is what fails. */
-    expect_error("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", SAM_ERR_FORMAT, "refers to vertex");
+    expect_error("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", SAM_ERR_FORMAT,
+                 "line 2: \"nan\" is not a finite number");
+    expect_error("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", SAM_ERR_FORMAT,
+                 "line 4: face corner 3 is not a valid index");
+    expect_error("normal_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//1\n", SAM_ERR_FORMAT,
+                 "face corner 2");
+    expect_error("garbage_corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2/* 3\n", SAM_ERR_FORMAT,
+                 "face corner 2");
     {
         const char *hdr = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
                           "property float y\nproperty float z\nelement face 1\n"
@@ -488,6 +501,19 @@ static void test_bad_inputs_give_one_clear_error(void **state)
                  "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
                  "property float z\nend_header\n0 0 0\n",
                  SAM_ERR_FORMAT, "declares 4000000000 elements");
+    expect_error("no_end_header.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n", SAM_ERR_FORMAT,
+                 "no end_header");
+    expect_error("bad_keyword.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\npropevty float x\nend_header\n0\n0\n0\n",
+                 SAM_ERR_FORMAT, "line 4 is not valid");
+    expect_error("property_first.ply",
+                 "ply\nformat ascii 1.0\nproperty float x\nelement vertex 3\nend_header\n0\n0\n0\n",
+                 SAM_ERR_FORMAT, "line 3 is not valid");
+    expect_error("negative.off", "OFF\n2 -4 0\n0 0 0\n1 0 0\n", SAM_ERR_FORMAT, "expected vertex, face and edge counts");
+    expect_error("binary.off", "OFF BINARY\n", SAM_ERR_UNSUPPORTED, "binary OFF");
+    expect_error("bad_format.ply", "ply\nformat ascii 1.facement vertex 4\nend_header\n", SAM_ERR_FORMAT,
+                 "expected \"format");
     expect_error("huge.off", "OFF\n# comment\n3 999999999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
                  "999999999 faces");
     {
@@ -517,25 +543,65 @@ static void test_create_rejects_bad_arrays(void **state)
     assert_int_equal(sam_mesh_create(&in, &m, NULL, &err), SAM_ERR_INVALID_ARGUMENT);
 }
 
-/* Every truncated prefix of a small OBJ and binary PLY loads or fails cleanly. */
+/* Loads `name` holding the first `len` bytes of `data`: either a valid
+ * mesh or one clear error, never a crash or a hang. Returns 1 when it loaded. */
+static int load_prefix(const char *name, const void *data, size_t len)
+{
+    char path[512];
+    sam_test_write_file(sam_test_tmp_path(path, sizeof path, name), data, len);
+    sam_mesh m;
+    sam_error err;
+    if (sam_mesh_load(path, &m, NULL, &err) != SAM_OK) {
+        assert_non_null(strstr(err.message, name));
+        return 0;
+    }
+    assert_true(m.triangle_count > 0);
+    assert_rings_match_triangles(&m);
+    sam_mesh_destroy(&m);
+    return 1;
+}
+
+/* Every truncated prefix of a small OBJ, ASCII OFF and binary PLY. */
 static void test_truncated_prefixes(void **state)
 {
     (void)state;
+    static const char *off = "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                             "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 3 7 6 2\n4 0 4 7 3\n4 1 2 6 5\n";
+    unsigned char ply[1024];
+    size_t ply_size = cube_binary_ply(ply);
+    for (size_t len = 0; len < strlen(cube_obj); len += 3)
+        load_prefix("prefix.obj", cube_obj, len);
+    /* A binary PLY or an OFF missing any byte of its data is refused. */
+    for (size_t len = 0; len < ply_size; ++len)
+        assert_false(load_prefix("prefix.ply", ply, len));
+    assert_true(load_prefix("prefix.ply", ply, ply_size));
+    for (size_t len = 0; len + 1 < strlen(off); ++len)
+        assert_false(load_prefix("prefix.off", off, len));
+    assert_true(load_prefix("prefix.off", off, strlen(off)));
+}
+
+static void test_body_counts_are_checked(void **state)
+{
+    (void)state;
+    /* A face whose list count runs past the end of a binary PLY. */
+    unsigned char ply[1024];
+    size_t n = cube_binary_ply(ply);
+    ply[n - 13] = 200;
     char path[512];
-    size_t n = strlen(cube_obj);
-    for (size_t len = 0; len < n; len += 3) {
-        sam_test_write_file(sam_test_tmp_path(path, sizeof path, "prefix.obj"), cube_obj, len);
-        sam_mesh m;
-        sam_error err;
-        sam_status st = sam_mesh_load(path, &m, NULL, &err);
-        if (st == SAM_OK) {
-            assert_true(m.triangle_count > 0);
-            assert_rings_match_triangles(&m);
-            sam_mesh_destroy(&m);
-        } else {
-            assert_true(strlen(err.message) > 0);
-        }
-    }
+    sam_test_write_file(sam_test_tmp_path(path, sizeof path, "list_count.ply"), ply, n);
+    expect_error("list_count.ply", NULL, SAM_ERR_FORMAT, "truncated in face 11 of 12");
+    expect_error("ascii_list.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                 "0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n",
+                 SAM_ERR_FORMAT, "truncated in face 0 of 1");
+    expect_error("not_number.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\nabc\n",
+                 SAM_ERR_FORMAT, "\"abc\" is not a number");
+    expect_error("face_count.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n300000000 0 1 2\n", SAM_ERR_FORMAT,
+                 "face 0 is not a corner count");
+    expect_error("short_vertex.off", "OFF\n3 1 0\n0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
+                 "vertex 0 has 2 values");
 }
 
 int main(void)
@@ -551,6 +617,7 @@ int main(void)
         cmocka_unit_test(test_bad_inputs_give_one_clear_error),
         cmocka_unit_test(test_create_rejects_bad_arrays),
         cmocka_unit_test(test_truncated_prefixes),
+        cmocka_unit_test(test_body_counts_are_checked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

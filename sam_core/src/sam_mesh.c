@@ -1,7 +1,5 @@
 #include "sam/sam_mesh.h"
 
-#include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -551,104 +549,6 @@ static sam_status finish(sam_status st, sam_mesh *mesh, sam_mesh_report *report,
     return st;
 }
 
-/* ---- Header preflight.
- * OpenMesh's PLY, OFF and STL readers size their buffers from the counts a
- * header declares, so a corrupt header can make them allocate gigabytes
- * before reading a byte of data. Every element takes at least one byte, so
- * a declared count larger than the file is refused here, before OpenMesh
- * sees the file. */
-
-#define PREFLIGHT_BYTES 65536
-
-/* Parses a decimal count starting at *p (after blanks); returns 0 when there is none. */
-static int parse_count(const char **p, const char *end, unsigned long long *out)
-{
-    while (*p < end && (**p == ' ' || **p == '\t'))
-        (*p)++;
-    if (*p >= end || !isdigit((unsigned char)**p))
-        return 0;
-    unsigned long long v = 0;
-    while (*p < end && isdigit((unsigned char)**p)) {
-        if (v > (~0ull - 9) / 10)
-            return 0;
-        v = v * 10 + (unsigned long long)(**p - '0');
-        (*p)++;
-    }
-    *out = v;
-    return 1;
-}
-
-static sam_status preflight(const char *path, sam_error *err)
-{
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return SAM_OK; /* the reader reports why it cannot open the file */
-    char head[PREFLIGHT_BYTES];
-    size_t n = fread(head, 1, sizeof head, fp);
-    unsigned long long size = n;
-    if (fseek(fp, 0, SEEK_END) == 0) {
-        long end = ftell(fp);
-        if (end > 0)
-            size = (unsigned long long)end;
-    }
-    fclose(fp);
-    const char *p = head, *end = head + n;
-    if (sam_path_has_extension(path, ".ply")) {
-        /* Each "element NAME COUNT" line of the header. */
-        while (p < end) {
-            const char *line = p;
-            while (p < end && *p != '\n')
-                p++;
-            const char *eol = p++;
-            if (eol - line >= 10 && !strncmp(line, "end_header", 10))
-                break;
-            if (eol - line < 8 || strncmp(line, "element ", 8))
-                continue;
-            const char *q = line + 8;
-            while (q < eol && *q == ' ')
-                q++;
-            while (q < eol && *q != ' ' && *q != '\t')
-                q++;
-            unsigned long long count;
-            if (!parse_count(&q, eol, &count))
-                return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header: element line \"%.*s\" has no count", path,
-                                (int)(eol - line < 80 ? eol - line : 80), line);
-            if (count > size)
-                return sam_fail(err, SAM_ERR_FORMAT,
-                                "%s: PLY header declares %llu elements in \"%.*s\" but the file has only %llu bytes",
-                                path, count, (int)(eol - line < 80 ? eol - line : 80), line, size);
-        }
-    } else if (sam_path_has_extension(path, ".off")) {
-        /* Skip the keyword line ("OFF", "COFF", "NOFF", "STOFF", ...) and
-         * comments, then read the vertex and face counts. */
-        while (p < end && (*p == '#' || isalpha((unsigned char)*p) || isspace((unsigned char)*p))) {
-            if (*p == '#' || isalpha((unsigned char)*p))
-                while (p < end && *p != '\n')
-                    p++;
-            else
-                p++;
-        }
-        unsigned long long nv = 0, nf = 0;
-        const char *q = p;
-        if (parse_count(&q, end, &nv) && parse_count(&q, end, &nf) && (nv > size || nf > size))
-            return sam_fail(err, SAM_ERR_FORMAT,
-                            "%s: OFF header declares %llu vertices and %llu faces but the file has only %llu bytes",
-                            path, nv, nf, size);
-    } else if (sam_path_has_extension(path, ".stl") && (n < 5 || strncmp(head, "solid", 5))) {
-        /* Binary STL: an 80-byte header, a u32 count, 50 bytes per triangle. */
-        if (n < 84)
-            return sam_fail(err, SAM_ERR_FORMAT, "%s: binary STL is truncated: %llu bytes, the header alone is 84",
-                            path, size);
-        uint32_t count = (uint32_t)(unsigned char)head[80] | (uint32_t)(unsigned char)head[81] << 8 |
-                         (uint32_t)(unsigned char)head[82] << 16 | (uint32_t)(unsigned char)head[83] << 24;
-        if (84ull + 50ull * count > size)
-            return sam_fail(err, SAM_ERR_FORMAT,
-                            "%s: binary STL declares %u triangles (%llu bytes) but the file has only %llu bytes",
-                            path, count, 84ull + 50ull * count, size);
-    }
-    return SAM_OK;
-}
-
 sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *report, sam_error *err)
 {
     sam_mesh_report rep;
@@ -658,7 +558,7 @@ sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *repo
     memset(mesh, 0, sizeof *mesh);
     sam_mesh_soup soup;
     memset(&soup, 0, sizeof soup);
-    sam_status st = preflight(path, err);
+    sam_status st = sam_mesh_preflight(path, err);
     if (st == SAM_OK)
         st = sam_mesh_soup_read(path, &soup, err);
     if (st == SAM_OK && soup.face_count == 0)

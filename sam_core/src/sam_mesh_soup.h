@@ -34,6 +34,13 @@ sam_status sam_mesh_soup_read(const char *path, sam_mesh_soup *soup, sam_error *
 
 void sam_mesh_soup_free(sam_mesh_soup *soup);
 
+/* Checks the structure of a PLY, OFF, OBJ or binary STL file before OpenMesh
+ * reads it (sam_mesh_preflight.c): OpenMesh's readers trust the counts they
+ * parse and loop, crash or allocate gigabytes on corrupt ones. A file that
+ * cannot be opened passes (the reader reports it).
+ * Errors: SAM_ERR_FORMAT naming the line or element, SAM_ERR_UNSUPPORTED. */
+sam_status sam_mesh_preflight(const char *path, sam_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,518 @@
+/*
+ * Structural validation of mesh files before OpenMesh parses them.
+ *
+ * OpenMesh's readers trust what they parse: a PLY header without end_header
+ * makes its parser loop forever, a property before any element crashes it,
+ * and element, face or list counts larger than the file make it allocate
+ * gigabytes while reading past the end (all found by fuzz/fuzz_mesh). So
+ * every PLY (header grammar, then each element instance of the body, ASCII
+ * or binary), ASCII OFF (keyword, counts, vertex and face lines), OBJ
+ * (numbers and face corners; Debian builds OpenMesh with assertions, which
+ * abort on a bad normal index) and binary STL (size) is walked here first,
+ * and only a file whose every count and index fits reaches OpenMesh.
+ */
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sam_mesh_soup.h"
+
+typedef struct text_cursor {
+    const char *p, *end;
+    int line_no;
+} text_cursor;
+
+/* Next line [*line, *eol) without its newline (and CR); 0 at the end. */
+static int next_line(text_cursor *c, const char **line, const char **eol)
+{
+    if (c->p >= c->end)
+        return 0;
+    *line = c->p;
+    while (c->p < c->end && *c->p != '\n')
+        c->p++;
+    *eol = c->p;
+    if (c->p < c->end)
+        c->p++;
+    if (*eol > *line && (*eol)[-1] == '\r')
+        (*eol)--;
+    c->line_no++;
+    return 1;
+}
+
+/* Splits [line, eol) into blank-separated tokens; stores at most `max`,
+ * returns how many there are. */
+static int tokenize(const char *line, const char *eol, const char **tok, int *len, int max)
+{
+    int count = 0;
+    const char *p = line;
+    for (;;) {
+        while (p < eol && (*p == ' ' || *p == '\t'))
+            p++;
+        if (p >= eol)
+            return count;
+        const char *start = p;
+        while (p < eol && *p != ' ' && *p != '\t')
+            p++;
+        if (count < max) {
+            tok[count] = start;
+            len[count] = (int)(p - start);
+        }
+        count++;
+    }
+}
+
+static int token_is(const char *tok, int len, const char *word)
+{
+    return len == (int)strlen(word) && !strncmp(tok, word, (size_t)len);
+}
+
+/* A whole token of decimal digits; 0 when it is not one or overflows. */
+static int token_count(const char *tok, int len, unsigned long long *out)
+{
+    unsigned long long v = 0;
+    if (len <= 0)
+        return 0;
+    for (int i = 0; i < len; ++i) {
+        if (!isdigit((unsigned char)tok[i]) || v > (~0ull - 9) / 10)
+            return 0;
+        v = v * 10 + (unsigned long long)(tok[i] - '0');
+    }
+    *out = v;
+    return 1;
+}
+
+static int shown(const char *line, const char *eol)
+{
+    return eol - line < 80 ? (int)(eol - line) : 80;
+}
+
+/* ---- PLY */
+
+#define PLY_MAX_ELEMENTS 16
+#define PLY_MAX_PROPERTIES 64
+
+typedef struct ply_property {
+    int is_list;
+    int count_size, count_signed; /* list: the count's type */
+    int value_size;               /* scalar, or list entries */
+} ply_property;
+
+typedef struct ply_element {
+    char name[32];
+    unsigned long long count;
+    int property_count;
+    ply_property property[PLY_MAX_PROPERTIES];
+} ply_element;
+
+/* Byte size and signedness of a PLY scalar type name; 0 when unknown. */
+static int ply_type(const char *tok, int len, int *is_signed)
+{
+    static const struct {
+        const char *name;
+        int size, is_signed;
+    } types[] = {{"char", 1, 1},    {"uchar", 1, 0},   {"short", 2, 1},   {"ushort", 2, 0},
+                 {"int", 4, 1},     {"uint", 4, 0},    {"float", 4, 1},   {"double", 8, 1},
+                 {"int8", 1, 1},    {"uint8", 1, 0},   {"int16", 2, 1},   {"uint16", 2, 0},
+                 {"int32", 4, 1},   {"uint32", 4, 0},  {"float32", 4, 1}, {"float64", 8, 1}};
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; ++i)
+        if (token_is(tok, len, types[i].name)) {
+            if (is_signed)
+                *is_signed = types[i].is_signed;
+            return types[i].size;
+        }
+    return 0;
+}
+
+/* Reads a list count of `size` bytes at `p`; -1 when negative. */
+static long long read_count(const unsigned char *p, int size, int is_signed, int big_endian)
+{
+    unsigned long long v = 0;
+    for (int i = 0; i < size; ++i)
+        v |= (unsigned long long)p[big_endian ? size - 1 - i : i] << (8 * i);
+    if (is_signed && (v >> (8 * size - 1)) & 1)
+        return -1;
+    return (long long)v;
+}
+
+static sam_status ply_body_binary(const char *path, const ply_element *el, int elements, const unsigned char *body,
+                                  size_t size, int big_endian, sam_error *err)
+{
+    size_t off = 0;
+    for (int e = 0; e < elements; ++e) {
+        for (unsigned long long i = 0; i < el[e].count; ++i) {
+            for (int k = 0; k < el[e].property_count; ++k) {
+                const ply_property *pr = &el[e].property[k];
+                unsigned long long need = (unsigned long long)(pr->is_list ? pr->count_size : pr->value_size);
+                if (need > size - off)
+                    goto truncated;
+                if (pr->is_list) {
+                    long long n = read_count(body + off, pr->count_size, pr->count_signed, big_endian);
+                    off += (size_t)pr->count_size;
+                    if (n < 0)
+                        return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY %s %llu has a negative list count", path,
+                                        el[e].name, i);
+                    need = (unsigned long long)n * (unsigned long long)pr->value_size;
+                    if (need > size - off)
+                        goto truncated;
+                }
+                off += (size_t)need;
+                continue;
+            truncated:
+                return sam_fail(err, SAM_ERR_FORMAT,
+                                "%s: PLY body is truncated in %s %llu of %llu (offset %zu of %zu body bytes)", path,
+                                el[e].name, i, el[e].count, off, size);
+            }
+        }
+    }
+    return SAM_OK;
+}
+
+/* ASCII bodies are read as a stream of tokens, as OpenMesh does. */
+typedef struct token_stream {
+    const char *p, *end;
+} token_stream;
+
+static int next_token(token_stream *ts, const char **tok, int *len)
+{
+    while (ts->p < ts->end && isspace((unsigned char)*ts->p))
+        ts->p++;
+    if (ts->p >= ts->end)
+        return 0;
+    *tok = ts->p;
+    while (ts->p < ts->end && !isspace((unsigned char)*ts->p))
+        ts->p++;
+    *len = (int)(ts->p - *tok);
+    return 1;
+}
+
+static sam_status ply_body_ascii(const char *path, const ply_element *el, int elements, const char *body,
+                                 size_t size, sam_error *err)
+{
+    token_stream ts = {body, body + size};
+    const char *tok;
+    int len;
+    for (int e = 0; e < elements; ++e) {
+        for (unsigned long long i = 0; i < el[e].count; ++i) {
+            for (int k = 0; k < el[e].property_count; ++k) {
+                unsigned long long n = 1;
+                if (el[e].property[k].is_list) {
+                    if (!next_token(&ts, &tok, &len))
+                        goto truncated;
+                    if (!token_count(tok, len, &n))
+                        return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY %s %llu: list count \"%.*s\" is not a count",
+                                        path, el[e].name, i, len < 40 ? len : 40, tok);
+                    /* Each entry takes at least two bytes (a digit and a blank). */
+                    if (n > (unsigned long long)(ts.end - ts.p) / 2 + 1)
+                        goto truncated;
+                }
+                for (unsigned long long j = 0; j < n; ++j) {
+                    if (!next_token(&ts, &tok, &len))
+                        goto truncated;
+                    char *stop;
+                    char number[64];
+                    int m = len < 63 ? len : 63;
+                    memcpy(number, tok, (size_t)m);
+                    number[m] = 0;
+                    strtod(number, &stop);
+                    if (stop == number || *stop)
+                        return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY %s %llu: \"%.*s\" is not a number", path,
+                                        el[e].name, i, len < 40 ? len : 40, tok);
+                }
+            }
+            continue;
+        truncated:
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY body is truncated in %s %llu of %llu", path, el[e].name,
+                            i, el[e].count);
+        }
+    }
+    return SAM_OK;
+}
+
+static sam_status preflight_ply(const char *path, const char *data, size_t size, sam_error *err)
+{
+    text_cursor c = {data, data + size, 0};
+    const char *line, *eol;
+    ply_element *el = calloc(PLY_MAX_ELEMENTS, sizeof *el);
+    if (!el)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    int elements = 0, format = -1; /* 0 ascii, 1 little, 2 big endian */
+    sam_status st = SAM_OK;
+    while (next_line(&c, &line, &eol)) {
+        const char *tok[6];
+        int len[6];
+        int count = tokenize(line, eol, tok, len, 6);
+        int s = shown(line, eol);
+        if (c.line_no == 1) {
+            if (count != 1 || !token_is(tok[0], len[0], "ply")) {
+                st = sam_fail(err, SAM_ERR_FORMAT, "%s: not a PLY file (first line \"%.*s\", expected \"ply\")", path,
+                              s, line);
+                goto done;
+            }
+        } else if (c.line_no == 2) {
+            static const char *const formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+            for (int f = 0; f < 3 && count == 3; ++f)
+                if (token_is(tok[1], len[1], formats[f]))
+                    format = f;
+            if (count != 3 || !token_is(tok[0], len[0], "format") || format < 0 || !token_is(tok[2], len[2], "1.0")) {
+                st = sam_fail(err, SAM_ERR_FORMAT,
+                              "%s: PLY header line 2 is \"%.*s\", expected \"format "
+                              "ascii|binary_little_endian|binary_big_endian 1.0\"",
+                              path, s, line);
+                goto done;
+            }
+        } else if (count == 0 || token_is(tok[0], len[0], "comment") || token_is(tok[0], len[0], "obj_info")) {
+            continue;
+        } else if (count == 1 && token_is(tok[0], len[0], "end_header")) {
+            if (!elements) {
+                st = sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header declares no elements", path);
+                goto done;
+            }
+            size_t body = (size_t)(c.p - data);
+            st = format == 0 ? ply_body_ascii(path, el, elements, data + body, size - body, err)
+                             : ply_body_binary(path, el, elements, (const unsigned char *)data + body, size - body,
+                                               format == 2, err);
+            goto done;
+        } else if (count == 3 && token_is(tok[0], len[0], "element")) {
+            if (elements == PLY_MAX_ELEMENTS) {
+                st = sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: PLY header line %d: more than %d elements", path,
+                              c.line_no, PLY_MAX_ELEMENTS);
+                goto done;
+            }
+            ply_element *e = &el[elements++];
+            snprintf(e->name, sizeof e->name, "%.*s", len[1], tok[1]);
+            if (!token_count(tok[2], len[2], &e->count)) {
+                st = sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header line %d: \"%.*s\" has no element count", path,
+                              c.line_no, s, line);
+                goto done;
+            }
+            if (e->count > size) {
+                st = sam_fail(err, SAM_ERR_FORMAT,
+                              "%s: PLY header line %d declares %llu elements (\"%.*s\") but the file has only %zu "
+                              "bytes",
+                              path, c.line_no, e->count, s, line, size);
+                goto done;
+            }
+        } else if (token_is(tok[0], len[0], "property") && elements &&
+                   el[elements - 1].property_count < PLY_MAX_PROPERTIES &&
+                   ((count == 3 && ply_type(tok[1], len[1], NULL)) ||
+                    (count == 5 && token_is(tok[1], len[1], "list") && ply_type(tok[2], len[2], NULL) &&
+                     ply_type(tok[3], len[3], NULL)))) {
+            ply_property *pr = &el[elements - 1].property[el[elements - 1].property_count++];
+            pr->is_list = count == 5;
+            if (pr->is_list) {
+                pr->count_size = ply_type(tok[2], len[2], &pr->count_signed);
+                pr->value_size = ply_type(tok[3], len[3], NULL);
+            } else {
+                pr->value_size = ply_type(tok[1], len[1], NULL);
+            }
+        } else {
+            st = sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header line %d is not valid: \"%.*s\"", path, c.line_no, s,
+                          line);
+            goto done;
+        }
+    }
+    st = sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header has no end_header line", path);
+done:
+    free(el);
+    return st;
+}
+
+/* ---- OFF (ASCII) */
+
+static sam_status preflight_off(const char *path, const char *data, size_t size, sam_error *err)
+{
+    text_cursor c = {data, data + size, 0};
+    const char *line, *eol;
+    const char *tok[5];
+    int len[5];
+    int count = 0;
+    /* The keyword line: OFF, COFF, NOFF, STOFF, CNOFF, ...; the counts may follow on it. */
+    while (next_line(&c, &line, &eol) && ((count = tokenize(line, eol, tok, len, 5)) == 0 || tok[0][0] == '#'))
+        ;
+    if (count == 0)
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file has no header", path);
+    int ok = len[0] >= 3 && !strncmp(tok[0] + len[0] - 3, "OFF", 3);
+    for (int i = 0; i < len[0] - 3 && ok; ++i)
+        ok = strchr("STCN4n", tok[0][i]) != NULL;
+    if (!ok)
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: not an OFF file (first line \"%.*s\")", path, shown(line, eol),
+                        line);
+    for (int i = 1; i < count && i < 5; ++i)
+        if (token_is(tok[i], len[i], "BINARY"))
+            return sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: binary OFF is not supported; use ASCII OFF or PLY", path);
+    int first = 1;
+    if (count == 1) {
+        while (next_line(&c, &line, &eol) && ((count = tokenize(line, eol, tok, len, 5)) == 0 || tok[0][0] == '#'))
+            ;
+        first = 0;
+    }
+    unsigned long long value[3] = {0, 0, 0};
+    int numbers = count - first;
+    for (int i = 0; i < numbers && i < 3; ++i)
+        if (!token_count(tok[first + i], len[first + i], &value[i]))
+            numbers = -1;
+    if (numbers < 2 || numbers > 3)
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF header line %d: expected vertex, face and edge counts, found \"%.*s\"",
+                        path, c.line_no, shown(line, eol), line);
+    if (value[0] > size || value[1] > size)
+        return sam_fail(err, SAM_ERR_FORMAT,
+                        "%s: OFF header declares %llu vertices and %llu faces but the file has only %zu bytes", path,
+                        value[0], value[1], size);
+    /* Vertex lines (3 coordinates, maybe colours, normals, UVs), then faces:
+     * a corner count k and at least k more tokens (colours may follow). */
+    for (unsigned long long i = 0; i < value[0] + value[1]; ++i) {
+        do {
+            if (!next_line(&c, &line, &eol))
+                return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file is truncated: it ends before %s %llu of %llu", path,
+                                i < value[0] ? "vertex" : "face", i < value[0] ? i : i - value[0],
+                                i < value[0] ? value[0] : value[1]);
+            count = tokenize(line, eol, tok, len, 1);
+        } while (count == 0 || tok[0][0] == '#');
+        unsigned long long corners;
+        if (i < value[0]) {
+            if (count < 3)
+                return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF line %d: vertex %llu has %d values, expected 3: \"%.*s\"",
+                                path, c.line_no, i, count, shown(line, eol), line);
+        } else if (!token_count(tok[0], len[0], &corners) || corners + 1 > (unsigned long long)count) {
+            return sam_fail(err, SAM_ERR_FORMAT,
+                            "%s: OFF line %d: face %llu is not a corner count followed by that many indices: \"%.*s\"",
+                            path, c.line_no, i - value[0], shown(line, eol), line);
+        }
+    }
+    return SAM_OK;
+}
+
+/* ---- OBJ */
+
+/* A whole token that strtod reads completely; -1 when it is a number but
+ * not finite, 0 when it is no number. */
+static int token_number(const char *tok, int len)
+{
+    char buf[64];
+    if (len <= 0 || len >= (int)sizeof buf)
+        return 0;
+    memcpy(buf, tok, (size_t)len);
+    buf[len] = 0;
+    char *stop;
+    double v = strtod(buf, &stop);
+    if (stop == buf || *stop)
+        return 0;
+    return v - v == 0 ? 1 : -1;
+}
+
+/* One OBJ index ("3", "-1"): 1-based against `count` elements so far,
+ * negative counts back from the last. */
+static int obj_index_ok(const char *tok, int len, unsigned long long count)
+{
+    int negative = len > 0 && tok[0] == '-';
+    unsigned long long v;
+    if (!token_count(tok + negative, len - negative, &v))
+        return 0;
+    return v >= 1 && v <= count;
+}
+
+static sam_status preflight_obj(const char *path, const char *data, size_t size, sam_error *err)
+{
+    text_cursor c = {data, data + size, 0};
+    const char *line, *eol;
+    unsigned long long nv = 0, nt = 0, nn = 0;
+    while (next_line(&c, &line, &eol)) {
+        const char *tok[16];
+        int len[16];
+        int count = tokenize(line, eol, tok, len, 16);
+        if (count == 0)
+            continue;
+        int s = shown(line, eol), values = 0;
+        unsigned long long *counter = NULL;
+        if (token_is(tok[0], len[0], "v"))
+            counter = &nv, values = 3;
+        else if (token_is(tok[0], len[0], "vt"))
+            counter = &nt, values = 1;
+        else if (token_is(tok[0], len[0], "vn"))
+            counter = &nn, values = 3;
+        if (counter) {
+            if (count - 1 < values)
+                return sam_fail(err, SAM_ERR_FORMAT, "%s: OBJ line %d: expected %d numbers: \"%.*s\"", path,
+                                c.line_no, values, s, line);
+            for (int i = 1; i <= values; ++i) {
+                int kind = token_number(tok[i], len[i]);
+                if (kind <= 0)
+                    return sam_fail(err, SAM_ERR_FORMAT, "%s: OBJ line %d: \"%.*s\" is not a %s number", path,
+                                    c.line_no, len[i] < 40 ? len[i] : 40, tok[i], kind < 0 ? "finite" : "valid");
+            }
+            (*counter)++;
+            continue;
+        }
+        if (!token_is(tok[0], len[0], "f"))
+            continue; /* groups, materials, smoothing, lines: not geometry we read */
+        /* Corners: v, v/t, v//n or v/t/n; all corners of a face alike. */
+        const char *p = line + 1;
+        int corner = 0;
+        while (p < eol) {
+            while (p < eol && (*p == ' ' || *p == '\t'))
+                p++;
+            if (p >= eol)
+                break;
+            const char *part[3] = {p, NULL, NULL};
+            int plen[3] = {0, 0, 0}, parts = 1;
+            while (p < eol && *p != ' ' && *p != '\t') {
+                if (*p == '/') {
+                    if (parts == 3)
+                        goto bad_corner;
+                    plen[parts - 1] = (int)(p - part[parts - 1]);
+                    part[parts++] = p + 1;
+                }
+                p++;
+            }
+            plen[parts - 1] = (int)(p - part[parts - 1]);
+            if (!obj_index_ok(part[0], plen[0], nv) || (parts >= 2 && plen[1] && !obj_index_ok(part[1], plen[1], nt)) ||
+                (parts == 3 && !obj_index_ok(part[2], plen[2], nn)) || (parts == 2 && !plen[1]))
+                goto bad_corner;
+            corner++;
+            continue;
+        bad_corner:
+            return sam_fail(err, SAM_ERR_FORMAT,
+                            "%s: OBJ line %d: face corner %d is not a valid index (v, v/t, v//n or v/t/n with "
+                            "%llu positions, %llu texture coordinates, %llu normals so far): \"%.*s\"",
+                            path, c.line_no, corner + 1, nv, nt, nn, s, line);
+        }
+    }
+    return SAM_OK;
+}
+
+sam_status sam_mesh_preflight(const char *path, sam_error *err)
+{
+    int ply = sam_path_has_extension(path, ".ply"), off = sam_path_has_extension(path, ".off");
+    int stl = sam_path_has_extension(path, ".stl"), obj = sam_path_has_extension(path, ".obj");
+    if (!ply && !off && !stl && !obj)
+        return SAM_OK;
+    uint8_t *data;
+    size_t size;
+    if (sam_read_file(path, &data, &size, NULL) != SAM_OK)
+        return SAM_OK; /* the reader reports why it cannot read the file */
+    sam_status st = SAM_OK;
+    if (size == 0)
+        st = SAM_OK; /* the reader reports an empty file */
+    else if (ply)
+        st = preflight_ply(path, (const char *)data, size, err);
+    else if (off)
+        st = preflight_off(path, (const char *)data, size, err);
+    else if (obj)
+        st = preflight_obj(path, (const char *)data, size, err);
+    else if (size < 5 || memcmp(data, "solid", 5)) {
+        /* Binary STL: an 80-byte header, a u32 count, 50 bytes per triangle. */
+        if (size < 84) {
+            st = sam_fail(err, SAM_ERR_FORMAT, "%s: binary STL is truncated: %zu bytes, the header alone is 84", path,
+                          size);
+        } else {
+            uint32_t n = (uint32_t)data[80] | (uint32_t)data[81] << 8 | (uint32_t)data[82] << 16 |
+                         (uint32_t)data[83] << 24;
+            if (84ull + 50ull * n > size)
+                st = sam_fail(err, SAM_ERR_FORMAT,
+                              "%s: binary STL declares %u triangles (%llu bytes) but the file has only %zu bytes", path,
+                              n, 84ull + 50ull * n, size);
+        }
+    }
+    free(data);
+    return st;
+}
