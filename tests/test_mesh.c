@@ -490,7 +490,7 @@ static void test_bad_inputs_give_one_clear_error(void **state)
         sam_test_write_file(sam_test_tmp_path(path, sizeof path, "nan.ply"), buf, n);
         expect_error("nan.ply", NULL, SAM_ERR_FORMAT, "vertex 1 has a non-finite coordinate");
     }
-    expect_error("range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", SAM_ERR_FORMAT, "vertex 7");
+    expect_error("range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", SAM_ERR_FORMAT, "indices below 3");
     expect_error("no_faces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", SAM_ERR_EMPTY, "no faces");
     expect_error("all_degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", SAM_ERR_EMPTY,
                  "no usable triangle");
@@ -512,6 +512,8 @@ static void test_bad_inputs_give_one_clear_error(void **state)
                  SAM_ERR_FORMAT, "line 3 is not valid");
     expect_error("negative.off", "OFF\n2 -4 0\n0 0 0\n1 0 0\n", SAM_ERR_FORMAT, "expected vertex, face and edge counts");
     expect_error("binary.off", "OFF BINARY\n", SAM_ERR_UNSUPPORTED, "binary OFF");
+    expect_error("inline_counts.off", "OFF 0 00  ", SAM_ERR_FORMAT, "keyword must stand alone");
+    expect_error("zero.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n", SAM_ERR_EMPTY, "3 vertices and 0 faces");
     expect_error("bad_format.ply", "ply\nformat ascii 1.facement vertex 4\nend_header\n", SAM_ERR_FORMAT,
                  "expected \"format");
     expect_error("huge.off", "OFF\n# comment\n3 999999999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
@@ -599,9 +601,13 @@ static void test_body_counts_are_checked(void **state)
                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\nabc\n",
                  SAM_ERR_FORMAT, "\"abc\" is not a number");
     expect_error("face_count.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n300000000 0 1 2\n", SAM_ERR_FORMAT,
-                 "face 0 is not a corner count");
+                 "face 0 must be a corner count");
+    expect_error("extra_face_value.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 7\n", SAM_ERR_FORMAT,
+                 "face 0 must be a corner count");
     expect_error("short_vertex.off", "OFF\n3 1 0\n0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
-                 "vertex 0 has 2 values");
+                 "vertex 0 must be 3 finite numbers");
+    expect_error("control.off", "OFF\n3 1 0\n0 0 0\n1 0 0\x02\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
+                 "line 4 contains the control character 0x02");
 }
 
 int main(void)

@@ -86,6 +86,25 @@ static int shown(const char *line, const char *eol)
     return eol - line < 80 ? (int)(eol - line) : 80;
 }
 
+/* ---- Text */
+
+/* Text formats hold printable characters, blanks and line ends (and UTF-8
+ * in comments); a control character means a damaged or binary file, on
+ * which OpenMesh's stream parsing and ours would disagree. */
+static sam_status check_text(const char *path, const char *kind, const char *data, size_t size, sam_error *err)
+{
+    int line = 1;
+    for (size_t i = 0; i < size; ++i) {
+        unsigned char ch = (unsigned char)data[i];
+        if (ch == '\n')
+            line++;
+        else if ((ch < 0x20 && ch != '\t' && ch != '\r') || ch == 0x7f)
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: %s line %d contains the control character 0x%02x", path, kind,
+                            line, ch);
+    }
+    return SAM_OK;
+}
+
 /* ---- PLY */
 
 #define PLY_MAX_ELEMENTS 16
@@ -268,6 +287,8 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                 goto done;
             }
             size_t body = (size_t)(c.p - data);
+            if (format == 0 && (st = check_text(path, "PLY", data, size, err)) != SAM_OK)
+                goto done;
             st = format == 0 ? ply_body_ascii(path, el, elements, data + body, size - body, err)
                              : ply_body_binary(path, el, elements, (const unsigned char *)data + body, size - body,
                                                format == 2, err);
@@ -319,70 +340,17 @@ done:
 
 /* ---- OFF (ASCII) */
 
-static sam_status preflight_off(const char *path, const char *data, size_t size, sam_error *err)
+/* Next line with a token that is not a comment; its token count (storing at
+ * most `max`), or -1 at the end of the file. */
+static int next_content_line(text_cursor *c, const char **line, const char **eol, const char **tok, int *len, int max)
 {
-    text_cursor c = {data, data + size, 0};
-    const char *line, *eol;
-    const char *tok[5];
-    int len[5];
-    int count = 0;
-    /* The keyword line: OFF, COFF, NOFF, STOFF, CNOFF, ...; the counts may follow on it. */
-    while (next_line(&c, &line, &eol) && ((count = tokenize(line, eol, tok, len, 5)) == 0 || tok[0][0] == '#'))
-        ;
-    if (count == 0)
-        return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file has no header", path);
-    int ok = len[0] >= 3 && !strncmp(tok[0] + len[0] - 3, "OFF", 3);
-    for (int i = 0; i < len[0] - 3 && ok; ++i)
-        ok = strchr("STCN4n", tok[0][i]) != NULL;
-    if (!ok)
-        return sam_fail(err, SAM_ERR_FORMAT, "%s: not an OFF file (first line \"%.*s\")", path, shown(line, eol),
-                        line);
-    for (int i = 1; i < count && i < 5; ++i)
-        if (token_is(tok[i], len[i], "BINARY"))
-            return sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: binary OFF is not supported; use ASCII OFF or PLY", path);
-    int first = 1;
-    if (count == 1) {
-        while (next_line(&c, &line, &eol) && ((count = tokenize(line, eol, tok, len, 5)) == 0 || tok[0][0] == '#'))
-            ;
-        first = 0;
+    while (next_line(c, line, eol)) {
+        int count = tokenize(*line, *eol, tok, len, max);
+        if (count > 0 && tok[0][0] != '#')
+            return count;
     }
-    unsigned long long value[3] = {0, 0, 0};
-    int numbers = count - first;
-    for (int i = 0; i < numbers && i < 3; ++i)
-        if (!token_count(tok[first + i], len[first + i], &value[i]))
-            numbers = -1;
-    if (numbers < 2 || numbers > 3)
-        return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF header line %d: expected vertex, face and edge counts, found \"%.*s\"",
-                        path, c.line_no, shown(line, eol), line);
-    if (value[0] > size || value[1] > size)
-        return sam_fail(err, SAM_ERR_FORMAT,
-                        "%s: OFF header declares %llu vertices and %llu faces but the file has only %zu bytes", path,
-                        value[0], value[1], size);
-    /* Vertex lines (3 coordinates, maybe colours, normals, UVs), then faces:
-     * a corner count k and at least k more tokens (colours may follow). */
-    for (unsigned long long i = 0; i < value[0] + value[1]; ++i) {
-        do {
-            if (!next_line(&c, &line, &eol))
-                return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file is truncated: it ends before %s %llu of %llu", path,
-                                i < value[0] ? "vertex" : "face", i < value[0] ? i : i - value[0],
-                                i < value[0] ? value[0] : value[1]);
-            count = tokenize(line, eol, tok, len, 1);
-        } while (count == 0 || tok[0][0] == '#');
-        unsigned long long corners;
-        if (i < value[0]) {
-            if (count < 3)
-                return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF line %d: vertex %llu has %d values, expected 3: \"%.*s\"",
-                                path, c.line_no, i, count, shown(line, eol), line);
-        } else if (!token_count(tok[0], len[0], &corners) || corners + 1 > (unsigned long long)count) {
-            return sam_fail(err, SAM_ERR_FORMAT,
-                            "%s: OFF line %d: face %llu is not a corner count followed by that many indices: \"%.*s\"",
-                            path, c.line_no, i - value[0], shown(line, eol), line);
-        }
-    }
-    return SAM_OK;
+    return -1;
 }
-
-/* ---- OBJ */
 
 /* A whole token that strtod reads completely; -1 when it is a number but
  * not finite, 0 when it is no number. */
@@ -400,6 +368,105 @@ static int token_number(const char *tok, int len)
     return v - v == 0 ? 1 : -1;
 }
 
+#define OFF_MAX_TOKENS 16
+
+/* The line layout is checked exactly, because OpenMesh reads vertices by
+ * the keyword's layout and faces token by token: a line with extra or
+ * missing values would shift everything after it. */
+static sam_status preflight_off(const char *path, const char *data, size_t size, sam_error *err)
+{
+    sam_status st = check_text(path, "OFF", data, size, err);
+    if (st != SAM_OK)
+        return st;
+    text_cursor c = {data, data + size, 0};
+    const char *line = data, *eol = data;
+    const char *tok[OFF_MAX_TOKENS];
+    int len[OFF_MAX_TOKENS];
+    int count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
+    if (count < 0)
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file has no header", path);
+    /* [ST][C][N]OFF: texture coordinates, colours, normals per vertex. */
+    const char *kw = tok[0];
+    int kw_len = len[0], st_uv = 0, colour = 0, normal = 0, i = 0;
+    if (kw_len >= 2 && kw[0] == 'S' && kw[1] == 'T')
+        st_uv = 1, i = 2;
+    if (i < kw_len && kw[i] == 'C')
+        colour = 1, i++;
+    if (i < kw_len && kw[i] == 'N')
+        normal = 1, i++;
+    if (kw_len - i != 3 || strncmp(kw + i, "OFF", 3))
+        return sam_fail(err, SAM_ERR_FORMAT,
+                        "%s: not an OFF file (first line \"%.*s\"; expected OFF, COFF, NOFF, STOFF or a combination)",
+                        path, shown(line, eol), line);
+    if (count == 2 && token_is(tok[1], len[1], "BINARY"))
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: binary OFF is not supported; use ASCII OFF or PLY", path);
+    /* OpenMesh reads the counts from the line after the keyword only. */
+    if (count != 1)
+        return sam_fail(err, SAM_ERR_FORMAT,
+                        "%s: OFF line %d: the keyword must stand alone, counts on the next line: \"%.*s\"", path,
+                        c.line_no, shown(line, eol), line);
+    count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
+    unsigned long long value[3] = {0, 0, 0};
+    int numbers = count;
+    for (int k = 0; k < numbers && k < 3; ++k)
+        if (!token_count(tok[k], len[k], &value[k]))
+            numbers = -1;
+    if (numbers < 2 || numbers > 3)
+        return sam_fail(err, SAM_ERR_FORMAT,
+                        "%s: OFF header line %d: expected vertex, face and edge counts, found \"%.*s\"", path,
+                        c.line_no, shown(line, eol), line);
+    if (value[0] > size || value[1] > size)
+        return sam_fail(err, SAM_ERR_FORMAT,
+                        "%s: OFF header declares %llu vertices and %llu faces but the file has only %zu bytes", path,
+                        value[0], value[1], size);
+    if (value[0] == 0 || value[1] == 0)
+        return sam_fail(err, SAM_ERR_EMPTY, "%s: OFF header declares %llu vertices and %llu faces", path, value[0],
+                        value[1]);
+    int base = 3 + 3 * normal + 2 * st_uv;
+    for (unsigned long long v = 0; v < value[0]; ++v) {
+        count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
+        if (count < 0)
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file is truncated: it ends before vertex %llu of %llu", path,
+                            v, value[0]);
+        int ok = count == base || (colour && (count == base + 3 || count == base + 4));
+        for (int k = 0; k < count && ok; ++k)
+            ok = token_number(tok[k], len[k]) == 1;
+        if (!ok)
+            return sam_fail(err, SAM_ERR_FORMAT,
+                            "%s: OFF line %d: vertex %llu must be %d finite numbers%s: \"%.*s\"", path, c.line_no, v,
+                            base, colour ? " plus 3 or 4 colour values" : "", shown(line, eol), line);
+    }
+    for (unsigned long long f = 0; f < value[1]; ++f) {
+        count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
+        if (count < 0)
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file is truncated: it ends before face %llu of %llu", path,
+                            f, value[1]);
+        /* k >= 3 corner indices and nothing else (no face colours): the
+         * whole line is checked, whatever its length. */
+        unsigned long long corners;
+        int ok = token_count(tok[0], len[0], &corners) && corners >= 3 && corners + 1 == (unsigned long long)count;
+        const char *p = line;
+        for (int k = 0; ok && k < count; ++k) {
+            const char *t[1];
+            int l[1];
+            while (*p == ' ' || *p == '\t')
+                p++;
+            tokenize(p, eol, t, l, 1);
+            unsigned long long index;
+            ok = token_count(t[0], l[0], &index) && (k == 0 || index < value[0]);
+            p = t[0] + l[0];
+        }
+        if (!ok)
+            return sam_fail(err, SAM_ERR_FORMAT,
+                            "%s: OFF line %d: face %llu must be a corner count k >= 3 and k vertex indices below "
+                            "%llu (face colours are not supported): \"%.*s\"",
+                            path, c.line_no, f, value[0], shown(line, eol), line);
+    }
+    return SAM_OK;
+}
+
+/* ---- OBJ */
+
 /* One OBJ index ("3", "-1"): 1-based against `count` elements so far,
  * negative counts back from the last. */
 static int obj_index_ok(const char *tok, int len, unsigned long long count)
@@ -413,6 +480,9 @@ static int obj_index_ok(const char *tok, int len, unsigned long long count)
 
 static sam_status preflight_obj(const char *path, const char *data, size_t size, sam_error *err)
 {
+    sam_status st = check_text(path, "OBJ", data, size, err);
+    if (st != SAM_OK)
+        return st;
     text_cursor c = {data, data + size, 0};
     const char *line, *eol;
     unsigned long long nv = 0, nt = 0, nn = 0;
