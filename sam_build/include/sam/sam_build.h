@@ -1,0 +1,137 @@
+/*
+ * sam_build: precomputation of Spatial Adjacency Maps (Maisch and Ropinski,
+ * Sec. 3.2-3.3, 4.1-4.2).
+ *
+ * For every topological vertex v_o of a mesh (see sam_mesh.h) the builder
+ * finds the back-side vertices v_i ((v_i - v_o).n_o < 0 and n_i.n_o < 0,
+ * eq. 13-14) whose form factor
+ *
+ *     K_oi = 1/F'_o  int_{F'_o} int_{F'_i} R_d(|x_i - x_o|) dx_i dx_o   (eq. 11)
+ *
+ * is largest, estimates K by Monte Carlo over the two reduced fans (each
+ * triangle's quadrilateral vertex / edge midpoint / centroid / edge midpoint),
+ * keeps the best N, and stores K' = K / (F'_i R_d(|v_i - v_o|)) (eq. 15).
+ *
+ * The search is not quadratic: candidates come from an Embree point query
+ * over the vertices whose radius shrinks while it runs. A back-side vertex
+ * at distance d can have a cheap estimate F'_i R_d(d) of at most
+ * max_fan_area * R_d(d); once C candidates are held, everything farther than
+ * the distance where that bound falls below the C-th best is skipped. Only
+ * the C best by the cheap estimate get Monte Carlo (C = `candidates`).
+ *
+ * Each vertex's work uses its own random stream, seeded from the build seed
+ * and the vertex and candidate indices, so the result is bit-identical for
+ * any thread count.
+ *
+ * Lengths inside the builder are millimetres: positions are scaled by
+ * mm_per_unit, fan areas are mm^2 and R_d is in mm^-2, so K is unitless.
+ */
+#ifndef SAM_BUILD_H
+#define SAM_BUILD_H
+
+#include "sam/sam_common.h"
+#include "sam/sam_mesh.h"
+#include "sam/sam_profile.h"
+#include "sam/samfile.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SAM_BUILD_VERSION "1.0"
+#define SAM_BUILD_NO_SAMPLE UINT32_MAX
+
+typedef struct sam_build_settings {
+    uint32_t samples_per_vertex; /* N, 1..64 (default 3) */
+    uint32_t mc_samples;         /* Monte Carlo point pairs per form factor, 4..65536 (default 64) */
+    uint32_t candidates;         /* C: cheap-ranked candidates that get Monte Carlo, >= N (0: 2N + 6) */
+    float radius_tolerance;      /* energy fraction of R_d left beyond the search radius (default 1e-4) */
+    uint64_t seed;               /* default 1 */
+    int threads;                 /* OpenMP threads, 0 = all cores (does not change the result) */
+} sam_build_settings;
+
+/* Called from one thread about every 0.5% of the work with the number of
+ * vertices done and the total. Returning non-zero cancels the build, which
+ * then fails with SAM_ERR_INVALID_ARGUMENT "cancelled". May be NULL. */
+typedef int (*sam_build_progress_fn)(void *user, uint64_t done, uint64_t total);
+
+/* Per topological vertex results, N entries each, best first. */
+typedef struct sam_build_result {
+    uint32_t topo_count;
+    uint32_t samples_per_vertex;
+    uint32_t *sample;    /* topo_count * N: topo vertex index or SAM_BUILD_NO_SAMPLE */
+    float *k;            /* topo_count * N * 3: Monte Carlo K (RGB), 0 for no sample */
+    float *k_error;      /* topo_count * N: standard error of the mean-RGB K estimate */
+    float *kprime;       /* topo_count * N * 3: K' of eq. 15 */
+    float *fan_area;     /* topo_count: reduced fan area in mm^2 */
+    float search_radius_mm;   /* the initial query radius */
+    uint64_t candidates_seen; /* back-side vertices the queries scored */
+    uint64_t form_factors;    /* Monte Carlo estimates computed */
+    double seconds;           /* wall time of the build */
+} sam_build_result;
+
+/* The form-factor machinery on one mesh and profile: scaled positions, fan
+ * areas, fan sampling tables and an R_d lookup table. Opaque. */
+typedef struct sam_build_context sam_build_context;
+
+/* Fills the defaults documented on sam_build_settings. */
+void sam_build_default_settings(sam_build_settings *settings);
+
+/* Checks settings and scale. Errors: SAM_ERR_INVALID_ARGUMENT naming the
+ * setting and value. */
+sam_status sam_build_check_settings(const sam_build_settings *settings, float mm_per_unit, sam_error *err);
+
+/* Creates a context (caller destroys). `mesh` and `profile` must outlive it.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (scale, settings), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *profile, float mm_per_unit,
+                                    const sam_build_settings *settings, sam_build_context **ctx, sam_error *err);
+void sam_build_context_destroy(sam_build_context *ctx);
+
+/* Monte Carlo estimate of K_oi (eq. 11) between topo vertices o and i with
+ * `samples` point pairs: points on F'_o from a stream seeded by (seed, o)
+ * (shared by all of o's candidates), points on F'_i from one seeded by
+ * (seed, o, i). K in RGB, and the standard error of its mean-RGB value
+ * (NaN when out of memory). The builders compute exactly these values.
+ * Thread-safe. */
+void sam_build_form_factor(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples,
+                           uint64_t seed, float k[3], float *k_error);
+
+/* The reduced fan area F'_t of topo vertex t in mm^2 (eq. 16). */
+float sam_build_fan_area(const sam_build_context *ctx, uint32_t t);
+
+/* 1 when topo vertex i is on the back side of o (eq. 13-14). */
+int sam_build_is_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i);
+
+/* The fast builder. `result` is filled (caller destroys) on success.
+ * Errors: those of context creation, SAM_ERR_INVALID_ARGUMENT ("cancelled"
+ * by the progress callback), SAM_ERR_UNSUPPORTED (Embree failure). */
+sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
+                         sam_build_result *result, sam_error *err);
+
+/* The O(m^2) reference: Monte Carlo for every back-side vertex of every
+ * vertex, keep the best N. For tests and benchmarks on small meshes. */
+sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
+                               sam_build_result *result, sam_error *err);
+
+void sam_build_result_destroy(sam_build_result *result);
+
+/* Where the source mesh came from, for the INFO chunk. */
+typedef struct sam_build_source {
+    const char *file;    /* as given by the user; may be NULL */
+    const char *sha256;  /* 64 hex digits; may be NULL */
+} sam_build_source;
+
+/* Expands a result to render vertices and fills a samfile_data ready for
+ * samfile_write (caller frees it with samfile_free): positions, normals,
+ * UVs and triangles of the mesh, SIDX/SKPR/FANA shared by the render copies
+ * of each topo vertex, ADJO/ADJV from the one-rings, and INFO recording
+ * counts, scale, material, settings, source and build time.
+ * Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_result *result,
+                                const sam_build_source *source, samfile_data *out, sam_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

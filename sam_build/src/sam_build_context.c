@@ -1,0 +1,299 @@
+/* The build context: scaled geometry, fan sampling, the R_d table and the
+ * Monte Carlo form factor of eq. 11. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sam_build_internal.h"
+
+void sam_build_default_settings(sam_build_settings *s)
+{
+    memset(s, 0, sizeof *s);
+    s->samples_per_vertex = 3;
+    s->mc_samples = 64;
+    s->candidates = 0;
+    s->radius_tolerance = 1e-4f;
+    s->seed = 1;
+    s->threads = 0;
+}
+
+sam_status sam_build_check_settings(const sam_build_settings *s, float mm_per_unit, sam_error *err)
+{
+    if (!(mm_per_unit > 0) || !isfinite(mm_per_unit))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "scale: millimetres per unit must be a finite number > 0, got %g",
+                        mm_per_unit);
+    if (s->samples_per_vertex < 1 || s->samples_per_vertex > SAMFILE_MAX_SAMPLES_PER_VERTEX)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "samples per vertex must be in 1..%d, got %u",
+                        SAMFILE_MAX_SAMPLES_PER_VERTEX, s->samples_per_vertex);
+    if (s->mc_samples < 4 || s->mc_samples > 65536)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "Monte Carlo samples must be in 4..65536, got %u", s->mc_samples);
+    if (s->candidates && (s->candidates < s->samples_per_vertex || s->candidates > 4096))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "candidates must be 0 (automatic) or in %u..4096 (at least the samples per vertex), got %u",
+                        s->samples_per_vertex, s->candidates);
+    if (!(s->radius_tolerance > 0 && s->radius_tolerance < 0.5f))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "radius tolerance must be in (0, 0.5), got %g",
+                        s->radius_tolerance);
+    if (s->threads < 0)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "threads must be >= 0, got %d", s->threads);
+    return SAM_OK;
+}
+
+/* ---- random numbers */
+
+static uint64_t splitmix64(uint64_t x)
+{
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+void sam_rng_seed(sam_rng *rng, uint64_t seed, uint64_t a, uint64_t b)
+{
+    rng->state = splitmix64(splitmix64(seed) ^ splitmix64(a * 0x100000001B3ull + b));
+}
+
+float sam_rng_float(sam_rng *rng)
+{
+    uint64_t old = rng->state;
+    rng->state = old * 6364136223846793005ull + 1442695040888963407ull;
+    uint32_t xorshifted = (uint32_t)(((old >> 18) ^ old) >> 27);
+    uint32_t rot = (uint32_t)(old >> 59);
+    uint32_t r = (xorshifted >> rot) | (xorshifted << ((32 - rot) & 31));
+    return (float)(r >> 8) * (1.0f / 16777216.0f);
+}
+
+/* ---- R_d */
+
+void sam_build_rd(const sam_build_context *ctx, float r, float out[4])
+{
+    if (r >= ctx->table_radius) {
+        sam_profile_eval(ctx->profile, r, out);
+        out[3] = (out[0] + out[1] + out[2]) / 3.0f;
+        return;
+    }
+    float x = r * ctx->table_inv_step;
+    int j = (int)x;
+    float f = x - (float)j;
+    const float *a = ctx->table[j], *b = ctx->table[j + 1];
+    for (int c = 0; c < 4; ++c)
+        out[c] = a[c] + f * (b[c] - a[c]);
+}
+
+float sam_build_rd_mean(const sam_build_context *ctx, float r)
+{
+    if (r >= ctx->table_radius) {
+        float rgb[3];
+        sam_profile_eval(ctx->profile, r, rgb);
+        return (rgb[0] + rgb[1] + rgb[2]) / 3.0f;
+    }
+    float x = r * ctx->table_inv_step;
+    int j = (int)x;
+    float f = x - (float)j;
+    return ctx->table[j][3] + f * (ctx->table[j + 1][3] - ctx->table[j][3]);
+}
+
+float sam_build_bound_radius(const sam_build_context *ctx, float threshold)
+{
+    /* The envelope is non-increasing: find the last index still >= threshold. */
+    if (ctx->envelope[0] < threshold)
+        return 0.0f;
+    int lo = 0, hi = SAM_RD_TABLE_SIZE;
+    if (ctx->envelope[hi] >= threshold)
+        return ctx->table_radius;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (ctx->envelope[mid] >= threshold)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    /* Interpolated values in [lo, lo + 1] are bounded by envelope[lo]. */
+    return (float)(lo + 1) / ctx->table_inv_step;
+}
+
+/* ---- the context */
+
+sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *profile, float mm_per_unit,
+                                    const sam_build_settings *settings, sam_build_context **out, sam_error *err)
+{
+    *out = NULL;
+    sam_status st = sam_build_check_settings(settings, mm_per_unit, err);
+    if (st != SAM_OK)
+        return st;
+    if (!mesh || !mesh->topo_count || !profile)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "build: empty mesh or no profile");
+    sam_build_context *ctx = calloc(1, sizeof *ctx);
+    if (!ctx)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory");
+    ctx->mesh = mesh;
+    ctx->profile = profile;
+    ctx->mm_per_unit = mm_per_unit;
+    ctx->settings = *settings;
+    ctx->candidates = settings->candidates ? settings->candidates : 2 * settings->samples_per_vertex + 6;
+    const uint32_t n = mesh->topo_count, ring_total = mesh->ring_offsets[n];
+    ctx->pos = malloc((size_t)n * 3 * sizeof *ctx->pos);
+    ctx->fan_area = malloc((size_t)n * sizeof *ctx->fan_area);
+    ctx->pair_cdf = malloc((size_t)ring_total * sizeof *ctx->pair_cdf);
+    ctx->table = malloc((SAM_RD_TABLE_SIZE + 1) * sizeof *ctx->table);
+    ctx->envelope = malloc((SAM_RD_TABLE_SIZE + 1) * sizeof *ctx->envelope);
+    if (!ctx->pos || !ctx->fan_area || !ctx->pair_cdf || !ctx->table || !ctx->envelope) {
+        sam_build_context_destroy(ctx);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for %u vertices", n);
+    }
+    for (uint32_t t = 0; t < n; ++t)
+        for (int c = 0; c < 3; ++c)
+            ctx->pos[3 * (size_t)t + c] = mesh->positions[3 * (size_t)mesh->topo_rep[t] + c] * mm_per_unit;
+    /* Fan areas (eq. 16) and the cumulative quad areas used to sample
+     * points uniformly on the reduced fan; each quad is a third of its
+     * triangle. */
+    for (uint32_t t = 0; t < n; ++t) {
+        const float *v = ctx->pos + 3 * (size_t)t;
+        double sum = 0;
+        uint32_t begin = mesh->ring_offsets[t], end = mesh->ring_offsets[t + 1];
+        ctx->pair_cdf[begin] = 0;
+        for (uint32_t k = begin + 1; k < end; ++k) {
+            const float *a = ctx->pos + 3 * (size_t)mesh->ring[k - 1], *b = ctx->pos + 3 * (size_t)mesh->ring[k];
+            double e1[3], e2[3];
+            for (int c = 0; c < 3; ++c)
+                e1[c] = (double)a[c] - v[c], e2[c] = (double)b[c] - v[c];
+            double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                   cz = e1[0] * e2[1] - e1[1] * e2[0];
+            sum += sqrt(cx * cx + cy * cy + cz * cz) / 6.0;
+            ctx->pair_cdf[k] = (float)sum;
+            double la = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+            if (la > ctx->max_edge)
+                ctx->max_edge = (float)la;
+        }
+        ctx->fan_area[t] = (float)sum;
+        if (ctx->fan_area[t] > ctx->max_fan_area)
+            ctx->max_fan_area = ctx->fan_area[t];
+    }
+    /* The table spans twice the search radius plus two fan diameters, so
+     * every Monte Carlo pair of a candidate inside the radius is tabulated. */
+    ctx->search_radius = sam_profile_radius(profile, settings->radius_tolerance);
+    ctx->table_radius = 2.0f * ctx->search_radius + 4.0f * ctx->max_edge;
+    ctx->table_inv_step = (float)SAM_RD_TABLE_SIZE / ctx->table_radius;
+    for (int j = 0; j <= SAM_RD_TABLE_SIZE; ++j) {
+        float rgb[3];
+        sam_profile_eval(profile, (float)j / ctx->table_inv_step, rgb);
+        ctx->table[j][0] = rgb[0];
+        ctx->table[j][1] = rgb[1];
+        ctx->table[j][2] = rgb[2];
+        ctx->table[j][3] = (rgb[0] + rgb[1] + rgb[2]) / 3.0f;
+    }
+    ctx->envelope[SAM_RD_TABLE_SIZE] = ctx->table[SAM_RD_TABLE_SIZE][3];
+    for (int j = SAM_RD_TABLE_SIZE - 1; j >= 0; --j)
+        ctx->envelope[j] = fmaxf(ctx->table[j][3], ctx->envelope[j + 1]);
+    *out = ctx;
+    return SAM_OK;
+}
+
+void sam_build_context_destroy(sam_build_context *ctx)
+{
+    if (!ctx)
+        return;
+    free(ctx->pos);
+    free(ctx->fan_area);
+    free(ctx->pair_cdf);
+    free(ctx->table);
+    free(ctx->envelope);
+    free(ctx);
+}
+
+float sam_build_fan_area(const sam_build_context *ctx, uint32_t t)
+{
+    return ctx->fan_area[t];
+}
+
+int sam_build_is_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i)
+{
+    const float *po = ctx->pos + 3 * (size_t)o, *pi = ctx->pos + 3 * (size_t)i;
+    const float *no = ctx->mesh->topo_normals + 3 * (size_t)o, *ni = ctx->mesh->topo_normals + 3 * (size_t)i;
+    float d = (pi[0] - po[0]) * no[0] + (pi[1] - po[1]) * no[1] + (pi[2] - po[2]) * no[2];
+    float c = ni[0] * no[0] + ni[1] * no[1] + ni[2] * no[2];
+    return d < 0.0f && c < 0.0f;
+}
+
+/* A uniform point on the reduced fan of topo vertex t. */
+static void sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3])
+{
+    const sam_mesh *m = ctx->mesh;
+    uint32_t begin = m->ring_offsets[t], end = m->ring_offsets[t + 1];
+    float target = sam_rng_float(rng) * ctx->fan_area[t];
+    uint32_t k = begin + 1;
+    while (k + 1 < end && ctx->pair_cdf[k] <= target)
+        k++;
+    const float *v = ctx->pos + 3 * (size_t)t;
+    const float *a = ctx->pos + 3 * (size_t)m->ring[k - 1], *b = ctx->pos + 3 * (size_t)m->ring[k];
+    /* The quad v, mid(v,a), centroid, mid(v,b) is two triangles of equal
+     * area (a sixth of the face each). Where the pair was chosen, the
+     * position of `target` inside its quad's share is itself uniform: it
+     * picks the half without another random number. */
+    float lo = k > begin + 1 ? ctx->pair_cdf[k - 1] : 0.0f, span = ctx->pair_cdf[k] - lo;
+    int second = span > 0 && (target - lo) > 0.5f * span;
+    float mid[3], cen[3];
+    for (int c = 0; c < 3; ++c) {
+        mid[c] = 0.5f * (v[c] + (second ? b[c] : a[c]));
+        cen[c] = (v[c] + a[c] + b[c]) * (1.0f / 3.0f);
+    }
+    float u = sam_rng_float(rng), w = sam_rng_float(rng);
+    if (u + w > 1.0f)
+        u = 1.0f - u, w = 1.0f - w;
+    for (int c = 0; c < 3; ++c)
+        out[c] = v[c] + u * (mid[c] - v[c]) + w * (cen[c] - v[c]);
+}
+
+/* The stream index of vertex o's own points: no candidate index is this. */
+#define RECEIVER_STREAM UINT64_MAX
+
+void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_t samples, uint64_t seed,
+                               float *points)
+{
+    sam_rng rng;
+    sam_rng_seed(&rng, seed, o, RECEIVER_STREAM);
+    for (uint32_t s = 0; s < samples; ++s)
+        sample_fan(ctx, o, &rng, points + 3 * (size_t)s);
+}
+
+void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
+                                uint32_t samples, uint64_t seed, float k[3], float *k_error)
+{
+    sam_rng rng;
+    sam_rng_seed(&rng, seed, o, i);
+    double sum[3] = {0, 0, 0}, sum_mean = 0, sum_sq = 0;
+    for (uint32_t s = 0; s < samples; ++s) {
+        float xi[3], rd[4];
+        const float *xo = points + 3 * (size_t)s;
+        sample_fan(ctx, i, &rng, xi);
+        float dx = xi[0] - xo[0], dy = xi[1] - xo[1], dz = xi[2] - xo[2];
+        sam_build_rd(ctx, sqrtf(dx * dx + dy * dy + dz * dz), rd);
+        for (int c = 0; c < 3; ++c)
+            sum[c] += rd[c];
+        sum_mean += rd[3];
+        sum_sq += (double)rd[3] * rd[3];
+    }
+    /* K = F'_i E[R_d(|x_i - x_o|)] with x_o, x_i uniform on the two fans. */
+    double area = ctx->fan_area[i], inv = 1.0 / samples;
+    for (int c = 0; c < 3; ++c)
+        k[c] = (float)(area * sum[c] * inv);
+    double mean = sum_mean * inv, var = sum_sq * inv - mean * mean;
+    if (var < 0)
+        var = 0;
+    *k_error = (float)(area * sqrt(var / (samples > 1 ? samples - 1 : 1)));
+}
+
+void sam_build_form_factor(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples, uint64_t seed,
+                           float k[3], float *k_error)
+{
+    float *points = malloc((size_t)samples * 3 * sizeof *points);
+    if (!points) {
+        k[0] = k[1] = k[2] = NAN;
+        *k_error = NAN;
+        return;
+    }
+    sam_build_receiver_points(ctx, o, samples, seed, points);
+    sam_build_form_factor_from(ctx, o, points, i, samples, seed, k, k_error);
+    free(points);
+}

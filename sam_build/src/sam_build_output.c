@@ -1,0 +1,107 @@
+/* A build result as a .sam container: render-vertex arrays plus INFO. */
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "sam_build_internal.h"
+
+static cJSON *info_json(const sam_build_context *ctx, const sam_build_result *r, const sam_build_source *src)
+{
+    const sam_mesh *m = ctx->mesh;
+    cJSON *info = cJSON_CreateObject();
+    if (!info)
+        return NULL;
+    cJSON_AddNumberToObject(info, "vertex_count", m->vertex_count);
+    cJSON_AddNumberToObject(info, "triangle_count", m->triangle_count);
+    cJSON_AddNumberToObject(info, "samples_per_vertex", r->samples_per_vertex);
+    cJSON_AddNumberToObject(info, "mm_per_unit", ctx->mm_per_unit);
+    cJSON_AddBoolToObject(info, "has_uvs", m->uvs != NULL);
+    char material[2048];
+    sam_profile_to_json(ctx->profile, material, sizeof material);
+    cJSON *mat = cJSON_Parse(material);
+    if (mat)
+        cJSON_AddItemToObject(info, "material", mat);
+    cJSON *b = cJSON_AddObjectToObject(info, "builder");
+    if (b) {
+        cJSON_AddStringToObject(b, "name", "sam_build");
+        cJSON_AddStringToObject(b, "version", SAM_BUILD_VERSION);
+        cJSON_AddNumberToObject(b, "mc_samples", ctx->settings.mc_samples);
+        cJSON_AddNumberToObject(b, "candidates", ctx->candidates);
+        cJSON_AddNumberToObject(b, "radius_tolerance", ctx->settings.radius_tolerance);
+        cJSON_AddNumberToObject(b, "search_radius_mm", ctx->search_radius);
+        /* A u64 seed may not fit a JSON number exactly: keep its digits. */
+        char seed[32];
+        snprintf(seed, sizeof seed, "%llu", (unsigned long long)ctx->settings.seed);
+        cJSON_AddStringToObject(b, "seed", seed);
+        cJSON_AddNumberToObject(b, "candidates_scored", (double)r->candidates_seen);
+        cJSON_AddNumberToObject(b, "form_factors", (double)r->form_factors);
+    }
+    cJSON *s = cJSON_AddObjectToObject(info, "source");
+    if (s) {
+        if (src && src->file)
+            cJSON_AddStringToObject(s, "file", sam_path_basename(src->file));
+        if (src && src->sha256)
+            cJSON_AddStringToObject(s, "sha256", src->sha256);
+    }
+    cJSON_AddNumberToObject(info, "build_seconds", r->seconds);
+    return info;
+}
+
+sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_result *r,
+                                const sam_build_source *source, samfile_data *out, sam_error *err)
+{
+    memset(out, 0, sizeof *out);
+    const sam_mesh *m = ctx->mesh;
+    const size_t nv = m->vertex_count, nt = m->triangle_count, n = r->samples_per_vertex;
+    /* Every render copy carries its topo vertex's whole ring. */
+    size_t adjacency = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        uint32_t t = m->topo_of[v];
+        adjacency += m->ring_offsets[t + 1] - m->ring_offsets[t];
+    }
+    if (adjacency > UINT32_MAX)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "build: %zu adjacency entries exceed the format's 32-bit range",
+                        adjacency);
+    out->vertex_count = (uint32_t)nv;
+    out->triangle_count = (uint32_t)nt;
+    out->samples_per_vertex = (uint32_t)n;
+    out->positions = malloc(nv * 3 * sizeof(float));
+    out->normals = malloc(nv * 3 * sizeof(float));
+    out->uvs = m->uvs ? malloc(nv * 2 * sizeof(float)) : NULL;
+    out->triangles = malloc(nt * 3 * sizeof(uint32_t));
+    out->sample_index = malloc(nv * n * sizeof(uint32_t));
+    out->sample_kprime = malloc(nv * n * 3 * sizeof(float));
+    out->fan_area = malloc(nv * sizeof(float));
+    out->adjacency_offsets = malloc((nv + 1) * sizeof(uint32_t));
+    out->adjacency_count = (uint32_t)adjacency;
+    out->adjacency = malloc((adjacency ? adjacency : 1) * sizeof(uint32_t));
+    cJSON *info = info_json(ctx, r, source);
+    out->info_json = info ? cJSON_PrintUnformatted(info) : NULL;
+    cJSON_Delete(info);
+    if (!out->positions || !out->normals || (m->uvs && !out->uvs) || !out->triangles || !out->sample_index ||
+        !out->sample_kprime || !out->fan_area || !out->adjacency_offsets || !out->adjacency || !out->info_json) {
+        samfile_free(out);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory assembling the .sam of %zu vertices", nv);
+    }
+    memcpy(out->positions, m->positions, nv * 3 * sizeof(float));
+    memcpy(out->normals, m->normals, nv * 3 * sizeof(float));
+    if (m->uvs)
+        memcpy(out->uvs, m->uvs, nv * 2 * sizeof(float));
+    memcpy(out->triangles, m->triangles, nt * 3 * sizeof(uint32_t));
+    size_t a = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        uint32_t t = m->topo_of[v];
+        for (size_t k = 0; k < n; ++k) {
+            uint32_t s = r->sample[(size_t)t * n + k];
+            out->sample_index[v * n + k] = s == SAM_BUILD_NO_SAMPLE ? SAMFILE_NO_SAMPLE : m->topo_rep[s];
+            memcpy(out->sample_kprime + 3 * (v * n + k), r->kprime + 3 * ((size_t)t * n + k), 3 * sizeof(float));
+        }
+        out->fan_area[v] = r->fan_area[t];
+        out->adjacency_offsets[v] = (uint32_t)a;
+        for (uint32_t k = m->ring_offsets[t]; k < m->ring_offsets[t + 1]; ++k)
+            out->adjacency[a++] = m->topo_rep[m->ring[k]];
+    }
+    out->adjacency_offsets[nv] = (uint32_t)a;
+    return SAM_OK;
+}
