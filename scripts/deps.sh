@@ -3,7 +3,7 @@
 # Idempotent: packages already present are left alone.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config git
+  build-essential cmake pkg-config git python3
   clang libclang-rt-14-dev libomp-14-dev       # fuzzers (libFuzzer), sanitizer runtimes
   libopenmesh-dev libembree-dev libopenexr-dev libcjson-dev libcmocka-dev
   libepoxy-dev libglfw3-dev libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri

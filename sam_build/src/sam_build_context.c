@@ -131,7 +131,7 @@ sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *pro
     ctx->profile = profile;
     ctx->mm_per_unit = mm_per_unit;
     ctx->settings = *settings;
-    ctx->candidates = settings->candidates ? settings->candidates : 2 * settings->samples_per_vertex + 6;
+    ctx->candidates = settings->candidates ? settings->candidates : settings->samples_per_vertex + 2;
     const uint32_t n = mesh->topo_count, ring_total = mesh->ring_offsets[n];
     ctx->pos = malloc((size_t)n * 3 * sizeof *ctx->pos);
     ctx->fan_area = malloc((size_t)n * sizeof *ctx->fan_area);

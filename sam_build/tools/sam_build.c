@@ -44,7 +44,7 @@ static void usage(FILE *out)
             "options:\n"
             "  --samples N         back-side samples per vertex, 1..64 (default %u)\n"
             "  --mc-samples M      Monte Carlo point pairs per form factor, 4..65536 (default %u)\n"
-            "  --candidates C      cheap-ranked candidates given Monte Carlo per vertex (default 2N+6)\n"
+            "  --candidates C      cheap-ranked candidates given Monte Carlo per vertex (default N+2)\n"
             "  --radius-tolerance E energy fraction of the profile left beyond the search radius\n"
             "                      (default %g)\n"
             "  --seed S            random seed (default %llu); the output is identical for any --threads\n"

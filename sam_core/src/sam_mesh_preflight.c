@@ -88,9 +88,10 @@ static int shown(const char *line, const char *eol)
 
 /* ---- Text */
 
-/* Text formats hold printable characters, blanks and line ends (and UTF-8
- * in comments); a control character means a damaged or binary file, on
- * which OpenMesh's stream parsing and ours would disagree. */
+/* Text formats hold printable characters, blanks and line ends (LF or
+ * CRLF; and UTF-8 in comments); a control character means a damaged or
+ * binary file, on which OpenMesh's stream parsing and ours would disagree
+ * (a lone CR in a PLY header sent OpenMesh into an endless loop). */
 static sam_status check_text(const char *path, const char *kind, const char *data, size_t size, sam_error *err)
 {
     int line = 1;
@@ -98,7 +99,7 @@ static sam_status check_text(const char *path, const char *kind, const char *dat
         unsigned char ch = (unsigned char)data[i];
         if (ch == '\n')
             line++;
-        else if ((ch < 0x20 && ch != '\t' && ch != '\r') || ch == 0x7f)
+        else if ((ch < 0x20 && ch != '\t' && !(ch == '\r' && i + 1 < size && data[i + 1] == '\n')) || ch == 0x7f)
             return sam_fail(err, SAM_ERR_FORMAT, "%s: %s line %d contains the control character 0x%02x", path, kind,
                             line, ch);
     }
@@ -287,7 +288,8 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                 goto done;
             }
             size_t body = (size_t)(c.p - data);
-            if (format == 0 && (st = check_text(path, "PLY", data, size, err)) != SAM_OK)
+            /* The header is text in every PLY; the body only in ASCII ones. */
+            if ((st = check_text(path, "PLY", data, format == 0 ? size : (size_t)(c.p - data), err)) != SAM_OK)
                 goto done;
             st = format == 0 ? ply_body_ascii(path, el, elements, data + body, size - body, err)
                              : ply_body_binary(path, el, elements, (const unsigned char *)data + body, size - body,

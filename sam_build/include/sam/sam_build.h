@@ -44,7 +44,7 @@ extern "C" {
 typedef struct sam_build_settings {
     uint32_t samples_per_vertex; /* N, 1..64 (default 3) */
     uint32_t mc_samples;         /* Monte Carlo point pairs per form factor, 4..65536 (default 64) */
-    uint32_t candidates;         /* C: cheap-ranked candidates that get Monte Carlo, >= N (0: 2N + 6) */
+    uint32_t candidates;         /* C: cheap-ranked candidates that get Monte Carlo, >= N (0: N + 2) */
     float radius_tolerance;      /* energy fraction of R_d left beyond the search radius (default 1e-4) */
     uint64_t seed;               /* default 1 */
     int threads;                 /* OpenMP threads, 0 = all cores (does not change the result) */

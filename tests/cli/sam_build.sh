@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# sam_build: a build that sam_info accepts; each bad input gives exit status
+# 1 or 2 with one error line and no output file; SIGINT leaves nothing
+# behind; --threads does not change the data. Args: BIN SRC TMP
+set -u
+bin=$1 src=$2 tmp=$3
+rm -rf "$tmp" && mkdir -p "$tmp"
+fail() { echo "FAIL: $*"; exit 1; }
+"$bin/sam_meshgen" ear -o "$tmp/ear.obj" --resolution 24 2>/dev/null || fail "meshgen"
+"$bin/sam_build" "$tmp/ear.obj" -o "$tmp/ear.sam" --material skin --mm-per-unit 60 2> "$tmp/log.txt" \
+  || fail "build: $(cat "$tmp/log.txt")"
+grep -q "wrote .*ear.sam" "$tmp/log.txt" || fail "no summary line: $(cat "$tmp/log.txt")"
+grep -q "100%" "$tmp/log.txt" || fail "no progress: $(cat "$tmp/log.txt")"
+out=$("$bin/sam_info" "$tmp/ear.sam") || fail "sam_info rejects the build"
+grep -q "samples per vertex: 3" <<<"$out" || fail "$out"
+grep -q '"sha256":"'"$(sha256sum "$tmp/ear.obj" | cut -c1-64)"'"' <<<"$out" || fail "INFO lacks the source hash: $out"
+
+# --size-mm, --samples and --threads; the data chunks match across thread counts.
+"$bin/sam_build" "$tmp/ear.obj" -o "$tmp/t1.sam" --material marble --size-mm 70 --samples 5 --threads 1 --quiet \
+  2>/dev/null || fail "--threads 1"
+"$bin/sam_build" "$tmp/ear.obj" -o "$tmp/t2.sam" --material marble --size-mm 70 --samples 5 --threads 2 --quiet \
+  2>/dev/null || fail "--threads 2"
+# Everything but the INFO chunk (which holds the build time) is identical:
+# INFO is the first chunk, so compare from the second chunk on.
+info_end() { python3 -c 'import struct,sys; d=open(sys.argv[1],"rb").read(); n=struct.unpack_from("<Q",d,24)[0]; print(16+16+((n+7)//8)*8+8)' "$1"; }
+cmp <(tail -c +$(( $(info_end "$tmp/t1.sam") + 1 )) "$tmp/t1.sam") \
+    <(tail -c +$(( $(info_end "$tmp/t2.sam") + 1 )) "$tmp/t2.sam") || fail "--threads changed the data"
+
+expect_error() { # expected-status label args...
+  local want=$1 label=$2; shift 2
+  "$bin/sam_build" "$@" > "$tmp/out.txt" 2> "$tmp/err.txt"
+  local rc=$?
+  [ $rc -eq "$want" ] || fail "$label: exit status $rc, expected $want ($(cat "$tmp/err.txt"))"
+  [ "$(wc -l < "$tmp/err.txt")" -eq 1 ] || fail "$label: expected one error line, got: $(cat "$tmp/err.txt")"
+  ls "$tmp"/bad.sam* > /dev/null 2>&1 && fail "$label: left an output or temporary file"
+  return 0
+}
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' > "$tmp/nofaces.obj"
+expect_error 1 "unknown material" "$tmp/ear.obj" -o "$tmp/bad.sam" --material unobtainium --mm-per-unit 1
+expect_error 2 "zero scale" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 0
+expect_error 2 "negative scale" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit -3
+expect_error 2 "NaN scale" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit nan
+expect_error 2 "zero size" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --size-mm 0
+expect_error 2 "two scales" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --size-mm 5 --mm-per-unit 1
+expect_error 2 "no scale" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin
+expect_error 2 "samples 0" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 0
+expect_error 2 "samples 65" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 65
+expect_error 1 "no triangles" "$tmp/nofaces.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1
+expect_error 1 "missing mesh" "$tmp/none.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1
+expect_error 1 "unwritable output" "$tmp/ear.obj" -o "$tmp/no/such/dir/bad.sam" --material skin --mm-per-unit 1
+expect_error 1 "existing output" "$tmp/ear.obj" -o "$tmp/ear.sam" --material skin --mm-per-unit 1
+expect_error 2 "unknown option" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --bogus
+"$bin/sam_build" "$tmp/ear.obj" -o "$tmp/ear.sam" --material skin --mm-per-unit 60 --force --quiet 2>/dev/null \
+  || fail "--force"
+
+# Interrupting a longer build leaves neither the output nor a temporary file.
+"$bin/sam_meshgen" knot -o "$tmp/knot.ply" --resolution 1400 2>/dev/null || fail "meshgen knot"
+"$bin/sam_build" "$tmp/knot.ply" -o "$tmp/bad.sam" --material skin --size-mm 40 --threads 1 2> "$tmp/int.txt" &
+pid=$!
+sleep 1
+kill -INT $pid
+wait $pid
+rc=$?
+[ $rc -ne 0 ] || fail "interrupted build exited 0 (was the build already done? $(tail -1 "$tmp/int.txt"))"
+grep -q "interrupted; no output written" "$tmp/int.txt" || fail "no interruption message: $(tail -2 "$tmp/int.txt")"
+ls "$tmp"/bad.sam* > /dev/null 2>&1 && fail "interrupted build left files"
+"$bin/sam_build" --help | grep -q "usage: sam_build" || fail "--help"
+echo "sam_build cli: ok"

@@ -1,0 +1,578 @@
+/*
+ * sam_build against closed forms, a numerical quadrature and the O(m^2)
+ * brute-force reference, on procedural meshes.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sam/sam_build.h"
+#include "sam/sam_shape.h"
+#include "sam_test.h"
+
+#define PI 3.14159265358979323846
+
+/* A procedural shape as a sam_mesh. */
+static void shape_mesh(const char *name, int resolution, double size, double thickness, int count, sam_mesh *mesh)
+{
+    sam_shape_params p;
+    sam_error err;
+    assert_int_equal(sam_shape_default_params(name, &p, &err), SAM_OK);
+    p.resolution = resolution;
+    if (size > 0)
+        p.size = p.depth = size; /* a square slab */
+    if (thickness > 0)
+        p.thickness = thickness;
+    if (count > 0)
+        p.count = count;
+    sam_shape_mesh s;
+    if (sam_shape_generate(name, &p, &s, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    sam_mesh_input in = {.name = name, .vertex_count = s.vertex_count, .positions = s.positions,
+                         .uvs = s.uvs, .triangle_count = s.triangle_count, .triangles = s.triangles};
+    if (sam_mesh_create(&in, mesh, NULL, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    sam_shape_mesh_destroy(&s);
+}
+
+/* Two flat hexagonal fans of radius `r` in planes z = 0 (normal +z... as a
+ * closed-ish pair: each fan is a 6-triangle disk), centres `d` apart on z. */
+static void two_fans(float r, float d, sam_mesh *mesh)
+{
+    float pos[14 * 3];
+    uint32_t tri[12 * 3];
+    for (int f = 0; f < 2; ++f) {
+        float z = f ? d : 0.0f;
+        float *c = pos + 3 * 7 * f;
+        c[0] = 0, c[1] = 0, c[2] = z;
+        for (int k = 0; k < 6; ++k) {
+            c[3 + 3 * k] = r * (float)cos(k * PI / 3);
+            c[3 + 3 * k + 1] = r * (float)sin(k * PI / 3);
+            c[3 + 3 * k + 2] = z;
+        }
+        for (int k = 0; k < 6; ++k) {
+            uint32_t a = 7 * f + 1 + k, b = 7 * f + 1 + (k + 1) % 6, o = 7 * f;
+            /* the lower fan faces -z (towards nothing), the upper +z... both
+             * wound so the pair faces away from each other */
+            uint32_t t[3] = {o, f ? a : b, f ? b : a};
+            memcpy(tri + 3 * (6 * f + k), t, sizeof t);
+        }
+    }
+    sam_mesh_input in = {.name = "fans", .vertex_count = 14, .positions = pos, .triangle_count = 12,
+                         .triangles = tri};
+    assert_int_equal(sam_mesh_create(&in, mesh, NULL, NULL), SAM_OK);
+}
+
+static sam_build_context *context(const sam_mesh *mesh, const sam_profile *profile, float mm_per_unit,
+                                  const sam_build_settings *s)
+{
+    sam_build_context *ctx;
+    sam_error err;
+    if (sam_build_context_create(mesh, profile, mm_per_unit, s, &ctx, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    return ctx;
+}
+
+static float mean3(const float *k)
+{
+    return (k[0] + k[1] + k[2]) / 3.0f;
+}
+
+/* Small fans far apart: K -> F'_i R_d(d), so K' -> 1. */
+static void test_far_small_fans(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    two_fans(0.02f, 3.0f, &mesh);
+    sam_profile marble;
+    assert_int_equal(sam_profile_preset("marble", &marble, NULL), SAM_OK);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    sam_build_context *ctx = context(&mesh, &marble, 1.0f, &s);
+    uint32_t o = mesh.topo_of[0], i = mesh.topo_of[7];
+    float k[3], e, rd[3];
+    sam_build_form_factor(ctx, o, i, 256, 7, k, &e);
+    sam_profile_eval(&marble, 3.0f, rd);
+    float area = sam_build_fan_area(ctx, i);
+    /* Fan area: a hexagon of radius r has area 3 sqrt(3)/2 r^2, the reduced
+     * fan a third of it. */
+    assert_float_equal(area, 3 * sqrt(3.0) / 2 * 0.02 * 0.02 / 3, 1e-9);
+    for (int c = 0; c < 3; ++c)
+        assert_float_equal(k[c] / (area * rd[c]), 1.0, 1e-3);
+    assert_true(sam_build_is_back_side(ctx, o, i));
+    assert_true(sam_build_is_back_side(ctx, i, o));
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
+/* A constant profile (one Gaussian far wider than the fans) gives K = F'_i
+ * times that constant, exactly, whatever the samples. */
+static void test_constant_profile(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    two_fans(0.5f, 1.0f, &mesh);
+    float variance = 1e8f, weight[1][3] = {{1.0f, 0.5f, 0.25f}};
+    sam_profile flat;
+    assert_int_equal(sam_profile_gaussian_sum(1, &variance, weight, &flat, NULL), SAM_OK);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    sam_build_context *ctx = context(&mesh, &flat, 1.0f, &s);
+    float rd0[3];
+    sam_profile_eval(&flat, 0.0f, rd0);
+    for (uint32_t i = 0; i < mesh.topo_count; i += 3) {
+        float k[3], e;
+        sam_build_form_factor(ctx, mesh.topo_of[0], i, 16, 3, k, &e);
+        for (int c = 0; c < 3; ++c)
+            assert_float_equal(k[c] / (sam_build_fan_area(ctx, i) * rd0[c]), 1.0, 1e-5);
+        assert_true(e <= 1e-6f * mean3(k));
+    }
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
+/* A fan and itself under the skin sum of Gaussians against a midpoint
+ * quadrature of the double integral over both reduced fans. */
+static void test_self_form_factor_against_quadrature(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    two_fans(0.3f, 5.0f, &mesh);
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    sam_build_context *ctx = context(&mesh, &skin, 1.0f, &s);
+    uint32_t o = mesh.topo_of[0];
+    /* Quadrature points: each of the 12 half-quads (vertex, edge midpoint,
+     * centroid) split into L^2 sub-triangles, one point at each centroid. */
+    enum { L = 12 };
+    static float qp[12 * L * L][3];
+    static float qw[12 * L * L];
+    int nq = 0;
+    const float *v = mesh.positions + 3 * mesh.topo_rep[o];
+    for (uint32_t k = mesh.ring_offsets[o] + 1; k < mesh.ring_offsets[o + 1]; ++k) {
+        const float *a = mesh.positions + 3 * mesh.topo_rep[mesh.ring[k - 1]];
+        const float *b = mesh.positions + 3 * mesh.topo_rep[mesh.ring[k]];
+        for (int half = 0; half < 2; ++half) {
+            float p0[3], p1[3], p2[3];
+            for (int c = 0; c < 3; ++c) {
+                p0[c] = v[c];
+                p1[c] = 0.5f * (v[c] + (half ? b[c] : a[c]));
+                p2[c] = (v[c] + a[c] + b[c]) / 3.0f;
+            }
+            double e1[3], e2[3];
+            for (int c = 0; c < 3; ++c)
+                e1[c] = p1[c] - p0[c], e2[c] = p2[c] - p0[c];
+            double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                   cz = e1[0] * e2[1] - e1[1] * e2[0];
+            double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz) / (L * L);
+            /* Sub-triangles of a regular L x L subdivision, by barycentric centroids. */
+            for (int i = 0; i < L; ++i)
+                for (int j = 0; j < L - i; ++j)
+                    for (int up = 0; up < 2 && (up == 0 || i + j + 1 < L); ++up) {
+                        double u = up ? (i + 2.0 / 3) / L : (i + 1.0 / 3) / L;
+                        double w = up ? (j + 2.0 / 3) / L : (j + 1.0 / 3) / L;
+                        for (int c = 0; c < 3; ++c)
+                            qp[nq][c] = (float)(p0[c] + u * e1[c] + w * e2[c]);
+                        qw[nq++] = (float)area;
+                    }
+        }
+    }
+    double quad[3] = {0, 0, 0}, total_area = 0;
+    for (int i = 0; i < nq; ++i) {
+        total_area += qw[i];
+        for (int j = 0; j < nq; ++j) {
+            float dx = qp[i][0] - qp[j][0], dy = qp[i][1] - qp[j][1], dz = qp[i][2] - qp[j][2], rd[3];
+            sam_profile_eval(&skin, sqrtf(dx * dx + dy * dy + dz * dz), rd);
+            for (int c = 0; c < 3; ++c)
+                quad[c] += (double)qw[i] * qw[j] * rd[c];
+        }
+    }
+    assert_float_equal(total_area, sam_build_fan_area(ctx, o), 1e-6);
+    float k[3], e;
+    sam_build_form_factor(ctx, o, o, 20000, 11, k, &e);
+    for (int c = 0; c < 3; ++c) {
+        double expected = quad[c] / total_area;
+        /* The quadrature's own error is well under 1% at L = 12. */
+        if (fabs(k[c] - expected) > 4 * e + 0.01 * expected)
+            fail_msg("channel %d: Monte Carlo %g +- %g, quadrature %g", c, k[c], e, expected);
+    }
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
+/* The fast builder against the brute-force reference: the chosen samples
+ * capture >= 97% of the reference's top-N transport (median over vertices),
+ * and the two builders' K for the same pairs agree within the Monte Carlo
+ * error both report. Returns the median capture. */
+static double compare_with_reference(const char *label, const sam_mesh *mesh, const sam_profile *profile,
+                                     float mm_per_unit, uint32_t n)
+{
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    s.samples_per_vertex = n;
+    sam_build_context *ctx = context(mesh, profile, mm_per_unit, &s);
+    sam_build_settings rs = s;
+    rs.seed = 12345; /* independent Monte Carlo for the reference */
+    sam_build_context *rctx = context(mesh, profile, mm_per_unit, &rs);
+    sam_build_result fast, ref;
+    sam_error err;
+    assert_int_equal(sam_build_run(ctx, NULL, NULL, &fast, &err), SAM_OK);
+    assert_int_equal(sam_build_reference(rctx, NULL, NULL, &ref, &err), SAM_OK);
+    uint32_t nt = mesh->topo_count;
+    double *capture = malloc(nt * sizeof *capture);
+    uint32_t rows = 0, pairs = 0, agree = 0;
+    for (uint32_t o = 0; o < nt; ++o) {
+        double best = 0, got = 0;
+        for (uint32_t k = 0; k < n; ++k) {
+            size_t slot = (size_t)o * n + k;
+            if (ref.sample[slot] != SAM_BUILD_NO_SAMPLE)
+                best += mean3(ref.k + 3 * slot);
+            uint32_t i = fast.sample[slot];
+            if (i == SAM_BUILD_NO_SAMPLE)
+                continue;
+            /* The reference's estimate for the fast builder's pair. */
+            float kr[3], er;
+            sam_build_form_factor(rctx, o, i, rs.mc_samples, rs.seed, kr, &er);
+            got += mean3(kr);
+            float kf = mean3(fast.k + 3 * slot), ef = fast.k_error[slot];
+            pairs++;
+            agree += fabsf(kf - mean3(kr)) <= 3.0f * sqrtf(ef * ef + er * er) + 1e-6f * fabsf(kf);
+        }
+        /* Vertices whose reference transport is negligible say nothing. */
+        if (best > 1e-7)
+            capture[rows++] = got / best;
+    }
+    /* Median by partial selection sort (small arrays). */
+    for (uint32_t a = 0; a <= rows / 2; ++a)
+        for (uint32_t b = a + 1; b < rows; ++b)
+            if (capture[b] < capture[a]) {
+                double t = capture[a];
+                capture[a] = capture[b];
+                capture[b] = t;
+            }
+    double median = rows ? capture[rows / 2] : 1.0, p10 = rows ? capture[rows / 10] : 1.0;
+    printf("%s: %u vertices, %u with back-side transport; capture median %.4f, 10th percentile %.4f; "
+           "K agreement %.2f%% of %u pairs; fast %.3f s, reference %.3f s\n",
+           label, nt, rows, median, p10, pairs ? 100.0 * agree / pairs : 100.0, pairs, fast.seconds, ref.seconds);
+    assert_true(rows > nt / 10);
+    assert_true(median >= 0.97);
+    assert_true(agree >= 0.99 * pairs);
+    free(capture);
+    sam_build_result_destroy(&fast);
+    sam_build_result_destroy(&ref);
+    sam_build_context_destroy(ctx);
+    sam_build_context_destroy(rctx);
+    return median;
+}
+
+static void test_matches_reference_ear(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    shape_mesh("ear", 40, 0, 0, 0, &mesh);
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    compare_with_reference("ear, skin, N=3", &mesh, &skin, 60.0f, 3);
+    sam_mesh_destroy(&mesh);
+}
+
+static void test_matches_reference_knot(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    shape_mesh("knot", 96, 0, 0, 0, &mesh);
+    sam_profile marble;
+    assert_int_equal(sam_profile_preset("marble", &marble, NULL), SAM_OK);
+    compare_with_reference("knot, marble, N=8", &mesh, &marble, 30.0f, 8);
+    sam_mesh_destroy(&mesh);
+}
+
+/* Blobs: back-side vertices may sit in another component. */
+static void test_matches_reference_blobs(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    shape_mesh("blobs", 8, 0, 0, 8, &mesh);
+    sam_profile potato;
+    assert_int_equal(sam_profile_preset("potato", &potato, NULL), SAM_OK);
+    float lo[3], hi[3];
+    sam_mesh_bounds(&mesh, lo, hi);
+    /* Millimetre-sized blobs with N large enough that a vertex's own blob
+     * cannot fill its list: the far sides of the neighbouring blobs (which
+     * face away from it, so they pass eq. 14) come next. */
+    const uint32_t n = 48;
+    float mm = 4.0f / (hi[0] - lo[0]);
+    compare_with_reference("blobs, potato, N=48", &mesh, &potato, mm, n);
+    /* Some samples land on another blob: components by flood fill over rings. */
+    uint32_t *comp = malloc(mesh.topo_count * sizeof *comp), *stack = malloc(mesh.topo_count * sizeof *stack);
+    for (uint32_t t = 0; t < mesh.topo_count; ++t)
+        comp[t] = UINT32_MAX;
+    uint32_t ncomp = 0;
+    for (uint32_t t = 0; t < mesh.topo_count; ++t) {
+        if (comp[t] != UINT32_MAX)
+            continue;
+        uint32_t top = 0;
+        stack[top++] = t;
+        comp[t] = ncomp;
+        while (top) {
+            uint32_t u = stack[--top];
+            for (uint32_t k = mesh.ring_offsets[u]; k < mesh.ring_offsets[u + 1]; ++k)
+                if (comp[mesh.ring[k]] == UINT32_MAX) {
+                    comp[mesh.ring[k]] = ncomp;
+                    stack[top++] = mesh.ring[k];
+                }
+        }
+        ncomp++;
+    }
+    assert_int_equal(ncomp, 8);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    s.samples_per_vertex = n;
+    sam_build_context *ctx = context(&mesh, &potato, mm, &s);
+    sam_build_result r;
+    assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, NULL), SAM_OK);
+    uint32_t across = 0;
+    for (uint32_t o = 0; o < mesh.topo_count; ++o)
+        for (uint32_t k = 0; k < n; ++k) {
+            uint32_t i = r.sample[o * n + k];
+            across += i != SAM_BUILD_NO_SAMPLE && comp[i] != comp[o];
+        }
+    printf("blobs: %u samples on another blob\n", across);
+    assert_true(across > 0);
+    free(comp);
+    free(stack);
+    sam_build_result_destroy(&r);
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
+/* A thin slab: top vertices take their samples from the bottom face right
+ * below them, never from their own side. */
+static void test_thin_slab(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    /* 20 x 20 mm, 1 mm thick, 0.5 mm spacing (mm_per_unit 1). */
+    shape_mesh("slab", 40, 20.0, 1.0, 0, &mesh);
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    sam_build_context *ctx = context(&mesh, &skin, 1.0f, &s);
+    sam_build_result r;
+    assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, NULL), SAM_OK);
+    const float spacing = 0.5f, top = 0.5f;
+    uint32_t interior = 0, below_first = 0;
+    for (uint32_t o = 0; o < mesh.topo_count; ++o) {
+        const float *p = mesh.positions + 3 * mesh.topo_rep[o];
+        /* Top-face vertices away from the rim. */
+        if (fabsf(p[1] - top) > 1e-5f || fabsf(p[0]) > 9.0f || fabsf(p[2]) > 9.0f)
+            continue;
+        interior++;
+        for (uint32_t k = 0; k < 3; ++k) {
+            uint32_t i = r.sample[o * 3 + k];
+            assert_int_not_equal(i, SAM_BUILD_NO_SAMPLE);
+            const float *q = mesh.positions + 3 * mesh.topo_rep[i];
+            assert_float_equal(q[1], -top, 1e-5); /* on the bottom face */
+            float h = hypotf(q[0] - p[0], q[2] - p[2]);
+            /* within the fan directly below */
+            assert_true(h <= 1.01f * spacing * sqrtf(2.0f));
+            if (k == 0)
+                below_first += h < 1e-5f;
+        }
+    }
+    printf("slab: %u interior top vertices, %u have the vertex exactly below as best sample\n", interior,
+           below_first);
+    assert_true(interior > 1000);
+    assert_true(below_first >= 0.9 * interior);
+    sam_build_result_destroy(&r);
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
+/* A sphere far larger than the radius of influence: nothing on its back
+ * side is within reach, so no vertex gets samples; a small one does. */
+static void test_large_and_small_sphere(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    shape_mesh("sphere", 32, 1.0, 0, 0, &mesh);
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    for (int big = 1; big >= 0; --big) {
+        float diameter_mm = big ? 1000.0f : 6.0f;
+        sam_build_context *ctx = context(&mesh, &skin, diameter_mm, &s);
+        sam_build_result r;
+        assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, NULL), SAM_OK);
+        uint32_t with = 0;
+        for (uint32_t o = 0; o < mesh.topo_count; ++o)
+            with += r.sample[o * 3] != SAM_BUILD_NO_SAMPLE;
+        if (big)
+            assert_int_equal(with, 0);
+        else
+            assert_int_equal(with, mesh.topo_count);
+        sam_build_result_destroy(&r);
+        sam_build_context_destroy(ctx);
+    }
+    sam_mesh_destroy(&mesh);
+}
+
+/* The output does not depend on the thread count. */
+static void test_bit_identical_for_any_thread_count(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    shape_mesh("ear", 32, 0, 0, 0, &mesh);
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    sam_build_result r[3];
+    for (int t = 0; t < 3; ++t) {
+        sam_build_settings s;
+        sam_build_default_settings(&s);
+        s.threads = t + 1;
+        sam_build_context *ctx = context(&mesh, &skin, 60.0f, &s);
+        assert_int_equal(sam_build_run(ctx, NULL, NULL, &r[t], NULL), SAM_OK);
+        sam_build_context_destroy(ctx);
+    }
+    size_t n = (size_t)mesh.topo_count * 3;
+    for (int t = 1; t < 3; ++t) {
+        assert_memory_equal(r[0].sample, r[t].sample, n * sizeof *r[0].sample);
+        assert_memory_equal(r[0].k, r[t].k, 3 * n * sizeof *r[0].k);
+        assert_memory_equal(r[0].kprime, r[t].kprime, 3 * n * sizeof *r[0].kprime);
+        assert_memory_equal(r[0].k_error, r[t].k_error, n * sizeof *r[0].k_error);
+    }
+    for (int t = 0; t < 3; ++t)
+        sam_build_result_destroy(&r[t]);
+    sam_mesh_destroy(&mesh);
+}
+
+/* The .sam: render copies share their topo vertex's samples; K' recovers K
+ * through eq. 15; rings are closed; INFO records what was done. */
+static void test_samfile_output(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    shape_mesh("ear", 32, 0, 0, 0, &mesh);
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    sam_build_context *ctx = context(&mesh, &skin, 60.0f, &s);
+    sam_build_result r;
+    sam_error err;
+    assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, &err), SAM_OK);
+    sam_build_source src = {"/some/dir/ear.obj", "00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff"};
+    samfile_data d;
+    assert_int_equal(sam_build_to_samfile(ctx, &r, &src, &d, &err), SAM_OK);
+    char path[512];
+    sam_test_tmp_path(path, sizeof path, "build_ear.sam");
+    if (samfile_write(path, &d, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    samfile_data back;
+    assert_int_equal(samfile_read(path, &back, &err), SAM_OK);
+    assert_int_equal(back.vertex_count, mesh.vertex_count);
+    assert_non_null(back.uvs);
+    for (uint32_t v = 0; v < back.vertex_count; ++v) {
+        uint32_t t = mesh.topo_of[v], rep = mesh.topo_rep[t];
+        assert_memory_equal(back.sample_index + 3 * v, back.sample_index + 3 * rep, 3 * sizeof(uint32_t));
+        uint32_t b = back.adjacency_offsets[v], e = back.adjacency_offsets[v + 1];
+        assert_int_equal(back.adjacency[b], back.adjacency[e - 1]); /* closed shell */
+        for (uint32_t k = 0; k < 3; ++k) {
+            uint32_t i = back.sample_index[3 * v + k];
+            if (i == SAMFILE_NO_SAMPLE)
+                continue;
+            const float *pv = back.positions + 3 * v, *pi = back.positions + 3 * i;
+            float dist = 60.0f * sqrtf((pi[0] - pv[0]) * (pi[0] - pv[0]) + (pi[1] - pv[1]) * (pi[1] - pv[1]) +
+                                       (pi[2] - pv[2]) * (pi[2] - pv[2]));
+            float rd[3];
+            sam_profile_eval(&skin, dist, rd);
+            for (int c = 0; c < 3; ++c) {
+                float kk = back.sample_kprime[3 * (3 * v + k) + c] * back.fan_area[i] * rd[c];
+                assert_float_equal(kk, r.k[3 * (3 * t + k) + c], 1e-4 * r.k[3 * (3 * t + k) + c] + 1e-12);
+            }
+        }
+    }
+    assert_non_null(strstr(back.info_json, "\"has_uvs\":true"));
+    assert_non_null(strstr(back.info_json, "\"file\":\"ear.obj\""));
+    assert_non_null(strstr(back.info_json, src.sha256));
+    assert_non_null(strstr(back.info_json, "\"mc_samples\":64"));
+    assert_non_null(strstr(back.info_json, "\"name\":\"skin\""));
+    samfile_free(&back);
+    samfile_free(&d);
+    sam_build_result_destroy(&r);
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
+static int cancel_at_half(void *user, uint64_t done, uint64_t total)
+{
+    int *calls = user;
+    ++*calls;
+    return done * 2 >= total;
+}
+
+static void test_settings_and_cancel(void **state)
+{
+    (void)state;
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    sam_error err;
+    assert_int_equal(sam_build_check_settings(&s, 0.0f, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "got 0"));
+    assert_int_equal(sam_build_check_settings(&s, NAN, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(sam_build_check_settings(&s, -2.0f, &err), SAM_ERR_INVALID_ARGUMENT);
+    s.samples_per_vertex = 0;
+    assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "1..64, got 0"));
+    s.samples_per_vertex = 65;
+    assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_ERR_INVALID_ARGUMENT);
+    s.samples_per_vertex = 64;
+    assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_OK);
+    s.candidates = 10;
+    assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_ERR_INVALID_ARGUMENT);
+
+    sam_mesh mesh;
+    shape_mesh("ear", 32, 0, 0, 0, &mesh);
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    sam_build_default_settings(&s);
+    sam_build_context *ctx = context(&mesh, &skin, 60.0f, &s);
+    sam_build_result r;
+    int calls = 0;
+    assert_int_equal(sam_build_run(ctx, cancel_at_half, &calls, &r, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "cancelled"));
+    assert_true(calls > 1);
+    assert_null(r.sample);
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_far_small_fans),
+        cmocka_unit_test(test_constant_profile),
+        cmocka_unit_test(test_self_form_factor_against_quadrature),
+        cmocka_unit_test(test_matches_reference_ear),
+        cmocka_unit_test(test_matches_reference_knot),
+        cmocka_unit_test(test_matches_reference_blobs),
+        cmocka_unit_test(test_thin_slab),
+        cmocka_unit_test(test_large_and_small_sphere),
+        cmocka_unit_test(test_bit_identical_for_any_thread_count),
+        cmocka_unit_test(test_samfile_output),
+        cmocka_unit_test(test_settings_and_cancel),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
