@@ -11,8 +11,9 @@
  *                            (20 mm) against the same at 200 mm
  *   bench_build memory       peak memory per vertex at ~1M vertices
  *
- * Meshes: sam_meshgen shapes, or a real scan (--scan FILE, e.g. from
- * meshes/fetch_scans.sh) subdivided by edge midpoints to reach a size.
+ * Meshes: sam_shape knots, and real scans from meshes/fetch_scans.sh
+ * (--scans DIR, default meshes/scans), subdivided by edge midpoints where a
+ * size is needed.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -20,7 +21,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "sam/sam_build.h"
 #include "sam/sam_shape.h"
@@ -258,9 +261,176 @@ static void scaling_study(FILE *json)
     fprintf(json, "    {\"ratio_largest_smallest\": %.3f}\n  ],\n", per[3] / per[0]);
 }
 
+/* Splits every triangle into four at its edge midpoints (each midpoint
+ * shared by the two triangles of its edge). Replaces `mesh`. */
+typedef struct edge_key {
+    uint32_t a, b, slot; /* slot = 3 * triangle + corner of the edge's start */
+} edge_key;
+
+static int cmp_edge(const void *pa, const void *pb)
+{
+    const edge_key *x = pa, *y = pb;
+    if (x->a != y->a)
+        return x->a < y->a ? -1 : 1;
+    if (x->b != y->b)
+        return x->b < y->b ? -1 : 1;
+    return (x->slot > y->slot) - (x->slot < y->slot);
+}
+
+static void subdivide(sam_mesh *mesh)
+{
+    uint32_t nv = mesh->vertex_count, nt = mesh->triangle_count;
+    edge_key *e = malloc((size_t)nt * 3 * sizeof *e);
+    for (uint32_t t = 0; t < nt; ++t)
+        for (int c = 0; c < 3; ++c) {
+            uint32_t a = mesh->triangles[3 * t + c], b = mesh->triangles[3 * t + (c + 1) % 3];
+            e[3 * t + c] = (edge_key){a < b ? a : b, a < b ? b : a, 3 * t + c};
+        }
+    qsort(e, (size_t)nt * 3, sizeof *e, cmp_edge);
+    uint32_t *mid = malloc((size_t)nt * 3 * sizeof *mid);
+    float *pos = malloc(((size_t)nv + 3 * (size_t)nt) * 3 * sizeof *pos);
+    memcpy(pos, mesh->positions, (size_t)nv * 3 * sizeof *pos);
+    uint32_t next = nv;
+    for (size_t i = 0; i < (size_t)nt * 3; ++i) {
+        if (i == 0 || e[i].a != e[i - 1].a || e[i].b != e[i - 1].b) {
+            for (int c = 0; c < 3; ++c)
+                pos[3 * (size_t)next + c] = 0.5f * (pos[3 * (size_t)e[i].a + c] + pos[3 * (size_t)e[i].b + c]);
+            next++;
+        }
+        mid[e[i].slot] = next - 1;
+    }
+    uint32_t *tri = malloc((size_t)nt * 12 * sizeof *tri);
+    for (uint32_t t = 0; t < nt; ++t) {
+        const uint32_t *v = mesh->triangles + 3 * t, *m = mid + 3 * t;
+        uint32_t sub[12] = {v[0], m[0], m[2], m[0], v[1], m[1], m[2], m[1], v[2], m[0], m[1], m[2]};
+        memcpy(tri + 12 * (size_t)t, sub, sizeof sub);
+    }
+    sam_mesh_input in = {.name = "subdivided", .vertex_count = next, .positions = pos, .triangle_count = 4 * nt,
+                         .triangles = tri};
+    sam_mesh out;
+    sam_error err;
+    if (sam_mesh_create(&in, &out, NULL, &err) != SAM_OK)
+        die("subdivide", &err);
+    sam_mesh_destroy(mesh);
+    *mesh = out;
+    free(e);
+    free(mid);
+    free(pos);
+    free(tri);
+}
+
+static void load_scan(const char *dir, const char *name, sam_mesh *mesh)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    sam_error err;
+    if (sam_mesh_load(path, mesh, NULL, &err) != SAM_OK) {
+        fprintf(stderr, "bench_build: %s (run meshes/fetch_scans.sh first)\n", err.message);
+        exit(1);
+    }
+}
+
+static void large_study(FILE *json, const char *scans)
+{
+    sam_profile skin;
+    sam_profile_preset("skin", &skin, NULL);
+    fprintf(json, "  \"large\": [\n");
+    printf("%-40s %9s %9s %12s\n", "mesh", "vertices", "seconds", "vs 20.16 min");
+    for (int which = 0; which < 2; ++which) {
+        sam_mesh mesh;
+        const char *label;
+        float mm;
+        if (which == 0) {
+            /* A knot the size of a finger-thick loop: every vertex has a back side in reach. */
+            knot(550000, 0, 0, &mesh);
+            mm = 40.0f;
+            label = "knot, 40 mm, tube 7 mm, skin";
+        } else {
+            load_scan(scans, "bunny.off", &mesh);
+            subdivide(&mesh);
+            subdivide(&mesh);
+            mm = 150.0f / diagonal(&mesh);
+            label = "bunny scan x16 (midpoints), 150 mm, skin";
+        }
+        sam_build_settings s;
+        sam_build_default_settings(&s);
+        run r = build(&mesh, &skin, mm, &s, 0, NULL);
+        printf("%-40s %9u %9.2f %11.0fx\n", label, mesh.topo_count, r.seconds, 20.16 * 60 / r.seconds);
+        fprintf(json, "    {\"mesh\": \"%s\", \"vertices\": %u, \"seconds\": %.3f, \"speedup_vs_paper\": %.1f}%s\n",
+                label, mesh.topo_count, r.seconds, 20.16 * 60 / r.seconds, which ? "" : ",");
+        sam_mesh_destroy(&mesh);
+    }
+    fprintf(json, "  ],\n");
+}
+
+static void dragon_study(FILE *json, const char *scans)
+{
+    sam_profile marble;
+    sam_profile_preset("marble", &marble, NULL);
+    sam_mesh mesh;
+    load_scan(scans, "dragon.off", &mesh);
+    double t[2];
+    float sizes[2] = {20.0f, 200.0f};
+    for (int i = 0; i < 2; ++i) {
+        sam_build_settings s;
+        sam_build_default_settings(&s);
+        run r = build(&mesh, &marble, sizes[i] / diagonal(&mesh), &s, 0, NULL);
+        t[i] = r.seconds;
+        printf("dragon %u vertices, marble, %3.0f mm: %.3f s, %llu candidates scored\n", mesh.topo_count, sizes[i],
+               r.seconds, (unsigned long long)r.candidates_seen);
+    }
+    printf("dragon: 20 mm takes %.2fx the time of 200 mm\n", t[0] / t[1]);
+    fprintf(json, "  \"dragon\": {\"vertices\": %u, \"seconds_20mm\": %.4f, \"seconds_200mm\": %.4f, \"ratio\": %.3f},\n",
+            mesh.topo_count, t[0], t[1], t[0] / t[1]);
+    sam_mesh_destroy(&mesh);
+}
+
+/* Peak resident memory of the whole sam_build program (load, build,
+ * assemble, write) on a ~1M-vertex knot, read from the child's rusage. */
+static void memory_study(FILE *json, const char *bin_dir)
+{
+    sam_shape_params p;
+    sam_shape_default_params("knot", &p, NULL);
+    p.resolution = 3000;
+    sam_shape_mesh s;
+    sam_error err;
+    if (sam_shape_generate("knot", &p, &s, &err) != SAM_OK)
+        die("knot", &err);
+    char mesh_path[] = "/tmp/bench_build_1m.ply", out_path[] = "/tmp/bench_build_1m.sam";
+    if (sam_shape_write_ply(mesh_path, &s, 1, &err) != SAM_OK)
+        die("write", &err);
+    uint32_t vertices = s.vertex_count;
+    sam_shape_mesh_destroy(&s);
+    char exe[1100];
+    snprintf(exe, sizeof exe, "%s/sam_build", bin_dir);
+    double t = now();
+    pid_t pid = fork();
+    if (pid == 0) {
+        execl(exe, exe, mesh_path, "-o", out_path, "--material", "skin", "--mm-per-unit", "40", "--force", "--quiet",
+              (char *)NULL);
+        _exit(127);
+    }
+    int status;
+    struct rusage ru;
+    /* The only child this process waits for: its rusage is the child's. */
+    if (pid < 0 || waitpid(pid, &status, 0) < 0 || getrusage(RUSAGE_CHILDREN, &ru) != 0 || !WIFEXITED(status) ||
+        WEXITSTATUS(status) != 0) {
+        fprintf(stderr, "bench_build: %s failed\n", exe);
+        exit(1);
+    }
+    t = now() - t;
+    double per = (double)ru.ru_maxrss * 1024.0 / vertices;
+    printf("memory: %u vertices, peak %.0f MiB, %.0f bytes per vertex, %.1f s\n", vertices,
+           ru.ru_maxrss / 1024.0, per, t);
+    fprintf(json, "  \"memory\": {\"vertices\": %u, \"peak_mib\": %.1f, \"bytes_per_vertex\": %.1f, \"seconds\": %.2f},\n",
+            vertices, ru.ru_maxrss / 1024.0, per, t);
+    remove(mesh_path);
+    remove(out_path);
+}
+
 int main(int argc, char **argv)
 {
-    const char *json_path = "bench/results/build.json";
+    const char *json_path = "bench/results/build.json", *scans = "meshes/scans";
     int which[6] = {0};
     static const char *names[] = {"candidates", "brute", "scaling", "large", "dragon", "memory"};
     int any = 0;
@@ -269,12 +439,17 @@ int main(int argc, char **argv)
             json_path = argv[++i];
             continue;
         }
+        if (!strcmp(argv[i], "--scans") && i + 1 < argc) {
+            scans = argv[++i];
+            continue;
+        }
         int found = 0;
         for (int k = 0; k < 6; ++k)
             if (!strcmp(argv[i], names[k]))
                 which[k] = found = any = 1;
         if (!found) {
-            fprintf(stderr, "usage: bench_build [--json FILE] [candidates|brute|scaling|large|dragon|memory]...\n");
+            fprintf(stderr, "usage: bench_build [--json FILE] [--scans DIR] "
+                            "[candidates|brute|scaling|large|dragon|memory]...\n");
             return 2;
         }
     }
@@ -293,6 +468,20 @@ int main(int argc, char **argv)
         brute_study(json);
     if (which[2])
         scaling_study(json);
+    if (which[3])
+        large_study(json, scans);
+    if (which[4])
+        dragon_study(json, scans);
+    if (which[5]) {
+        char dir[1024];
+        snprintf(dir, sizeof dir, "%s", argv[0]);
+        char *slash = strrchr(dir, '/');
+        if (slash)
+            *slash = 0;
+        else
+            snprintf(dir, sizeof dir, ".");
+        memory_study(json, dir);
+    }
     fprintf(json, "  \"done\": true\n}\n");
     fclose(json);
     return 0;
