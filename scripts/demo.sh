@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The main job on the bundled default: installs dependencies, builds, generates
-# an ear-like shell, validates it with sam_info, and renders the skin
-# material's diffusion profile to out/demo/profile_skin.png.
-# (Until sam_build and sam_render exist this is the whole pipeline.)
+# The main job on the bundled default: installs dependencies, builds,
+# generates an ear-like thin shell, precomputes its Spatial Adjacency Map in
+# skin with sam_build, validates the .sam with sam_info, and renders the
+# back-lit translucency it encodes to out/demo/ear_translucency.png
+# (CPU preview; the GPU renderer sam_render comes with the runtime).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/deps.sh"
@@ -10,7 +11,9 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 out="$root/out/demo"
 mkdir -p "$out"
 bin="$root/build/bin"
-"$bin/sam_meshgen" ear -o "$out/ear.obj" --resolution 48 --force
-"$bin/sam_info" --mm-per-unit 60 "$out/ear.obj"
+"$bin/sam_meshgen" ear -o "$out/ear.obj" --resolution 64 --force
+"$bin/sam_build" "$out/ear.obj" -o "$out/ear.sam" --material skin --mm-per-unit 60 --force
+"$bin/sam_info" "$out/ear.sam"
 "$bin/sam_profile_image" skin -o "$out/profile_skin.png"
-echo "demo: wrote $out/profile_skin.png"
+"$bin/sam_preview" "$out/ear.sam" -o "$out/ear_translucency.png"
+echo "demo: wrote $out/ear_translucency.png (and $out/profile_skin.png)"

@@ -916,9 +916,38 @@ static void test_fuzz_seeds_match_writer(void **state)
     }
 }
 
+/* A recorded has_uvs must match the UV chunk: that is what catches a
+ * damaged "UV  " tag, which the payload CRCs cannot. */
+static void test_has_uvs_must_match_uv_chunk(void **state)
+{
+    (void)state;
+    for (int with_uv = 0; with_uv < 2; ++with_uv) {
+        tetra t;
+        make_tetra(&t, with_uv);
+        samfile_data d = t.d;
+        snprintf(t.info, sizeof t.info,
+                 "{\"vertex_count\":4,\"triangle_count\":4,\"samples_per_vertex\":2,\"mm_per_unit\":1,"
+                 "\"has_uvs\":%s}",
+                 with_uv ? "false" : "true");
+        sam_error err;
+        assert_int_not_equal(samfile_validate(&d, &err), SAM_OK);
+        assert_non_null(strstr(err.message, "has_uvs"));
+        snprintf(t.info, sizeof t.info,
+                 "{\"vertex_count\":4,\"triangle_count\":4,\"samples_per_vertex\":2,\"mm_per_unit\":1,"
+                 "\"has_uvs\":%s}",
+                 with_uv ? "true" : "false");
+        assert_int_equal(samfile_validate(&d, &err), SAM_OK);
+        snprintf(t.info, sizeof t.info,
+                 "{\"vertex_count\":4,\"triangle_count\":4,\"samples_per_vertex\":2,\"mm_per_unit\":1,"
+                 "\"has_uvs\":1}");
+        assert_int_not_equal(samfile_validate(&d, &err), SAM_OK);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_has_uvs_must_match_uv_chunk),
         cmocka_unit_test(test_round_trip_without_uv),
         cmocka_unit_test(test_round_trip_with_uv),
         cmocka_unit_test(test_on_disk_layout),

@@ -514,6 +514,25 @@ static sam_status load_text(const char *path, char *text, sam_profile *out, sam_
     return SAM_OK;
 }
 
+sam_status sam_profile_parse_json(const char *text, size_t size, const char *name, sam_profile *out,
+                                  sam_error *err)
+{
+    if (!text || !out)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "sam_profile_parse_json: NULL argument");
+    /* load_json expects the NUL sam_read_file appends after the text. */
+    char *copy = malloc(size + 1);
+    if (!copy)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", name ? name : "profile");
+    memcpy(copy, text, size);
+    copy[size] = 0;
+    sam_profile parsed;
+    sam_status s = load_json(name ? name : "profile", copy, size, &parsed, err);
+    free(copy);
+    if (s == SAM_OK)
+        *out = parsed;
+    return s;
+}
+
 sam_status sam_profile_load(const char *path, sam_profile *out, sam_error *err)
 {
     if (!path || !out)

@@ -169,6 +169,14 @@ static sam_status check_info_fields(const cJSON *root, const samfile_data *d, co
         return st;
     if (!isfinite(v) || v <= 0.0)
         return sam_fail(err, bad, "%s: chunk INFO: mm_per_unit %g must be finite and > 0", name, v);
+    /* The CRCs cover payloads, not tags, so a damaged "UV  " tag would read
+     * as an unknown chunk; a writer that records has_uvs closes that gap. */
+    const cJSON *uvs = cJSON_GetObjectItemCaseSensitive(root, "has_uvs");
+    if (uvs && !cJSON_IsBool(uvs))
+        return sam_fail(err, bad, "%s: chunk INFO: key \"has_uvs\" is not true or false", name);
+    if (uvs && cJSON_IsTrue(uvs) != (d->uvs != NULL))
+        return sam_fail(err, bad, "%s: chunk INFO: has_uvs is %s but the file %s a UV   chunk", name,
+                        cJSON_IsTrue(uvs) ? "true" : "false", d->uvs ? "has" : "has no");
     return SAM_OK;
 }
 

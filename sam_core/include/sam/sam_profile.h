@@ -120,6 +120,14 @@ sam_status sam_profile_gaussian_sum(uint32_t count, const float *variance, const
  * key path (e.g. "gaussians[2].weight[1]") or line, and the value found. */
 sam_status sam_profile_load(const char *path, sam_profile *out, sam_error *err);
 
+/* Parses a JSON profile held in memory (`size` bytes, no NUL needed), in
+ * the file format above or as written by sam_profile_to_json (e.g. the
+ * "material" of a .sam's INFO chunk). `name` is used in messages (may be
+ * NULL). Errors: SAM_ERR_FORMAT naming the key and value,
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_profile_parse_json(const char *text, size_t size, const char *name, sam_profile *out,
+                                  sam_error *err);
+
 /* A preset name, else a path to a profile file (sam_profile_load).
  * Errors: those of sam_profile_load; SAM_ERR_IO when the spec is neither a
  * preset nor a readable file (the message lists the presets). */

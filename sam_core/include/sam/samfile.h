@@ -56,7 +56,8 @@ typedef struct samfile_data {
     uint32_t samples_per_vertex; /* n, 1..SAMFILE_MAX_SAMPLES_PER_VERTEX */
     /* INFO: NUL-terminated UTF-8 JSON object, exactly from '{' to '}', with
      * numbers vertex_count, triangle_count, samples_per_vertex equal to the
-     * counts above and mm_per_unit (> 0, finite); other keys are free. */
+     * counts above and mm_per_unit (> 0, finite); an optional boolean
+     * has_uvs must match the presence of the UV chunk; other keys are free. */
     char *info_json;
     float *positions;             /* POS : 3*vc, x,y,z in model units, finite */
     float *normals;               /* NRM : 3*vc, unit length (SAMFILE_NORMAL_TOLERANCE) */
