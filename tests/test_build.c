@@ -553,7 +553,7 @@ static void test_settings_and_cancel(void **state)
     int calls = 0;
     assert_int_equal(sam_build_run(ctx, cancel_at_half, &calls, &r, &err), SAM_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(err.message, "cancelled"));
-    assert_true(calls > 1);
+    assert_true(calls >= 1); /* thread 0 reports; under load it may first report past half */
     assert_null(r.sample);
     sam_build_context_destroy(ctx);
     sam_mesh_destroy(&mesh);

@@ -513,6 +513,8 @@ static void test_bad_inputs_give_one_clear_error(void **state)
     expect_error("negative.off", "OFF\n2 -4 0\n0 0 0\n1 0 0\n", SAM_ERR_FORMAT, "expected vertex, face and edge counts");
     expect_error("binary.off", "OFF BINARY\n", SAM_ERR_UNSUPPORTED, "binary OFF");
     expect_error("inline_counts.off", "OFF 0 00  ", SAM_ERR_FORMAT, "keyword must stand alone");
+    expect_error("two_counts.off", "OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
+                 "expected vertex, face and edge counts");
     expect_error("zero.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n", SAM_ERR_EMPTY, "3 vertices and 0 faces");
     expect_error("lone_cr.ply",
                  "ply\nformat ascii 1.0\nelement vev\r\rx 3\nproperty float x\nend_header\n0\n0\n0\n",

@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* The fast builder (Embree point queries with a shrinking radius, cheap
  * ranking, Monte Carlo on the best few) and the O(m^2) reference. */
 #include <math.h>
@@ -105,11 +106,39 @@ static int cmp_scored(const void *pa, const void *pb)
     return better(a, b) ? -1 : better(b, a) ? 1 : 0;
 }
 
-/* Monte Carlo for the candidates, then the best N by mean-RGB K into the
- * result row of vertex o. */
-static void choose(const sam_build_context *ctx, uint32_t o, scored *cand, uint32_t count, float (*k)[3],
-                   float *kerr, float *points, sam_build_result *r)
+/* One worker thread's buffers: candidates with their K and error, and the
+ * receiver's Monte Carlo points. */
+typedef struct scratch {
+    scored *cand;
+    float (*k)[3];
+    float *kerr;
+    float *points;
+} scratch;
+
+static int scratch_alloc(scratch *s, size_t candidates, uint32_t mc_samples)
 {
+    s->cand = malloc(candidates * sizeof *s->cand);
+    s->k = malloc(candidates * sizeof *s->k);
+    s->kerr = malloc(candidates * sizeof *s->kerr);
+    s->points = malloc((size_t)mc_samples * 3 * sizeof *s->points);
+    return s->cand && s->k && s->kerr && s->points;
+}
+
+static void scratch_free(scratch *s)
+{
+    free(s->cand);
+    free(s->k);
+    free(s->kerr);
+    free(s->points);
+}
+
+/* Monte Carlo for the `count` candidates in s->cand, then the best N by
+ * mean-RGB K into the result row of vertex o. */
+static void choose(const sam_build_context *ctx, uint32_t o, scratch *sc, uint32_t count, sam_build_result *r)
+{
+    scored *cand = sc->cand;
+    float(*k)[3] = sc->k;
+    float *kerr = sc->kerr, *points = sc->points;
     const uint32_t n = ctx->settings.samples_per_vertex, m = ctx->settings.mc_samples;
     if (count)
         sam_build_receiver_points(ctx, o, m, ctx->settings.seed, points);
@@ -461,11 +490,8 @@ sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn pro
     int oom = 0;
 #pragma omp parallel num_threads(thread_count(ctx)) reduction(+ : seen, form_factors)
     {
-        scored *heap = malloc(cap * sizeof *heap);
-        float(*k)[3] = malloc(cap * sizeof *k);
-        float *kerr = malloc(cap * sizeof *kerr);
-        float *points = malloc((size_t)m * 3 * sizeof *points);
-        if (!heap || !k || !kerr || !points) {
+        scratch sc;
+        if (!scratch_alloc(&sc, cap, m)) {
 #pragma omp atomic write
             oom = 1;
 #pragma omp atomic write
@@ -475,7 +501,7 @@ sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn pro
         for (uint32_t o = 0; o < n; ++o) {
             if (progress_step(&prog))
                 continue;
-            query_state q = {ctx, &clusters, o, {0, 0, 0}, ctx->search_radius, 0.0f, {heap, 0, cap}, 0};
+            query_state q = {ctx, &clusters, o, {0, 0, 0}, ctx->search_radius, 0.0f, {sc.cand, 0, cap}, 0};
             memcpy(q.normal, ctx->mesh->topo_normals + 3 * (size_t)o, sizeof q.normal);
             struct RTCPointQuery query;
             query.x = ctx->pos[3 * (size_t)o];
@@ -487,14 +513,11 @@ sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn pro
             rtcInitPointQueryContext(&qc);
             rtcPointQuery(scene, &query, &qc, point_query, &q);
             seen += q.seen;
-            qsort(heap, q.heap.count, sizeof *heap, cmp_scored);
-            choose(ctx, o, heap, q.heap.count, k, kerr, points, result);
+            qsort(sc.cand, q.heap.count, sizeof *sc.cand, cmp_scored);
+            choose(ctx, o, &sc, q.heap.count, result);
             form_factors += q.heap.count;
         }
-        free(heap);
-        free(k);
-        free(kerr);
-        free(points);
+        scratch_free(&sc);
     }
     rtcReleaseScene(scene);
     rtcReleaseDevice(device);
@@ -521,11 +544,8 @@ sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_
     int oom = 0;
 #pragma omp parallel num_threads(thread_count(ctx)) reduction(+ : seen)
     {
-        scored *cand = malloc((size_t)n * sizeof *cand);
-        float(*k)[3] = malloc((size_t)n * sizeof *k);
-        float *kerr = malloc((size_t)n * sizeof *kerr);
-        float *points = malloc((size_t)ctx->settings.mc_samples * 3 * sizeof *points);
-        if (!cand || !k || !kerr || !points) {
+        scratch sc;
+        if (!scratch_alloc(&sc, n, ctx->settings.mc_samples)) {
 #pragma omp atomic write
             oom = 1;
 #pragma omp atomic write
@@ -538,14 +558,11 @@ sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_
             uint32_t count = 0;
             for (uint32_t i = 0; i < n; ++i)
                 if (i != o && sam_build_is_back_side(ctx, o, i))
-                    cand[count++] = (scored){0.0f, i};
+                    sc.cand[count++] = (scored){0.0f, i};
             seen += count;
-            choose(ctx, o, cand, count, k, kerr, points, result);
+            choose(ctx, o, &sc, count, result);
         }
-        free(cand);
-        free(k);
-        free(kerr);
-        free(points);
+        scratch_free(&sc);
     }
     if (oom) {
         sam_build_result_destroy(result);

@@ -413,7 +413,9 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
     for (int k = 0; k < numbers && k < 3; ++k)
         if (!token_count(tok[k], len[k], &value[k]))
             numbers = -1;
-    if (numbers < 2 || numbers > 3)
+    /* All three: OpenMesh reads the edge count whether or not it is there,
+     * and would take the first coordinate for it. */
+    if (numbers != 3)
         return sam_fail(err, SAM_ERR_FORMAT,
                         "%s: OFF header line %d: expected vertex, face and edge counts, found \"%.*s\"", path,
                         c.line_no, shown(line, eol), line);
