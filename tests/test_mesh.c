@@ -521,8 +521,12 @@ static void test_bad_inputs_give_one_clear_error(void **state)
                  SAM_ERR_FORMAT, "line 3 contains the control character 0x0d");
     expect_error("bad_format.ply", "ply\nformat ascii 1.facement vertex 4\nend_header\n", SAM_ERR_FORMAT,
                  "expected \"format");
-    expect_error("huge.off", "OFF\n# comment\n3 999999999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
+    expect_error("huge.off", "OFF\n3 999999999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
                  "999999999 faces");
+    expect_error("comment.off", "OFF\n3 1 0\n0 0 0\n# a comment\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
+                 "line 4: comments are not supported");
+    expect_error("leading_comment.off", "# made by hand\nOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,
+                 "line 1: comments are not supported");
     {
         unsigned char stl[84 + 50];
         memset(stl, 0, sizeof stl);

@@ -342,13 +342,17 @@ done:
 
 /* ---- OFF (ASCII) */
 
-/* Next line with a token that is not a comment; its token count (storing at
- * most `max`), or -1 at the end of the file. */
+/* Next line with a token; its token count (storing at most `max`), -1 at
+ * the end of the file, -2 for a comment line. OpenMesh takes the first line
+ * for the keyword and reads the rest with stream extraction, which would
+ * take a '#' for a number, so OFF comments are refused. */
 static int next_content_line(text_cursor *c, const char **line, const char **eol, const char **tok, int *len, int max)
 {
     while (next_line(c, line, eol)) {
         int count = tokenize(*line, *eol, tok, len, max);
-        if (count > 0 && tok[0][0] != '#')
+        if (count > 0 && tok[0][0] == '#')
+            return -2;
+        if (count > 0)
             return count;
     }
     return -1;
@@ -385,6 +389,8 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
     const char *tok[OFF_MAX_TOKENS];
     int len[OFF_MAX_TOKENS];
     int count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
+    if (count == -2)
+        goto comment;
     if (count < 0)
         return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file has no header", path);
     /* [ST][C][N]OFF: texture coordinates, colours, normals per vertex. */
@@ -408,6 +414,8 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
                         "%s: OFF line %d: the keyword must stand alone, counts on the next line: \"%.*s\"", path,
                         c.line_no, shown(line, eol), line);
     count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
+    if (count == -2)
+        goto comment;
     unsigned long long value[3] = {0, 0, 0};
     int numbers = count;
     for (int k = 0; k < numbers && k < 3; ++k)
@@ -429,6 +437,8 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
     int base = 3 + 3 * normal + 2 * st_uv;
     for (unsigned long long v = 0; v < value[0]; ++v) {
         count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
+        if (count == -2)
+            goto comment;
         if (count < 0)
             return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file is truncated: it ends before vertex %llu of %llu", path,
                             v, value[0]);
@@ -442,6 +452,8 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
     }
     for (unsigned long long f = 0; f < value[1]; ++f) {
         count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
+        if (count == -2)
+            goto comment;
         if (count < 0)
             return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file is truncated: it ends before face %llu of %llu", path,
                             f, value[1]);
@@ -467,6 +479,10 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
                             path, c.line_no, f, value[0], shown(line, eol), line);
     }
     return SAM_OK;
+comment:
+    return sam_fail(err, SAM_ERR_FORMAT,
+                    "%s: OFF line %d: comments are not supported in OFF files (OpenMesh cannot skip them)",
+                    path, c.line_no);
 }
 
 /* ---- OBJ */
