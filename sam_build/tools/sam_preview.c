@@ -136,8 +136,9 @@ int main(int argc, char **argv)
     vec3 ext = sub(hi, lo), centre = scale((vec3){lo.x + hi.x, lo.y + hi.y, lo.z + hi.z}, 0.5f);
     if (axis < 0)
         axis = ext.x <= ext.y && ext.x <= ext.z ? 0 : ext.y <= ext.z ? 1 : 2;
-    vec3 fwd = {0, 0, 0};
-    ((float *)&fwd)[axis] = (float)-sign; /* camera on the +axis side looking back */
+    float f[3] = {0, 0, 0};
+    f[axis] = (float)-sign; /* the camera sits on the +axis side, looking back */
+    vec3 fwd = v3(f);
     vec3 up = axis == 1 ? (vec3){0, 0, 1} : (vec3){0, 1, 0};
     vec3 right = norm(cross(fwd, up));
     up = cross(right, fwd);
