@@ -268,6 +268,21 @@ void sam_profile_dipole_channel(const sam_profile *p, int channel, sam_dipole_ch
     d->z_v = d->z_r * (1 + 4 * a / 3);
 }
 
+void sam_profile_dipole_terms(const sam_profile *p, sam_dipole_terms *out)
+{
+    memset(out, 0, sizeof *out);
+    if (p->kind != SAM_PROFILE_DIPOLE)
+        return;
+    for (int c = 0; c < 3; c++) {
+        sam_dipole_channel d;
+        sam_profile_dipole_channel(p, c, &d);
+        out->alpha[c] = (float)d.alpha;
+        out->sigma_tr[c] = (float)d.sigma_tr;
+        out->z_r[c] = (float)d.z_r;
+        out->z_v[c] = (float)d.z_v;
+    }
+}
+
 /* z (1 + sigma d) e^{-sigma d} / d^3 */
 static double pole(double z, double sigma, double r)
 {

@@ -136,6 +136,19 @@ sam_status sam_profile_from_spec(const char *spec, sam_profile *out, sam_error *
 /* R_d(r) in mm^-2 for r >= 0 (mm; a negative r is read as |r|). */
 void sam_profile_eval(const sam_profile *profile, float r_mm, float out_rgb[3]);
 
+/* The per-channel terms of a dipole profile, for evaluators that mirror
+ * sam_profile_eval elsewhere (GPU shaders):
+ *   R_d(r) = alpha / (4 pi) * (P(z_r) + P(z_v)),
+ *   P(z) = z (1 + sigma_tr d) e^{-sigma_tr d} / d^3,  d = sqrt(r^2 + z^2).
+ * All zero for a sum of Gaussians. */
+typedef struct sam_dipole_terms {
+    float alpha[3];    /* reduced albedo sigma_s' / sigma_t' */
+    float sigma_tr[3]; /* mm^-1 */
+    float z_r[3];      /* mm */
+    float z_v[3];      /* mm */
+} sam_dipole_terms;
+void sam_profile_dipole_terms(const sam_profile *profile, sam_dipole_terms *out);
+
 /* Total diffuse reflectance 2 pi int r R_d(r) dr per channel (closed form). */
 void sam_profile_total_reflectance(const sam_profile *profile, float out_rgb[3]);
 

@@ -1,0 +1,76 @@
+/*
+ * sam_runtime: a .sam on the GPU and the per-frame SAM passes.
+ *
+ * sam_runtime_create uploads a .sam (samfile_data) as shader-storage
+ * buffers laid out for the GPU (std430):
+ *   binding 0  positions   vec4 per vertex (xyz, w unused), model units
+ *   binding 1  normals     vec4 per vertex
+ *   binding 2  samples     {uint index; float K'r, K'g, K'b} x N per vertex:
+ *                          a sample's index and K' are one 16-byte read
+ *   binding 3  fan areas   float per vertex, mm^2
+ *   binding 4  L_d         vec4 per vertex (rgb irradiance entering the surface)
+ *   binding 5  T           vec4 per vertex (rgb translucency, smoothed)
+ *   binding 6  adjacency offsets, binding 7 adjacency entries (uint)
+ * and compiles the passes. The translucency pass evaluates eq. 12 with
+ * K = K' F'_b R_d(|v_b - v|) (eq. 15) and smooths it in time (eq. 17-18),
+ * T <- (1 - alpha) T_prev + alpha T, alpha = 1 - (1e-10)^dt. Results stay on
+ * the GPU; read-back functions exist for tests and tools.
+ *
+ * Needs a current GL 4.3 context (sam_gl.h) on the calling thread for its
+ * whole life. The caller owns the runtime and destroys it before the context.
+ */
+#ifndef SAM_RUNTIME_H
+#define SAM_RUNTIME_H
+
+#include "sam/sam_gl.h"
+#include "sam/sam_profile.h"
+#include "sam/samfile.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sam_runtime sam_runtime;
+
+typedef enum sam_pass {
+    SAM_PASS_IRRADIANCE = 0, /* L_d at every vertex */
+    SAM_PASS_TRANSLUCENCY,   /* eq. 12 + smoothing */
+    SAM_PASS_COUNT
+} sam_pass;
+
+/* Uploads `sam` (the caller keeps it) and compiles the passes. `profile`
+ * and `mm_per_unit` are the material and scale the map was built with.
+ * Errors: SAM_ERR_UNSUPPORTED (a buffer larger than the context's storage
+ * block limit), SAM_ERR_FORMAT (shader errors, naming file:line),
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
+                              sam_runtime **rt, sam_error *err);
+void sam_runtime_destroy(sam_runtime *rt);
+
+uint32_t sam_runtime_vertex_count(const sam_runtime *rt);
+
+/* Sets L_d for every vertex from the CPU (3 * vertex_count floats). */
+sam_status sam_runtime_set_irradiance(sam_runtime *rt, const float *rgb, sam_error *err);
+
+/* Runs the translucency pass. `samples` is how many of the stored samples
+ * to use (0 = all); `dt` the frame time in seconds; `reset` non-zero
+ * replaces the history instead of blending (first frame, jumps).
+ * Errors: SAM_ERR_INVALID_ARGUMENT (dt < 0 or not finite). */
+sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt, int reset, sam_error *err);
+
+/* Reads L_d or T back (3 * vertex_count floats). */
+sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *err);
+sam_status sam_runtime_read_translucency(sam_runtime *rt, float *rgb, sam_error *err);
+
+/* GPU time of the last run of `pass` in milliseconds (GL timer queries),
+ * or a negative value when it has not run. Waits for the result. */
+double sam_runtime_pass_ms(sam_runtime *rt, sam_pass pass);
+
+/* The smoothing weight of eq. 18 for a frame time dt (seconds). */
+float sam_runtime_smoothing_alpha(float dt);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,121 @@
+/* Headless GL contexts through EGL's surfaceless platform. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <epoxy/egl.h>
+
+#include "sam/sam_gl.h"
+
+struct sam_gl_context {
+    EGLDisplay display;
+    EGLContext context;
+    sam_gl_info info;
+};
+
+/* What the runtime's compute passes and buffers need at least. */
+#define NEED_SSBO_SIZE (16 * 1024 * 1024)
+#define NEED_COMPUTE_INVOCATIONS 256
+
+static void APIENTRY debug_message(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
+                                   const GLchar *message, const void *user)
+{
+    (void)source, (void)id, (void)length, (void)user;
+    if (severity == GL_DEBUG_SEVERITY_NOTIFICATION)
+        return;
+    fprintf(stderr, "GL debug (%s): %s\n", type == GL_DEBUG_TYPE_ERROR ? "error" : "message", message);
+}
+
+static sam_status fail_egl(sam_gl_context *c, sam_error *err, const char *what)
+{
+    sam_status st = sam_fail(err, SAM_ERR_UNSUPPORTED, "GL: %s (EGL error 0x%04x)", what, (unsigned)eglGetError());
+    sam_gl_context_destroy(c);
+    return st;
+}
+
+sam_status sam_gl_context_create_headless(sam_gl_context **out, sam_error *err)
+{
+    *out = NULL;
+    sam_gl_context *c = calloc(1, sizeof *c);
+    if (!c)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "GL: out of memory");
+    c->display = EGL_NO_DISPLAY;
+    c->context = EGL_NO_CONTEXT;
+    if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless") &&
+        !epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_platform_base")) {
+        sam_gl_context_destroy(c);
+        return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                        "GL: EGL has no surfaceless platform (EGL_MESA_platform_surfaceless); install Mesa's "
+                        "libegl-mesa0 or a GPU driver with EGL");
+    }
+    c->display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    EGLint major, minor;
+    if (c->display == EGL_NO_DISPLAY || !eglInitialize(c->display, &major, &minor))
+        return fail_egl(c, err, "cannot open a surfaceless EGL display");
+    if (!eglBindAPI(EGL_OPENGL_API))
+        return fail_egl(c, err, "EGL cannot bind desktop OpenGL");
+    int debug = 0;
+#ifndef NDEBUG
+    debug = 1;
+#endif
+    const char *env = getenv("SAM_GL_DEBUG");
+    if (env && env[0] == '1')
+        debug = 1;
+    const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3,
+                              EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                              EGL_CONTEXT_OPENGL_DEBUG, debug ? EGL_TRUE : EGL_FALSE, EGL_NONE};
+    c->context = eglCreateContext(c->display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
+    if (c->context == EGL_NO_CONTEXT)
+        return fail_egl(c, err, "no OpenGL 4.3 core context (the driver offers less)");
+    if (!eglMakeCurrent(c->display, EGL_NO_SURFACE, EGL_NO_SURFACE, c->context))
+        return fail_egl(c, err, "cannot make the surfaceless context current");
+    sam_gl_info *i = &c->info;
+    snprintf(i->renderer, sizeof i->renderer, "%s", (const char *)glGetString(GL_RENDERER));
+    snprintf(i->version, sizeof i->version, "%s", (const char *)glGetString(GL_VERSION));
+    glGetIntegerv(GL_MAJOR_VERSION, &i->major);
+    glGetIntegerv(GL_MINOR_VERSION, &i->minor);
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &i->max_ssbo_size);
+    glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &i->max_compute_invocations);
+    if (i->major * 10 + i->minor < 43) {
+        sam_status st = sam_fail(err, SAM_ERR_UNSUPPORTED, "GL: %s offers OpenGL %d.%d; the runtime needs 4.3",
+                                 i->renderer, i->major, i->minor);
+        sam_gl_context_destroy(c);
+        return st;
+    }
+    if (i->max_ssbo_size < NEED_SSBO_SIZE || i->max_compute_invocations < NEED_COMPUTE_INVOCATIONS) {
+        sam_status st = sam_fail(err, SAM_ERR_UNSUPPORTED,
+                                 "GL: %s allows %d-byte storage blocks and %d compute invocations per group; the "
+                                 "runtime needs %d and %d",
+                                 i->renderer, i->max_ssbo_size, i->max_compute_invocations, NEED_SSBO_SIZE,
+                                 NEED_COMPUTE_INVOCATIONS);
+        sam_gl_context_destroy(c);
+        return st;
+    }
+    if (debug) {
+        glEnable(GL_DEBUG_OUTPUT);
+        glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+        glDebugMessageCallback(debug_message, NULL);
+        i->debug_output = 1;
+    }
+    *out = c;
+    return SAM_OK;
+}
+
+void sam_gl_context_destroy(sam_gl_context *c)
+{
+    if (!c)
+        return;
+    if (c->display != EGL_NO_DISPLAY) {
+        eglMakeCurrent(c->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        if (c->context != EGL_NO_CONTEXT)
+            eglDestroyContext(c->display, c->context);
+        eglTerminate(c->display);
+    }
+    free(c);
+}
+
+const sam_gl_info *sam_gl_context_info(const sam_gl_context *c)
+{
+    return &c->info;
+}

@@ -1,0 +1,264 @@
+/*
+ * The GL runtime on llvmpipe (or any GL 4.3 driver): context, embedded
+ * shaders and their error messages, and the translucency pass against a
+ * CPU evaluation of eq. 12 and eq. 17-18.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sam/sam_build.h"
+#include "sam/sam_runtime.h"
+#include "sam/sam_shape.h"
+#include "sam_test.h"
+
+static sam_gl_context *gl;
+
+static int setup(void **state)
+{
+    (void)state;
+    sam_error err;
+    if (sam_gl_context_create_headless(&gl, &err) != SAM_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return -1;
+    }
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    sam_gl_context_destroy(gl);
+    return 0;
+}
+
+static void test_context(void **state)
+{
+    (void)state;
+    const sam_gl_info *i = sam_gl_context_info(gl);
+    printf("GL: %s, %s\n", i->renderer, i->version);
+    assert_true(i->major * 10 + i->minor >= 43);
+    assert_true(strlen(i->renderer) > 0);
+    assert_true(i->max_ssbo_size >= 16 * 1024 * 1024);
+}
+
+static void test_every_embedded_compute_shader_compiles(void **state)
+{
+    (void)state;
+    size_t n = sam_gl_shader_file_count(), compiled = 0;
+    assert_true(n > 0);
+    for (size_t i = 0; i < n; ++i) {
+        const char *name = sam_gl_shader_file_name(i);
+        if (!sam_path_has_extension(name, ".comp"))
+            continue;
+        GLuint p;
+        sam_error err;
+        if (sam_gl_compute_program(name, NULL, &p, &err) != SAM_OK)
+            fail_msg("%s", err.message);
+        glDeleteProgram(p);
+        compiled++;
+    }
+    assert_true(compiled > 0);
+}
+
+static void test_shader_errors_name_file_and_line(void **state)
+{
+    (void)state;
+    GLuint p;
+    sam_error err;
+    /* An error on line 5 of a file that includes another. */
+    const char *bad = "#version 430 core\n#include \"profile.glsl\"\nlayout(local_size_x = 1) in;\n"
+                      "void main() {\n  float x = undeclared_thing;\n}\n";
+    assert_int_equal(sam_gl_compute_program_from_text("bad.comp", bad, &p, &err), SAM_ERR_FORMAT);
+    if (!strstr(err.message, "bad.comp:5:"))
+        fail_msg("message does not name bad.comp:5: %s", err.message);
+    /* An error inside the included file is reported in that file. */
+    const char *good_then_bad = "#version 430 core\nlayout(local_size_x = 1) in;\nvoid main() { }\n";
+    assert_int_equal(sam_gl_compute_program_from_text("ok.comp", good_then_bad, &p, &err), SAM_OK);
+    glDeleteProgram(p);
+    assert_int_equal(sam_gl_compute_program_from_text("inc.comp", "#version 430 core\n#include \"nope.glsl\"\n", &p, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "inc.comp:2: #include \"nope.glsl\""));
+    assert_int_equal(sam_gl_compute_program_from_text("nov.comp", "void main() {}\n", &p, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "#version"));
+    assert_int_equal(sam_gl_compute_program("missing.comp", NULL, &p, &err), SAM_ERR_INVALID_ARGUMENT);
+    /* The expanded source carries #line directives back to each file. */
+    char *src;
+    assert_int_equal(sam_gl_shader_source("translucency.comp", "#define X 1", &src, &err), SAM_OK);
+    assert_non_null(strstr(src, "#define X 1"));
+    assert_non_null(strstr(src, "profile_rd"));
+    assert_non_null(strstr(src, "#line 1 "));
+    free(src);
+}
+
+/* A small built .sam for the runtime tests. */
+static void build_sam(const char *material, samfile_data *out, sam_profile *profile)
+{
+    sam_shape_params sp;
+    sam_error err;
+    assert_int_equal(sam_shape_default_params("ear", &sp, &err), SAM_OK);
+    sp.resolution = 24;
+    sam_shape_mesh s;
+    assert_int_equal(sam_shape_generate("ear", &sp, &s, &err), SAM_OK);
+    sam_mesh_input in = {.name = "ear", .vertex_count = s.vertex_count, .positions = s.positions, .uvs = s.uvs,
+                         .triangle_count = s.triangle_count, .triangles = s.triangles};
+    sam_mesh mesh;
+    assert_int_equal(sam_mesh_create(&in, &mesh, NULL, &err), SAM_OK);
+    sam_shape_mesh_destroy(&s);
+    assert_int_equal(sam_profile_preset(material, profile, &err), SAM_OK);
+    sam_build_settings set;
+    sam_build_default_settings(&set);
+    set.samples_per_vertex = 4;
+    sam_build_context *ctx;
+    assert_int_equal(sam_build_context_create(&mesh, profile, 60.0f, &set, &ctx, &err), SAM_OK);
+    sam_build_result r;
+    assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, &err), SAM_OK);
+    assert_int_equal(sam_build_to_samfile(ctx, &r, NULL, out, &err), SAM_OK);
+    sam_build_result_destroy(&r);
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
+/* eq. 12 on the CPU, in double precision. */
+static void cpu_translucency(const samfile_data *d, const sam_profile *p, float mm, const float *ld, uint32_t used,
+                             double *t)
+{
+    uint32_t n = d->samples_per_vertex;
+    for (uint32_t v = 0; v < d->vertex_count; ++v) {
+        t[3 * v] = t[3 * v + 1] = t[3 * v + 2] = 0;
+        for (uint32_t k = 0; k < used; ++k) {
+            uint32_t b = d->sample_index[v * n + k];
+            if (b == SAMFILE_NO_SAMPLE)
+                break;
+            const float *pv = d->positions + 3 * v, *pb = d->positions + 3 * b;
+            double dx = pb[0] - pv[0], dy = pb[1] - pv[1], dz = pb[2] - pv[2];
+            float rd[3];
+            sam_profile_eval(p, (float)(mm * sqrt(dx * dx + dy * dy + dz * dz)), rd);
+            for (int c = 0; c < 3; ++c)
+                t[3 * v + c] += (double)ld[3 * b + c] * d->sample_kprime[3 * (v * n + k) + c] * d->fan_area[b] * rd[c];
+        }
+    }
+}
+
+static void check_translucency(const char *material)
+{
+    samfile_data d;
+    sam_profile profile;
+    build_sam(material, &d, &profile);
+    sam_runtime *rt;
+    sam_error err;
+    if (sam_runtime_create(&d, &profile, 60.0f, &rt, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    uint32_t nv = d.vertex_count;
+    float *ld = malloc(nv * 3 * sizeof *ld), *gpu = malloc(nv * 3 * sizeof *gpu);
+    double *cpu = malloc(nv * 3 * sizeof *cpu);
+    for (uint32_t i = 0; i < 3 * nv; ++i)
+        ld[i] = (float)((i * 2654435761u) % 1000) / 100.0f;
+    assert_int_equal(sam_runtime_set_irradiance(rt, ld, &err), SAM_OK);
+    for (uint32_t used = 1; used <= 4; used += 3) {
+        assert_int_equal(sam_runtime_translucency(rt, used, 0.016f, 1, &err), SAM_OK);
+        assert_int_equal(sam_runtime_read_translucency(rt, gpu, &err), SAM_OK);
+        cpu_translucency(&d, &profile, 60.0f, ld, used, cpu);
+        double worst = 0, peak = 0;
+        for (uint32_t i = 0; i < 3 * nv; ++i)
+            peak = fmax(peak, fabs(cpu[i]));
+        for (uint32_t i = 0; i < 3 * nv; ++i) {
+            /* Relative to the value, with a floor far below anything visible. */
+            double rel = fabs(gpu[i] - cpu[i]) / fmax(fabs(cpu[i]), 1e-6 * peak);
+            worst = fmax(worst, rel);
+        }
+        printf("%s, %u samples: worst relative error %.2e (peak T %.3g), %.3f ms\n", material, used, worst, peak,
+               sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY));
+        assert_true(peak > 0);
+        assert_true(worst <= 1e-4);
+        assert_true(sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY) >= 0);
+    }
+    free(ld);
+    free(gpu);
+    free(cpu);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+static void test_translucency_matches_cpu_skin(void **state)
+{
+    (void)state;
+    check_translucency("skin");
+}
+
+static void test_translucency_matches_cpu_marble(void **state)
+{
+    (void)state;
+    check_translucency("marble");
+}
+
+static void test_temporal_smoothing(void **state)
+{
+    (void)state;
+    assert_float_equal(sam_runtime_smoothing_alpha(0.0f), 0.0f, 0.0f);
+    assert_float_equal(sam_runtime_smoothing_alpha(1.0f), 1.0f - 1e-10f, 1e-7f);
+    assert_float_equal(sam_runtime_smoothing_alpha(0.016f), 1.0 - pow(1e-10, 0.016), 1e-7);
+    samfile_data d;
+    sam_profile profile;
+    build_sam("skin", &d, &profile);
+    sam_runtime *rt;
+    sam_error err;
+    assert_int_equal(sam_runtime_create(&d, &profile, 60.0f, &rt, &err), SAM_OK);
+    uint32_t nv = d.vertex_count;
+    float *ld = calloc(nv * 3, sizeof *ld), *target = malloc(nv * 3 * sizeof *target), *t = malloc(nv * 3 * sizeof *t);
+    /* Dark, then a step to constant light: T approaches its target as
+     * 1 - (1 - alpha)^frames. */
+    assert_int_equal(sam_runtime_set_irradiance(rt, ld, &err), SAM_OK);
+    assert_int_equal(sam_runtime_translucency(rt, 0, 0.016f, 1, &err), SAM_OK);
+    for (uint32_t i = 0; i < 3 * nv; ++i)
+        ld[i] = 1.0f;
+    assert_int_equal(sam_runtime_set_irradiance(rt, ld, &err), SAM_OK);
+    assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
+    assert_int_equal(sam_runtime_read_translucency(rt, target, &err), SAM_OK);
+    for (uint32_t i = 0; i < 3 * nv; ++i)
+        ld[i] = 0.0f;
+    assert_int_equal(sam_runtime_set_irradiance(rt, ld, &err), SAM_OK);
+    assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
+    for (uint32_t i = 0; i < 3 * nv; ++i)
+        ld[i] = 1.0f;
+    assert_int_equal(sam_runtime_set_irradiance(rt, ld, &err), SAM_OK);
+    const float dt = 1.0f / 60.0f;
+    double a = sam_runtime_smoothing_alpha(dt);
+    for (int frame = 1; frame <= 20; ++frame) {
+        assert_int_equal(sam_runtime_translucency(rt, 0, dt, 0, &err), SAM_OK);
+        if (frame % 5)
+            continue;
+        assert_int_equal(sam_runtime_read_translucency(rt, t, &err), SAM_OK);
+        double expect = 1.0 - pow(1.0 - a, frame);
+        for (uint32_t i = 0; i < 3 * nv; ++i)
+            if (target[i] > 0)
+                assert_float_equal(t[i] / target[i], expect, 1e-4);
+    }
+    assert_int_equal(sam_runtime_translucency(rt, 0, -1.0f, 0, &err), SAM_ERR_INVALID_ARGUMENT);
+    free(ld);
+    free(target);
+    free(t);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_context),
+        cmocka_unit_test(test_every_embedded_compute_shader_compiles),
+        cmocka_unit_test(test_shader_errors_name_file_and_line),
+        cmocka_unit_test(test_translucency_matches_cpu_skin),
+        cmocka_unit_test(test_translucency_matches_cpu_marble),
+        cmocka_unit_test(test_temporal_smoothing),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
