@@ -2,20 +2,35 @@
 #include "sam/sam_runtime.h"
 
 #include <math.h>
+
+#include "sam/sam_brdf.h"
 #include <stdlib.h>
 #include <string.h>
 
 enum { B_POSITIONS, B_NORMALS, B_SAMPLES, B_FAN_AREAS, B_IRRADIANCE, B_TRANSLUCENCY, B_ADJ_OFFSETS, B_ADJACENCY,
-       B_COUNT };
+       B_LIGHTS, B_RHO_DT, B_COUNT };
+
+/* std430 image of lights.glsl's Light. */
+typedef struct gpu_light {
+    float color_type[4], position[4], direction[4], params[4], normal[4], vertices[8][4];
+} gpu_light;
+
+#define RHO_SIZE SAM_BRDF_RHO_DT_TABLE_SIZE
+#define SKIN_F0 0.028f
 
 struct sam_runtime {
     uint32_t vertex_count, stride;
     float mm_per_unit;
     sam_profile profile;
     GLuint buffer[B_COUNT];
-    GLuint translucency_program;
+    GLuint translucency_program, irradiance_program;
     GLuint query[SAM_PASS_COUNT];
     int query_used[SAM_PASS_COUNT];
+    uint32_t light_count;
+    int has_environment;
+    float sh[9][3];
+    float roughness, rho_s, environment_rho_dt;
+    float rho_table[RHO_SIZE * RHO_SIZE];
 };
 
 float sam_runtime_smoothing_alpha(float dt)
@@ -113,9 +128,17 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
         (st = upload(rt, B_ADJACENCY, sam->adjacency, (size_t)sam->adjacency_count * sizeof(uint32_t), err)) !=
             SAM_OK)
         goto done;
-    if ((st = sam_gl_compute_program("translucency.comp", NULL, &rt->translucency_program, err)) != SAM_OK)
+    if ((st = sam_brdf_rho_dt_table(RHO_SIZE, RHO_SIZE, SKIN_F0, SAM_BRDF_ROUGHNESS_MAX, rt->rho_table, err)) !=
+            SAM_OK ||
+        (st = upload(rt, B_RHO_DT, rt->rho_table, sizeof rt->rho_table, err)) != SAM_OK ||
+        (st = upload(rt, B_LIGHTS, NULL, sizeof(gpu_light), err)) != SAM_OK)
+        goto done;
+    if ((st = sam_gl_compute_program("translucency.comp", NULL, &rt->translucency_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("irradiance.comp", NULL, &rt->irradiance_program, err)) != SAM_OK)
         goto done;
     set_profile_uniforms(rt->translucency_program, profile);
+    if ((st = sam_runtime_set_surface(rt, 0.3f, 0.18f, err)) != SAM_OK)
+        goto done;
 done:
     free(pos);
     free(nrm);
@@ -137,12 +160,109 @@ void sam_runtime_destroy(sam_runtime *rt)
     glDeleteQueries(SAM_PASS_COUNT, rt->query);
     if (rt->translucency_program)
         glDeleteProgram(rt->translucency_program);
+    if (rt->irradiance_program)
+        glDeleteProgram(rt->irradiance_program);
     free(rt);
 }
 
 uint32_t sam_runtime_vertex_count(const sam_runtime *rt)
 {
     return rt->vertex_count;
+}
+
+sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size_t count, sam_error *err)
+{
+    if (count > SAM_SCENE_MAX_LIGHTS || (count && !lights))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: %zu lights (at most %d)", count,
+                        SAM_SCENE_MAX_LIGHTS);
+    gpu_light *g = calloc(count ? count : 1, sizeof *g);
+    if (!g)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory");
+    const double deg = 3.14159265358979323846 / 180.0;
+    for (size_t i = 0; i < count; ++i) {
+        const sam_light *l = &lights[i];
+        for (int c = 0; c < 3; ++c) {
+            g[i].color_type[c] = l->color[c] * l->intensity;
+            g[i].position[c] = l->position[c];
+            g[i].direction[c] = l->direction[c];
+            g[i].normal[c] = l->normal[c];
+        }
+        g[i].color_type[3] = (float)l->type;
+        g[i].position[3] = (float)l->vertex_count;
+        g[i].direction[3] = (float)cos(l->inner_angle_deg * deg);
+        g[i].params[0] = (float)cos(l->outer_angle_deg * deg);
+        g[i].params[1] = (float)l->two_sided;
+        g[i].params[2] = -1.0f;
+        for (uint32_t k = 0; k < l->vertex_count && k < SAM_AREA_LIGHT_MAX_VERTICES; ++k)
+            memcpy(g[i].vertices[k], l->vertices[k], 3 * sizeof(float));
+    }
+    sam_status st = upload(rt, B_LIGHTS, g, (count ? count : 1) * sizeof *g, err);
+    free(g);
+    if (st == SAM_OK)
+        rt->light_count = (uint32_t)count;
+    return st;
+}
+
+void sam_runtime_set_environment(sam_runtime *rt, const float sh[9][3])
+{
+    rt->has_environment = sh != NULL;
+    if (sh)
+        memcpy(rt->sh, sh, sizeof rt->sh);
+}
+
+float sam_runtime_rho_dt(const sam_runtime *rt, float n_dot_l)
+{
+    float table = sam_brdf_rho_dt_table_lookup(rt->rho_table, RHO_SIZE, RHO_SIZE, SAM_BRDF_ROUGHNESS_MAX, n_dot_l,
+                                               rt->roughness);
+    return 1.0f - (float)(3.14159265358979323846 * rt->rho_s) * (1.0f - table);
+}
+
+float sam_runtime_environment_rho_dt(const sam_runtime *rt)
+{
+    return rt->environment_rho_dt;
+}
+
+sam_status sam_runtime_set_surface(sam_runtime *rt, float roughness, float rho_s, sam_error *err)
+{
+    if (!(roughness > 0 && roughness <= SAM_BRDF_ROUGHNESS_MAX) || !(rho_s >= 0 && rho_s <= 1))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "runtime: roughness must be in (0, %g] and rho_s in [0, 1], got %g and %g",
+                        SAM_BRDF_ROUGHNESS_MAX, roughness, rho_s);
+    rt->roughness = roughness;
+    rt->rho_s = rho_s;
+    /* Uniform light from the hemisphere enters as 2 int_0^1 rho_dt(mu) mu dmu. */
+    double sum = 0;
+    const int steps = 256;
+    for (int i = 0; i < steps; ++i) {
+        double mu = (i + 0.5) / steps;
+        sum += sam_runtime_rho_dt(rt, (float)mu) * mu;
+    }
+    rt->environment_rho_dt = (float)(2.0 * sum / steps);
+    return SAM_OK;
+}
+
+sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
+{
+    (void)err;
+    GLuint p = rt->irradiance_program;
+    glUseProgram(p);
+    glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
+    glUniform1ui(glGetUniformLocation(p, "u_light_count"), rt->light_count);
+    glUniform3fv(glGetUniformLocation(p, "u_sh"), 9, &rt->sh[0][0]);
+    glUniform1i(glGetUniformLocation(p, "u_has_environment"), rt->has_environment);
+    glUniform1f(glGetUniformLocation(p, "u_environment_rho_dt"), rt->environment_rho_dt);
+    glUniform1i(glGetUniformLocation(p, "u_rho_size_ndotl"), RHO_SIZE);
+    glUniform1i(glGetUniformLocation(p, "u_rho_size_roughness"), RHO_SIZE);
+    glUniform1f(glGetUniformLocation(p, "u_roughness_coord"), rt->roughness / SAM_BRDF_ROUGHNESS_MAX);
+    glUniform1f(glGetUniformLocation(p, "u_specular_k"), (float)(3.14159265358979323846 * rt->rho_s));
+    for (int b = 0; b < B_COUNT; ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+    glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_IRRADIANCE]);
+    glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+    glEndQuery(GL_TIME_ELAPSED);
+    rt->query_used[SAM_PASS_IRRADIANCE] = 1;
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    return SAM_OK;
 }
 
 sam_status sam_runtime_set_irradiance(sam_runtime *rt, const float *rgb, sam_error *err)

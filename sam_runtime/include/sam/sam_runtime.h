@@ -11,7 +11,12 @@
  *   binding 4  L_d         vec4 per vertex (rgb irradiance entering the surface)
  *   binding 5  T           vec4 per vertex (rgb translucency, smoothed)
  *   binding 6  adjacency offsets, binding 7 adjacency entries (uint)
- * and compiles the passes. The translucency pass evaluates eq. 12 with
+ *   binding 8  lights, binding 9 the rho_dt table
+ * and compiles the passes. The irradiance pass computes L_d (eq. 4): each
+ * light's irradiance by the formulas of sam_light_irradiance times
+ * rho_dt(N.L) = 1 - k (1 - table(N.L, m)) (d'Eon Sec. 6; k = pi rho_s, the
+ * specular lobe's scale), plus the environment's SH-9 irradiance times the
+ * cosine-weighted mean of rho_dt over the hemisphere. The translucency pass evaluates eq. 12 with
  * K = K' F'_b R_d(|v_b - v|) (eq. 15) and smooths it in time (eq. 17-18),
  * T <- (1 - alpha) T_prev + alpha T, alpha = 1 - (1e-10)^dt. Results stay on
  * the GPU; read-back functions exist for tests and tools.
@@ -24,6 +29,7 @@
 
 #include "sam/sam_gl.h"
 #include "sam/sam_profile.h"
+#include "sam/sam_scene.h"
 #include "sam/samfile.h"
 
 #ifdef __cplusplus
@@ -48,6 +54,26 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
 void sam_runtime_destroy(sam_runtime *rt);
 
 uint32_t sam_runtime_vertex_count(const sam_runtime *rt);
+
+/* The lights of a scene (copied; `count` <= SAM_SCENE_MAX_LIGHTS).
+ * Errors: SAM_ERR_INVALID_ARGUMENT. */
+sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size_t count, sam_error *err);
+
+/* The environment's radiance SH (sam_light_sh9_from_latlong), or NULL for none. */
+void sam_runtime_set_environment(sam_runtime *rt, const float sh[9][3]);
+
+/* The specular lobe that rho_dt removes: Beckmann roughness m in
+ * (0, 1] and rho_s (d'Eon's skin: m = 0.3, rho_s = 0.18, the defaults).
+ * Errors: SAM_ERR_INVALID_ARGUMENT. */
+sam_status sam_runtime_set_surface(sam_runtime *rt, float roughness, float rho_s, sam_error *err);
+
+/* rho_dt for a light at cosine n_dot_l, and the environment's mean, as the
+ * GPU evaluates them (for references and tools). */
+float sam_runtime_rho_dt(const sam_runtime *rt, float n_dot_l);
+float sam_runtime_environment_rho_dt(const sam_runtime *rt);
+
+/* Runs the irradiance pass: L_d at every vertex, unshadowed. */
+sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err);
 
 /* Sets L_d for every vertex from the CPU (3 * vertex_count floats). */
 sam_status sam_runtime_set_irradiance(sam_runtime *rt, const float *rgb, sam_error *err);
