@@ -111,6 +111,9 @@ void sam_gl_context_destroy(sam_gl_context *c)
         if (c->context != EGL_NO_CONTEXT)
             eglDestroyContext(c->display, c->context);
         eglTerminate(c->display);
+        /* EGL keeps per-thread state (the bound API, the last error) until
+         * the thread releases it. */
+        eglReleaseThread();
     }
     free(c);
 }
