@@ -1,7 +1,7 @@
 #version 430 core
 // Depth of the mesh seen from a light. Cube maps (point and area lights)
-// store the distance to the light over u_far; 2D maps (spot, directional)
-// the projected depth.
+// and spot maps store the distance to the light over u_far; directional
+// maps the projected (orthographic, so linear) depth.
 layout(location = 0) in vec4 a_position;
 
 uniform mat4 u_model;       // model units to the scene's world (identity for now)

@@ -372,6 +372,117 @@ static void test_irradiance_matches_cpu(void **state)
     samfile_free(&d);
 }
 
+/* Two slabs, the smaller 1 unit below the larger, as a .sam. */
+static void two_slabs(samfile_data *out, sam_profile *profile)
+{
+    sam_shape_params sp;
+    sam_error err;
+    assert_int_equal(sam_shape_default_params("slab", &sp, &err), SAM_OK);
+    sam_shape_mesh a, b;
+    sp.resolution = 16, sp.size = sp.depth = 2.0, sp.thickness = 0.2;
+    assert_int_equal(sam_shape_generate("slab", &sp, &a, &err), SAM_OK);
+    sp.resolution = 8, sp.size = sp.depth = 1.0;
+    assert_int_equal(sam_shape_generate("slab", &sp, &b, &err), SAM_OK);
+    uint32_t nv = a.vertex_count + b.vertex_count, nt = a.triangle_count + b.triangle_count;
+    float *pos = malloc(nv * 3 * sizeof *pos);
+    uint32_t *tri = malloc(nt * 3 * sizeof *tri);
+    memcpy(pos, a.positions, a.vertex_count * 3 * sizeof *pos);
+    for (uint32_t v = 0; v < b.vertex_count; ++v) {
+        memcpy(pos + 3 * (a.vertex_count + v), b.positions + 3 * v, 3 * sizeof *pos);
+        pos[3 * (a.vertex_count + v) + 1] -= 1.0f;
+    }
+    memcpy(tri, a.triangles, a.triangle_count * 3 * sizeof *tri);
+    for (uint32_t t = 0; t < 3 * b.triangle_count; ++t)
+        tri[3 * a.triangle_count + t] = b.triangles[t] + a.vertex_count;
+    sam_mesh_input in = {.name = "slabs", .vertex_count = nv, .positions = pos, .triangle_count = nt,
+                         .triangles = tri};
+    sam_mesh mesh;
+    assert_int_equal(sam_mesh_create(&in, &mesh, NULL, &err), SAM_OK);
+    assert_int_equal(sam_profile_preset("marble", profile, &err), SAM_OK);
+    sam_build_settings set;
+    sam_build_default_settings(&set);
+    sam_build_context *ctx;
+    assert_int_equal(sam_build_context_create(&mesh, profile, 10.0f, &set, &ctx, &err), SAM_OK);
+    sam_build_result r;
+    assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, &err), SAM_OK);
+    assert_int_equal(sam_build_to_samfile(ctx, &r, NULL, out, &err), SAM_OK);
+    sam_build_result_destroy(&r);
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+    sam_shape_mesh_destroy(&a);
+    sam_shape_mesh_destroy(&b);
+    free(pos);
+    free(tri);
+}
+
+/* A vertex occluded from a shadowed light by another object gets none of
+ * its light; unoccluded ones get exactly the unshadowed value. */
+static void test_shadows_block_light(void **state)
+{
+    (void)state;
+    samfile_data d;
+    sam_profile profile;
+    two_slabs(&d, &profile);
+    sam_runtime *rt;
+    sam_error err;
+    assert_int_equal(sam_runtime_create(&d, &profile, 10.0f, &rt, &err), SAM_OK);
+    uint32_t nv = d.vertex_count;
+    float *gpu = malloc(nv * 3 * sizeof *gpu);
+    double *cpu = malloc(nv * 3 * sizeof *cpu);
+    const char *names[4] = {"point", "spot", "directional", "area"};
+    for (int type = 0; type < 4; ++type) {
+        sam_light l;
+        memset(&l, 0, sizeof l);
+        l.type = (sam_light_type)type;
+        l.color[0] = l.color[1] = l.color[2] = 1.0f;
+        l.intensity = 5.0f;
+        l.shadow = 1;
+        memcpy(l.position, (float[3]){0.05f, 3.0f, 0.1f}, 3 * sizeof(float));
+        memcpy(l.direction, (float[3]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
+        l.inner_angle_deg = 30.0f, l.outer_angle_deg = 45.0f;
+        l.vertex_count = 4;
+        float quad[4][3] = {{-0.2f, 3.0f, -0.2f}, {-0.2f, 3.0f, 0.2f}, {0.2f, 3.0f, 0.2f}, {0.2f, 3.0f, -0.2f}};
+        memcpy(l.vertices, quad, sizeof quad);
+        memcpy(l.normal, (float[3]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
+        assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+        sam_runtime_set_environment(rt, NULL);
+        assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+        assert_int_equal(sam_runtime_read_irradiance(rt, gpu, &err), SAM_OK);
+        cpu_irradiance(&d, rt, &l, 1, NULL, cpu);
+        uint32_t hidden = 0, lit = 0;
+        double worst_hidden = 0, worst_lit = 0;
+        for (uint32_t v = 0; v < nv; ++v) {
+            const float *p = d.positions + 3 * v;
+            if (fabsf(p[0]) > 0.45f || fabsf(p[2]) > 0.45f)
+                continue; /* away from rims, where normals bend */
+            if (fabsf(p[1] - 0.1f) < 1e-4f) { /* the top of the upper slab: in full light */
+                lit++;
+                worst_lit = fmax(worst_lit, fabs(gpu[3 * v] - cpu[3 * v]) / cpu[3 * v]);
+            } else if (fabsf(p[1] + 0.9f) < 1e-4f) { /* the top of the lower slab: behind it */
+                hidden++;
+                assert_true(cpu[3 * v] > 0);
+                worst_hidden = fmax(worst_hidden, gpu[3 * v] / cpu[3 * v]);
+            }
+        }
+        printf("%s light: %u occluded vertices get at most %.2e of their unshadowed light; %u lit ones are "
+               "within %.2e of it\n", names[type], hidden, worst_hidden, lit, worst_lit);
+        assert_true(hidden > 20 && lit > 20);
+        assert_true(worst_hidden == 0.0);
+        assert_true(worst_lit <= 1e-4);
+    }
+    /* Five shadowed point lights are more than the runtime keeps maps for. */
+    sam_light many[5];
+    memset(many, 0, sizeof many);
+    for (int i = 0; i < 5; ++i)
+        many[i].shadow = 1, many[i].intensity = 1, many[i].position[1] = 3.0f + (float)i;
+    assert_int_equal(sam_runtime_set_lights(rt, many, 5, &err), SAM_ERR_UNSUPPORTED);
+    assert_non_null(strstr(err.message, "5 shadowed point/area"));
+    free(gpu);
+    free(cpu);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -382,6 +493,7 @@ int main(void)
         cmocka_unit_test(test_translucency_matches_cpu_marble),
         cmocka_unit_test(test_temporal_smoothing),
         cmocka_unit_test(test_irradiance_matches_cpu),
+        cmocka_unit_test(test_shadows_block_light),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

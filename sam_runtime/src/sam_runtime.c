@@ -4,11 +4,17 @@
 #include <math.h>
 
 #include "sam/sam_brdf.h"
+#include "sam_mat4.h"
 #include <stdlib.h>
 #include <string.h>
 
 enum { B_POSITIONS, B_NORMALS, B_SAMPLES, B_FAN_AREAS, B_IRRADIANCE, B_TRANSLUCENCY, B_ADJ_OFFSETS, B_ADJACENCY,
-       B_LIGHTS, B_RHO_DT, B_COUNT };
+       B_LIGHTS, B_RHO_DT, B_TRIANGLES, B_COUNT };
+
+#define MAX_CUBE_SHADOWS 4
+#define MAX_FLAT_SHADOWS 4
+#define CUBE_SHADOW_SIZE 512
+#define FLAT_SHADOW_SIZE 1024
 
 /* std430 image of lights.glsl's Light. */
 typedef struct gpu_light {
@@ -31,6 +37,17 @@ struct sam_runtime {
     float sh[9][3];
     float roughness, rho_s, environment_rho_dt;
     float rho_table[RHO_SIZE * RHO_SIZE];
+
+    /* Shadow maps. */
+    uint32_t triangle_count;
+    float centre[3], radius; /* bounding sphere of the positions, model units */
+    GLuint vao, fbo, shadow_program;
+    GLuint cube_tex[MAX_CUBE_SHADOWS], flat_tex[MAX_FLAT_SHADOWS];
+    uint32_t cube_count, flat_count;
+    float cube_origin[MAX_CUBE_SHADOWS][3], cube_far[MAX_CUBE_SHADOWS];
+    sam_mat4 flat_matrix[MAX_FLAT_SHADOWS];
+    float flat_origin[MAX_FLAT_SHADOWS][3], flat_far[MAX_FLAT_SHADOWS]; /* far = 0: projected depth */
+    sam_light *lights;
 };
 
 float sam_runtime_smoothing_alpha(float dt)
@@ -126,7 +143,34 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
         (st = upload(rt, B_TRANSLUCENCY, zero, nv * 4 * sizeof(float), err)) != SAM_OK ||
         (st = upload(rt, B_ADJ_OFFSETS, sam->adjacency_offsets, (nv + 1) * sizeof(uint32_t), err)) != SAM_OK ||
         (st = upload(rt, B_ADJACENCY, sam->adjacency, (size_t)sam->adjacency_count * sizeof(uint32_t), err)) !=
+            SAM_OK ||
+        (st = upload(rt, B_TRIANGLES, sam->triangles, (size_t)sam->triangle_count * 3 * sizeof(uint32_t), err)) !=
             SAM_OK)
+        goto done;
+    rt->triangle_count = sam->triangle_count;
+    {
+        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (size_t v = 0; v < nv; ++v)
+            for (int c = 0; c < 3; ++c) {
+                lo[c] = fminf(lo[c], sam->positions[3 * v + c]);
+                hi[c] = fmaxf(hi[c], sam->positions[3 * v + c]);
+            }
+        double r2 = 0;
+        for (int c = 0; c < 3; ++c) {
+            rt->centre[c] = 0.5f * (lo[c] + hi[c]);
+            r2 += 0.25 * ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+        }
+        rt->radius = (float)sqrt(r2);
+    }
+    glGenVertexArrays(1, &rt->vao);
+    glBindVertexArray(rt->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, rt->buffer[B_POSITIONS]);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), NULL);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, rt->buffer[B_TRIANGLES]);
+    glBindVertexArray(0);
+    glGenFramebuffers(1, &rt->fbo);
+    if ((st = sam_gl_render_program("shadow.vert", "shadow.frag", NULL, &rt->shadow_program, err)) != SAM_OK)
         goto done;
     if ((st = sam_brdf_rho_dt_table(RHO_SIZE, RHO_SIZE, SKIN_F0, SAM_BRDF_ROUGHNESS_MAX, rt->rho_table, err)) !=
             SAM_OK ||
@@ -162,6 +206,13 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->translucency_program);
     if (rt->irradiance_program)
         glDeleteProgram(rt->irradiance_program);
+    if (rt->shadow_program)
+        glDeleteProgram(rt->shadow_program);
+    glDeleteVertexArrays(1, &rt->vao);
+    glDeleteFramebuffers(1, &rt->fbo);
+    glDeleteTextures(MAX_CUBE_SHADOWS, rt->cube_tex);
+    glDeleteTextures(MAX_FLAT_SHADOWS, rt->flat_tex);
+    free(rt->lights);
     free(rt);
 }
 
@@ -175,9 +226,32 @@ sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size
     if (count > SAM_SCENE_MAX_LIGHTS || (count && !lights))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: %zu lights (at most %d)", count,
                         SAM_SCENE_MAX_LIGHTS);
+    uint32_t cubes = 0, flats = 0;
+    for (size_t i = 0; i < count; ++i) {
+        if (!lights[i].shadow)
+            continue;
+        if (lights[i].type == SAM_LIGHT_POINT || lights[i].type == SAM_LIGHT_AREA)
+            cubes++;
+        else
+            flats++;
+    }
+    if (cubes > MAX_CUBE_SHADOWS || flats > MAX_FLAT_SHADOWS)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                        "runtime: %u shadowed point/area and %u shadowed spot/directional lights; at most %d of each "
+                        "(turn \"shadow\" off for the others)",
+                        cubes, flats, MAX_CUBE_SHADOWS);
     gpu_light *g = calloc(count ? count : 1, sizeof *g);
-    if (!g)
+    sam_light *copy = malloc((count ? count : 1) * sizeof *copy);
+    if (!g || !copy) {
+        free(g);
+        free(copy);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory");
+    }
+    if (count)
+        memcpy(copy, lights, count * sizeof *copy);
+    free(rt->lights);
+    rt->lights = copy;
+    rt->cube_count = rt->flat_count = 0;
     const double deg = 3.14159265358979323846 / 180.0;
     for (size_t i = 0; i < count; ++i) {
         const sam_light *l = &lights[i];
@@ -193,6 +267,11 @@ sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size
         g[i].params[0] = (float)cos(l->outer_angle_deg * deg);
         g[i].params[1] = (float)l->two_sided;
         g[i].params[2] = -1.0f;
+        if (l->shadow) {
+            int cube = l->type == SAM_LIGHT_POINT || l->type == SAM_LIGHT_AREA;
+            g[i].params[2] = (float)(cube ? rt->cube_count++ : rt->flat_count++);
+            g[i].params[3] = (float)cube;
+        }
         for (uint32_t k = 0; k < l->vertex_count && k < SAM_AREA_LIGHT_MAX_VERTICES; ++k)
             memcpy(g[i].vertices[k], l->vertices[k], 3 * sizeof(float));
     }
@@ -241,9 +320,129 @@ sam_status sam_runtime_set_surface(sam_runtime *rt, float roughness, float rho_s
     return SAM_OK;
 }
 
+static GLuint shadow_texture(GLenum target, GLsizei size)
+{
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(target, tex);
+    if (target == GL_TEXTURE_CUBE_MAP)
+        for (int f = 0; f < 6; ++f)
+            glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, GL_DEPTH_COMPONENT32F, size, size, 0,
+                         GL_DEPTH_COMPONENT, GL_FLOAT, NULL);
+    else
+        glTexImage2D(target, 0, GL_DEPTH_COMPONENT32F, size, size, 0, GL_DEPTH_COMPONENT, GL_FLOAT, NULL);
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTexParameteri(target, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    return tex;
+}
+
+static void draw_depth(sam_runtime *rt, GLenum attach_target, GLuint tex, GLsizei size, sam_mat4 view_proj,
+                       int distance, const float light[3], float far_plane)
+{
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, attach_target, tex, 0);
+    glViewport(0, 0, size, size);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    GLuint p = rt->shadow_program;
+    sam_mat4 identity = sam_mat4_identity();
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_model"), 1, GL_FALSE, identity.m);
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_view_proj"), 1, GL_FALSE, view_proj.m);
+    glUniform1i(glGetUniformLocation(p, "u_distance"), distance);
+    glUniform3fv(glGetUniformLocation(p, "u_light"), 1, light);
+    glUniform1f(glGetUniformLocation(p, "u_far"), far_plane);
+    glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
+}
+
+/* Renders every shadowed light's map from the current positions. */
+static void render_shadows(sam_runtime *rt)
+{
+    if (!rt->cube_count && !rt->flat_count)
+        return;
+    glBindFramebuffer(GL_FRAMEBUFFER, rt->fbo);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glBindVertexArray(rt->vao);
+    glUseProgram(rt->shadow_program);
+    static const float face_dir[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const float face_up[6][3] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    uint32_t cube = 0, flat = 0;
+    for (uint32_t i = 0; i < rt->light_count; ++i) {
+        const sam_light *l = &rt->lights[i];
+        if (!l->shadow)
+            continue;
+        if (l->type == SAM_LIGHT_POINT || l->type == SAM_LIGHT_AREA) {
+            float o[3];
+            memcpy(o, l->position, sizeof o);
+            if (l->type == SAM_LIGHT_AREA) {
+                o[0] = o[1] = o[2] = 0;
+                for (uint32_t k = 0; k < l->vertex_count; ++k)
+                    for (int c = 0; c < 3; ++c)
+                        o[c] += l->vertices[k][c] / (float)l->vertex_count;
+            }
+            float dc = sqrtf((o[0] - rt->centre[0]) * (o[0] - rt->centre[0]) +
+                             (o[1] - rt->centre[1]) * (o[1] - rt->centre[1]) +
+                             (o[2] - rt->centre[2]) * (o[2] - rt->centre[2]));
+            float far_plane = 1.01f * (dc + rt->radius), near_plane = 1e-4f * far_plane;
+            if (!rt->cube_tex[cube])
+                rt->cube_tex[cube] = shadow_texture(GL_TEXTURE_CUBE_MAP, CUBE_SHADOW_SIZE);
+            sam_mat4 proj = sam_mat4_perspective(3.14159265f / 2, 1.0f, near_plane, far_plane);
+            for (int f = 0; f < 6; ++f) {
+                float target[3] = {o[0] + face_dir[f][0], o[1] + face_dir[f][1], o[2] + face_dir[f][2]};
+                sam_mat4 vp = sam_mat4_mul(proj, sam_mat4_look_at(o, target, face_up[f]));
+                draw_depth(rt, GL_TEXTURE_CUBE_MAP_POSITIVE_X + (GLenum)f, rt->cube_tex[cube], CUBE_SHADOW_SIZE, vp,
+                           1, o, far_plane);
+            }
+            memcpy(rt->cube_origin[cube], o, sizeof o);
+            rt->cube_far[cube] = far_plane;
+            cube++;
+        } else {
+            const float *d = l->direction;
+            float up[3] = {0, 1, 0};
+            if (fabsf(d[1]) > 0.9f)
+                up[0] = 1, up[1] = 0;
+            sam_mat4 vp;
+            float far_plane = 0.0f;
+            if (l->type == SAM_LIGHT_SPOT) {
+                float dc = sqrtf((l->position[0] - rt->centre[0]) * (l->position[0] - rt->centre[0]) +
+                                 (l->position[1] - rt->centre[1]) * (l->position[1] - rt->centre[1]) +
+                                 (l->position[2] - rt->centre[2]) * (l->position[2] - rt->centre[2]));
+                far_plane = 1.01f * (dc + rt->radius);
+                float fov = fminf(2.0f * l->outer_angle_deg, 170.0f) * 3.14159265f / 180.0f;
+                float target[3] = {l->position[0] + d[0], l->position[1] + d[1], l->position[2] + d[2]};
+                vp = sam_mat4_mul(sam_mat4_perspective(fov, 1.0f, 1e-3f * far_plane, far_plane),
+                                  sam_mat4_look_at(l->position, target, up));
+            } else {
+                float r = 1.01f * rt->radius;
+                float eye[3] = {rt->centre[0] - d[0] * 2 * r, rt->centre[1] - d[1] * 2 * r,
+                                rt->centre[2] - d[2] * 2 * r};
+                vp = sam_mat4_mul(sam_mat4_ortho(-r, r, -r, r, 0.0f, 4 * r), sam_mat4_look_at(eye, rt->centre, up));
+            }
+            if (!rt->flat_tex[flat])
+                rt->flat_tex[flat] = shadow_texture(GL_TEXTURE_2D, FLAT_SHADOW_SIZE);
+            /* A spot map stores distance / far like a cube map: projected
+             * depth crowds near 1 and leaves no room for a bias. */
+            draw_depth(rt, GL_TEXTURE_2D, rt->flat_tex[flat], FLAT_SHADOW_SIZE, vp, far_plane > 0, l->position,
+                       far_plane);
+            rt->flat_matrix[flat] = vp;
+            memcpy(rt->flat_origin[flat], l->position, sizeof rt->flat_origin[flat]);
+            rt->flat_far[flat] = far_plane;
+            flat++;
+        }
+    }
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
 sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
 {
     (void)err;
+    render_shadows(rt);
     GLuint p = rt->irradiance_program;
     glUseProgram(p);
     glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
@@ -255,6 +454,30 @@ sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
     glUniform1i(glGetUniformLocation(p, "u_rho_size_roughness"), RHO_SIZE);
     glUniform1f(glGetUniformLocation(p, "u_roughness_coord"), rt->roughness / SAM_BRDF_ROUGHNESS_MAX);
     glUniform1f(glGetUniformLocation(p, "u_specular_k"), (float)(3.14159265358979323846 * rt->rho_s));
+    /* Every sampler gets a unit of its own type, used or not: GL rejects
+     * two sampler types on one unit. */
+    for (int i = 0; i < MAX_CUBE_SHADOWS; ++i) {
+        char name[32];
+        glActiveTexture(GL_TEXTURE0 + (GLenum)i);
+        glBindTexture(GL_TEXTURE_CUBE_MAP, rt->cube_tex[i]);
+        snprintf(name, sizeof name, "u_cube_shadow[%d]", i);
+        glUniform1i(glGetUniformLocation(p, name), i);
+    }
+    for (int i = 0; i < MAX_FLAT_SHADOWS; ++i) {
+        char name[32];
+        glActiveTexture(GL_TEXTURE0 + MAX_CUBE_SHADOWS + (GLenum)i);
+        glBindTexture(GL_TEXTURE_2D, rt->flat_tex[i]);
+        snprintf(name, sizeof name, "u_flat_shadow[%d]", i);
+        glUniform1i(glGetUniformLocation(p, name), MAX_CUBE_SHADOWS + i);
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1fv(glGetUniformLocation(p, "u_cube_far"), MAX_CUBE_SHADOWS, rt->cube_far);
+    glUniform3fv(glGetUniformLocation(p, "u_cube_origin"), MAX_CUBE_SHADOWS, &rt->cube_origin[0][0]);
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_flat_matrix"), MAX_FLAT_SHADOWS, GL_FALSE, rt->flat_matrix[0].m);
+    glUniform3fv(glGetUniformLocation(p, "u_flat_origin"), MAX_FLAT_SHADOWS, &rt->flat_origin[0][0]);
+    glUniform1fv(glGetUniformLocation(p, "u_flat_far"), MAX_FLAT_SHADOWS, rt->flat_far);
+    glUniform1f(glGetUniformLocation(p, "u_normal_offset"), 0.01f * rt->radius);
+    glUniform1f(glGetUniformLocation(p, "u_depth_bias"), 0.002f);
     for (int b = 0; b < B_COUNT; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
     glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_IRRADIANCE]);

@@ -55,8 +55,12 @@ void sam_runtime_destroy(sam_runtime *rt);
 
 uint32_t sam_runtime_vertex_count(const sam_runtime *rt);
 
-/* The lights of a scene (copied; `count` <= SAM_SCENE_MAX_LIGHTS).
- * Errors: SAM_ERR_INVALID_ARGUMENT. */
+/* The lights of a scene (copied; `count` <= SAM_SCENE_MAX_LIGHTS). Lights
+ * with `shadow` get a shadow map: a 512^2 cube of distances for point
+ * lights and for area lights (seen from the polygon's centroid), a 1024^2
+ * depth map with 4x4-texel PCF for spot and directional lights; at most 4
+ * of each kind. Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_UNSUPPORTED (too
+ * many shadowed lights, naming the counts). */
 sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size_t count, sam_error *err);
 
 /* The environment's radiance SH (sam_light_sh9_from_latlong), or NULL for none. */
@@ -72,7 +76,8 @@ sam_status sam_runtime_set_surface(sam_runtime *rt, float roughness, float rho_s
 float sam_runtime_rho_dt(const sam_runtime *rt, float n_dot_l);
 float sam_runtime_environment_rho_dt(const sam_runtime *rt);
 
-/* Runs the irradiance pass: L_d at every vertex, unshadowed. */
+/* Renders the shadow maps from the current positions, then runs the
+ * irradiance pass: L_d at every vertex. */
 sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err);
 
 /* Sets L_d for every vertex from the CPU (3 * vertex_count floats). */
