@@ -41,7 +41,8 @@ struct sam_runtime {
     /* Shadow maps. */
     uint32_t triangle_count;
     float centre[3], radius; /* bounding sphere of the positions, model units */
-    GLuint vao, fbo, shadow_program;
+    GLuint vao, fbo, shadow_program, shade_program;
+    float total_reflectance[3];
     GLuint cube_tex[MAX_CUBE_SHADOWS], flat_tex[MAX_FLAT_SHADOWS];
     uint32_t cube_count, flat_count;
     float cube_origin[MAX_CUBE_SHADOWS][3], cube_far[MAX_CUBE_SHADOWS];
@@ -167,11 +168,16 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
     glBindBuffer(GL_ARRAY_BUFFER, rt->buffer[B_POSITIONS]);
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), NULL);
+    glBindBuffer(GL_ARRAY_BUFFER, rt->buffer[B_NORMALS]);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), NULL);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, rt->buffer[B_TRIANGLES]);
     glBindVertexArray(0);
     glGenFramebuffers(1, &rt->fbo);
-    if ((st = sam_gl_render_program("shadow.vert", "shadow.frag", NULL, &rt->shadow_program, err)) != SAM_OK)
+    if ((st = sam_gl_render_program("shadow.vert", "shadow.frag", NULL, &rt->shadow_program, err)) != SAM_OK ||
+        (st = sam_gl_render_program("shade.vert", "shade.frag", NULL, &rt->shade_program, err)) != SAM_OK)
         goto done;
+    sam_profile_total_reflectance(profile, rt->total_reflectance);
     if ((st = sam_brdf_rho_dt_table(RHO_SIZE, RHO_SIZE, SKIN_F0, SAM_BRDF_ROUGHNESS_MAX, rt->rho_table, err)) !=
             SAM_OK ||
         (st = upload(rt, B_RHO_DT, rt->rho_table, sizeof rt->rho_table, err)) != SAM_OK ||
@@ -208,6 +214,8 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->irradiance_program);
     if (rt->shadow_program)
         glDeleteProgram(rt->shadow_program);
+    if (rt->shade_program)
+        glDeleteProgram(rt->shade_program);
     glDeleteVertexArrays(1, &rt->vao);
     glDeleteFramebuffers(1, &rt->fbo);
     glDeleteTextures(MAX_CUBE_SHADOWS, rt->cube_tex);
@@ -486,6 +494,99 @@ sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
     rt->query_used[SAM_PASS_IRRADIANCE] = 1;
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     return SAM_OK;
+}
+
+void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius)
+{
+    memcpy(centre, rt->centre, 3 * sizeof(float));
+    *radius = rt->radius;
+}
+
+sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!view->width || !view->height || view->width > 16384 || view->height > 16384 ||
+        !(view->fov_deg > 0 && view->fov_deg < 180))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: size %ux%u or field of view %g out of range",
+                        view->width, view->height, view->fov_deg);
+    sam_status st = sam_image_create(out, view->width, view->height, 4, err);
+    if (st != SAM_OK)
+        return st;
+    GLuint fbo, color, depth;
+    glGenFramebuffers(1, &fbo);
+    glGenTextures(1, &color);
+    glGenRenderbuffers(1, &depth);
+    glBindTexture(GL_TEXTURE_2D, color);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, (GLsizei)view->width, (GLsizei)view->height, 0, GL_RGBA, GL_FLOAT,
+                 NULL);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, (GLsizei)view->width, (GLsizei)view->height);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    glDrawBuffer(GL_COLOR_ATTACHMENT0);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        st = sam_fail(err, SAM_ERR_UNSUPPORTED, "render: framebuffer incomplete (0x%04x) at %ux%u", status,
+                      view->width, view->height);
+    } else {
+        float dist = sqrtf((view->eye[0] - rt->centre[0]) * (view->eye[0] - rt->centre[0]) +
+                           (view->eye[1] - rt->centre[1]) * (view->eye[1] - rt->centre[1]) +
+                           (view->eye[2] - rt->centre[2]) * (view->eye[2] - rt->centre[2]));
+        float far_plane = view->far_plane > 0 ? view->far_plane : dist + 2.0f * rt->radius;
+        float near_plane = view->near_plane > 0 ? view->near_plane : fmaxf(1e-4f * far_plane, dist - 2.0f * rt->radius);
+        sam_mat4 vp = sam_mat4_mul(sam_mat4_perspective(view->fov_deg * 3.14159265f / 180.0f,
+                                                        (float)view->width / (float)view->height, near_plane,
+                                                        far_plane),
+                                   sam_mat4_look_at(view->eye, view->target, view->up));
+        glViewport(0, 0, (GLsizei)view->width, (GLsizei)view->height);
+        glClearColor(0, 0, 0, 0);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glEnable(GL_DEPTH_TEST);
+        glDisable(GL_CULL_FACE);
+        GLuint p = rt->shade_program;
+        glUseProgram(p);
+        glUniformMatrix4fv(glGetUniformLocation(p, "u_view_proj"), 1, GL_FALSE, vp.m);
+        glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, view->eye);
+        glUniform3fv(glGetUniformLocation(p, "u_albedo"), 1, view->albedo);
+        glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
+        glUniform1i(glGetUniformLocation(p, "u_front"), view->front);
+        glUniform1i(glGetUniformLocation(p, "u_rho_size"), RHO_SIZE);
+        glUniform1f(glGetUniformLocation(p, "u_roughness_coord"), rt->roughness / SAM_BRDF_ROUGHNESS_MAX);
+        glUniform1f(glGetUniformLocation(p, "u_specular_k"), (float)(3.14159265358979323846 * rt->rho_s));
+        for (int b = 0; b < B_COUNT; ++b)
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+        glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_SHADE]);
+        glBindVertexArray(rt->vao);
+        glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
+        glBindVertexArray(0);
+        glEndQuery(GL_TIME_ELAPSED);
+        rt->query_used[SAM_PASS_SHADE] = 1;
+        /* GL's rows run bottom-up; images top-down. */
+        size_t row = (size_t)view->width * 4;
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        glReadPixels(0, 0, (GLsizei)view->width, (GLsizei)view->height, GL_RGBA, GL_FLOAT, out->pixels);
+        float *tmp = malloc(row * sizeof *tmp);
+        if (!tmp) {
+            st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: out of memory");
+        } else {
+            for (uint32_t y = 0; y < view->height / 2; ++y) {
+                float *a = out->pixels + y * row, *b = out->pixels + (view->height - 1 - y) * row;
+                memcpy(tmp, a, row * sizeof *tmp);
+                memcpy(a, b, row * sizeof *tmp);
+                memcpy(b, tmp, row * sizeof *tmp);
+            }
+            free(tmp);
+        }
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteTextures(1, &color);
+    glDeleteRenderbuffers(1, &depth);
+    if (st != SAM_OK)
+        sam_image_destroy(out);
+    return st;
 }
 
 sam_status sam_runtime_set_irradiance(sam_runtime *rt, const float *rgb, sam_error *err)

@@ -28,6 +28,7 @@
 #define SAM_RUNTIME_H
 
 #include "sam/sam_gl.h"
+#include "sam/sam_image.h"
 #include "sam/sam_profile.h"
 #include "sam/sam_scene.h"
 #include "sam/samfile.h"
@@ -39,8 +40,9 @@ extern "C" {
 typedef struct sam_runtime sam_runtime;
 
 typedef enum sam_pass {
-    SAM_PASS_IRRADIANCE = 0, /* L_d at every vertex */
+    SAM_PASS_IRRADIANCE = 0, /* shadow maps + L_d at every vertex */
     SAM_PASS_TRANSLUCENCY,   /* eq. 12 + smoothing */
+    SAM_PASS_SHADE,          /* the forward shading pass */
     SAM_PASS_COUNT
 } sam_pass;
 
@@ -88,6 +90,26 @@ sam_status sam_runtime_set_irradiance(sam_runtime *rt, const float *rgb, sam_err
  * replaces the history instead of blending (first frame, jumps).
  * Errors: SAM_ERR_INVALID_ARGUMENT (dt < 0 or not finite). */
 sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt, int reset, sam_error *err);
+
+/* A view of the object for sam_runtime_render. */
+typedef struct sam_render_view {
+    uint32_t width, height;  /* pixels */
+    float eye[3], target[3], up[3];
+    float fov_deg;           /* vertical */
+    float near_plane, far_plane; /* 0: from the object's bounds */
+    float albedo[3];
+    int front;               /* 1: front lighting + translucency; 0: translucency only */
+} sam_render_view;
+
+/* Renders the object with its current L_d and T into a linear HDR RGBA
+ * image (caller destroys it with sam_image_destroy): per pixel
+ * rho_dt(N.V) / pi * (R_total L_d [if front] + T) * albedo, alpha 1 on the
+ * object and 0 on the background. Errors: SAM_ERR_INVALID_ARGUMENT (size),
+ * SAM_ERR_UNSUPPORTED (incomplete framebuffer), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err);
+
+/* The object's bounding sphere in model units. */
+void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius);
 
 /* Reads L_d or T back (3 * vertex_count floats). */
 sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *err);

@@ -1,0 +1,25 @@
+#version 430 core
+// Forward shading of the mesh: per-vertex L_d and T come from the SAM
+// passes' buffers, indexed by the vertex the index buffer names.
+layout(location = 0) in vec4 a_position;
+layout(location = 1) in vec4 a_normal;
+
+layout(std430, binding = 4) readonly buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = 5) readonly buffer Translucency { vec4 translucency[]; };
+
+uniform mat4 u_view_proj;
+uniform vec3 u_eye;
+
+out vec3 v_normal;
+out vec3 v_to_eye;
+out vec3 v_irradiance;
+out vec3 v_translucency;
+
+void main()
+{
+    v_normal = a_normal.xyz;
+    v_to_eye = u_eye - a_position.xyz;
+    v_irradiance = irradiance[gl_VertexID].rgb;
+    v_translucency = translucency[gl_VertexID].rgb;
+    gl_Position = u_view_proj * vec4(a_position.xyz, 1.0);
+}

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# sam_render renders a scene headless (llvmpipe) to EXR + PNG + vertex dump,
+# identically twice; bad scenes and options give one error line and no
+# output. Args: BIN SRC TMP
+set -u
+bin=$1 src=$2 tmp=$3
+rm -rf "$tmp" && mkdir -p "$tmp"
+fail() { echo "FAIL: $*"; exit 1; }
+cp "$src/meshes/ear.obj" "$tmp/ear.obj"
+cat > "$tmp/scene.json" <<JSON
+{"mesh": "ear.obj", "material": "skin", "scale": {"mm_per_unit": 60},
+ "lights": [{"type": "point", "position": [0.1, 0.0, -1.2], "intensity": 6.0},
+            {"type": "area", "vertices": [[-1,1,1],[1,1,1],[1,1,-1],[-1,1,-1]], "intensity": 0.5, "shadow": false}],
+ "resolution": [96, 96]}
+JSON
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/a.exr" --png "$tmp/a.png" --dump-vertices "$tmp/a.csv" --frames 3 \
+  2> "$tmp/log.txt" || fail "render: $(cat "$tmp/log.txt")"
+grep -q "GPU ms: irradiance" "$tmp/log.txt" || fail "no pass timings: $(cat "$tmp/log.txt")"
+head -c 4 "$tmp/a.exr" | od -An -tx1 | grep -q "76 2f 31 01" || fail "not an EXR"
+head -c 8 "$tmp/a.png" | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 1a 0a" || fail "not a PNG"
+[ "$(head -1 "$tmp/a.csv")" = "vertex,ld_r,ld_g,ld_b,t_r,t_g,t_b" ] || fail "vertex dump header"
+awk -F, 'NR > 1 && $5 > 0 { lit++ } END { exit !(lit > 0) }' "$tmp/a.csv" || fail "no vertex has translucency"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/b.exr" --frames 3 2>/dev/null || fail "second render"
+cmp -s "$tmp/a.exr" "$tmp/b.exr" || fail "two renders of the same scene differ"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/none.exr" --technique none --frames 3 2>/dev/null || fail "technique none"
+cmp -s "$tmp/a.exr" "$tmp/none.exr" && fail "technique none looks the same as sam"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/t.exr" --translucency-only 2>/dev/null || fail "--translucency-only"
+
+expect_error() { # status label args...
+  local want=$1 label=$2; shift 2
+  "$bin/sam_render" "$@" -o "$tmp/bad.exr" > /dev/null 2> "$tmp/err.txt"
+  local rc=$?
+  [ $rc -eq "$want" ] || fail "$label: exit $rc, expected $want ($(cat "$tmp/err.txt"))"
+  [ "$(wc -l < "$tmp/err.txt")" -eq 1 ] || fail "$label: expected one line: $(cat "$tmp/err.txt")"
+  ls "$tmp"/bad.exr* > /dev/null 2>&1 && fail "$label: left output"
+  return 0
+}
+printf '{"material": "skin", "scale": {"mm_per_unit": 1}}' > "$tmp/nomesh.json"
+printf '{"mesh": "ear.obj", "material": "skin", "scale": {"mm_per_unit": "sixty"}}' > "$tmp/type.json"
+printf '{"mesh": "gone.obj", "material": "skin", "scale": {"mm_per_unit": 60}}' > "$tmp/missing.json"
+printf '{"mesh": "ear.obj", "material": "skin", "scale": {"mm_per_unit": 60}, "lights": [{"type": "point", "position": [0,0,1], "intensity": -1}]}' > "$tmp/negative.json"
+head -c 200 "$tmp/a.exr" > /dev/null
+"$bin/sam_build" "$tmp/ear.obj" -o "$tmp/ear.sam" --material skin --mm-per-unit 60 --quiet 2>/dev/null || fail "build"
+head -c 300 "$tmp/ear.sam" > "$tmp/broken.sam"
+printf '{"sam": "broken.sam"}' > "$tmp/broken.json"
+expect_error 1 "missing key" "$tmp/nomesh.json"
+expect_error 1 "wrong type" "$tmp/type.json"
+expect_error 1 "missing mesh" "$tmp/missing.json"
+expect_error 1 "negative intensity" "$tmp/negative.json"
+expect_error 1 "corrupted .sam" "$tmp/broken.json"
+expect_error 2 "bad technique" "$tmp/scene.json" --technique tsm
+expect_error 2 "bad frames" "$tmp/scene.json" --frames 0
+# A prebuilt .sam renders too, with its recorded material and scale.
+printf '{"sam": "ear.sam", "lights": [{"type": "point", "position": [0.1, 0.0, -1.2], "intensity": 6.0}], "resolution": [64, 64]}' > "$tmp/sam.json"
+"$bin/sam_render" "$tmp/sam.json" -o "$tmp/s.exr" 2>/dev/null || fail "scene with a .sam"
+"$bin/sam_render" --help | grep -q "usage: sam_render" || fail "--help"
+echo "sam_render cli: ok"
