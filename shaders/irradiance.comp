@@ -3,6 +3,7 @@
 // surface, each light's irradiance times rho_dt(N.L) (d'Eon Sec. 6), plus
 // the environment's SH-9 irradiance times its cosine-weighted mean rho_dt.
 #include "lights.glsl"
+#include "shadows.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -12,46 +13,6 @@ layout(std430, binding = 4) writeonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 8) readonly buffer Lights { Light lights[]; };
 layout(std430, binding = 9) readonly buffer RhoDt { float rho_dt_table[]; };
 
-// Shadow maps: point and area lights (from the area's centroid) get a cube
-// map of distance / far; spot and directional lights a 2D depth map seen
-// through u_flat_matrix. Light.params.z is the map index, -1 for none;
-// params.w is 1 for a cube map. Lookups happen at the vertex moved along
-// its normal by u_normal_offset (model units), against self-shadowing.
-uniform samplerCubeShadow u_cube_shadow[4];
-uniform float u_cube_far[4];
-uniform vec3 u_cube_origin[4];
-uniform sampler2DShadow u_flat_shadow[4];
-uniform mat4 u_flat_matrix[4];
-uniform vec3 u_flat_origin[4];
-uniform float u_flat_far[4];      // > 0: the map holds distance / far (spot)
-uniform float u_normal_offset;
-uniform float u_depth_bias;
-
-float shadow(Light l, vec3 p, vec3 n)
-{
-    int index = int(l.params.z);
-    if (index < 0)
-        return 1.0;
-    vec3 q = p + n * u_normal_offset;
-    if (l.params.w != 0.0) {
-        vec3 d = q - u_cube_origin[index];
-        return texture(u_cube_shadow[index], vec4(d, length(d) / u_cube_far[index] - u_depth_bias));
-    }
-    vec4 clip = u_flat_matrix[index] * vec4(q, 1.0);
-    vec3 ndc = clip.xyz / clip.w;
-    if (clip.w <= 0.0 || any(greaterThan(abs(ndc), vec3(1.0))))
-        return 1.0;
-    vec3 uvz = ndc * 0.5 + 0.5;
-    if (u_flat_far[index] > 0.0)
-        uvz.z = length(q - u_flat_origin[index]) / u_flat_far[index];
-    // 3x3 taps of the hardware 2x2 compare filter: a soft 4x4 texel PCF.
-    vec2 texel = 1.0 / vec2(textureSize(u_flat_shadow[index], 0));
-    float sum = 0.0;
-    for (int y = -1; y <= 1; ++y)
-        for (int x = -1; x <= 1; ++x)
-            sum += texture(u_flat_shadow[index], vec3(uvz.xy + vec2(x, y) * texel, uvz.z - u_depth_bias));
-    return sum / 9.0;
-}
 
 uniform uint u_vertex_count;
 uniform uint u_light_count;
@@ -87,7 +48,7 @@ float rho_dt(float n_dot_l)
 
 vec3 sh_irradiance(vec3 n)
 {
-    const float A0 = 3.14159265358979323846, A1 = 2.0 * A0 / 3.0, A2 = A0 / 4.0;
+    const float A0 = PI, A1 = 2.0 * A0 / 3.0, A2 = A0 / 4.0;
     float x = n.x, y = n.y, z = n.z;
     vec3 e = A0 * 0.282094792 * u_sh[0]
            + A1 * 0.488602512 * (y * u_sh[1] + z * u_sh[2] + x * u_sh[3])

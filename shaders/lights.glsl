@@ -1,6 +1,7 @@
 #version 430 core
 // Irradiance from one light at a surface point: the formulas of
 // sam_light_irradiance (sam_core/src/sam_light.c), which the tests compare.
+#include "constants.glsl"
 
 struct Light {
     vec4 color_type;    // rgb: color * intensity; w: 0 point, 1 spot, 2 directional, 3 area

@@ -3,7 +3,7 @@
 // formulas as sam_profile_eval (sam_core/src/sam_profile.c), fed from
 // sam_profile by the runtime.
 
-const float PI = 3.14159265358979323846;
+#include "constants.glsl"
 
 uniform int u_profile_kind;       // 0: sum of Gaussians, 1: dipole
 uniform int u_gaussian_count;

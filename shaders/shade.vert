@@ -10,6 +10,7 @@ layout(std430, binding = 5) readonly buffer Translucency { vec4 translucency[]; 
 uniform mat4 u_view_proj;
 uniform vec3 u_eye;
 
+out vec3 v_position;
 out vec3 v_normal;
 out vec3 v_to_eye;
 out vec3 v_irradiance;
@@ -17,6 +18,7 @@ out vec3 v_translucency;
 
 void main()
 {
+    v_position = a_position.xyz;
     v_normal = a_normal.xyz;
     v_to_eye = u_eye - a_position.xyz;
     v_irradiance = irradiance[gl_VertexID].rgb;

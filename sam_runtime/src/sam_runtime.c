@@ -447,21 +447,9 @@ static void render_shadows(sam_runtime *rt)
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
+/* Binds the shadow maps and their uniforms (shadows.glsl) to program p. */
+static void bind_shadows(const sam_runtime *rt, GLuint p)
 {
-    (void)err;
-    render_shadows(rt);
-    GLuint p = rt->irradiance_program;
-    glUseProgram(p);
-    glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
-    glUniform1ui(glGetUniformLocation(p, "u_light_count"), rt->light_count);
-    glUniform3fv(glGetUniformLocation(p, "u_sh"), 9, &rt->sh[0][0]);
-    glUniform1i(glGetUniformLocation(p, "u_has_environment"), rt->has_environment);
-    glUniform1f(glGetUniformLocation(p, "u_environment_rho_dt"), rt->environment_rho_dt);
-    glUniform1i(glGetUniformLocation(p, "u_rho_size_ndotl"), RHO_SIZE);
-    glUniform1i(glGetUniformLocation(p, "u_rho_size_roughness"), RHO_SIZE);
-    glUniform1f(glGetUniformLocation(p, "u_roughness_coord"), rt->roughness / SAM_BRDF_ROUGHNESS_MAX);
-    glUniform1f(glGetUniformLocation(p, "u_specular_k"), (float)(3.14159265358979323846 * rt->rho_s));
     /* Every sampler gets a unit of its own type, used or not: GL rejects
      * two sampler types on one unit. */
     for (int i = 0; i < MAX_CUBE_SHADOWS; ++i) {
@@ -486,6 +474,24 @@ sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
     glUniform1fv(glGetUniformLocation(p, "u_flat_far"), MAX_FLAT_SHADOWS, rt->flat_far);
     glUniform1f(glGetUniformLocation(p, "u_normal_offset"), 0.01f * rt->radius);
     glUniform1f(glGetUniformLocation(p, "u_depth_bias"), 0.002f);
+}
+
+sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
+{
+    (void)err;
+    render_shadows(rt);
+    GLuint p = rt->irradiance_program;
+    glUseProgram(p);
+    glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
+    glUniform1ui(glGetUniformLocation(p, "u_light_count"), rt->light_count);
+    glUniform3fv(glGetUniformLocation(p, "u_sh"), 9, &rt->sh[0][0]);
+    glUniform1i(glGetUniformLocation(p, "u_has_environment"), rt->has_environment);
+    glUniform1f(glGetUniformLocation(p, "u_environment_rho_dt"), rt->environment_rho_dt);
+    glUniform1i(glGetUniformLocation(p, "u_rho_size_ndotl"), RHO_SIZE);
+    glUniform1i(glGetUniformLocation(p, "u_rho_size_roughness"), RHO_SIZE);
+    glUniform1f(glGetUniformLocation(p, "u_roughness_coord"), rt->roughness / SAM_BRDF_ROUGHNESS_MAX);
+    glUniform1f(glGetUniformLocation(p, "u_specular_k"), (float)(3.14159265358979323846 * rt->rho_s));
+    bind_shadows(rt, p);
     for (int b = 0; b < B_COUNT; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
     glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_IRRADIANCE]);
@@ -554,6 +560,10 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         glUniform1i(glGetUniformLocation(p, "u_rho_size"), RHO_SIZE);
         glUniform1f(glGetUniformLocation(p, "u_roughness_coord"), rt->roughness / SAM_BRDF_ROUGHNESS_MAX);
         glUniform1f(glGetUniformLocation(p, "u_specular_k"), (float)(3.14159265358979323846 * rt->rho_s));
+        glUniform1f(glGetUniformLocation(p, "u_roughness"), rt->roughness);
+        glUniform1f(glGetUniformLocation(p, "u_f0"), SKIN_F0);
+        glUniform1ui(glGetUniformLocation(p, "u_light_count"), view->front ? rt->light_count : 0);
+        bind_shadows(rt, p);
         for (int b = 0; b < B_COUNT; ++b)
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
         glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_SHADE]);
