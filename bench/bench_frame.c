@@ -1,0 +1,192 @@
+/*
+ * bench_frame: the runtime's per-pass costs on the current GL device
+ * (llvmpipe without a GPU), measured side by side in one run.
+ *
+ * For knots at three resolutions (about 2k, 18k and 88k vertices; skin,
+ * N = 3): the irradiance
+ * pass (one shadowed point light + environment), the translucency pass and
+ * the shading pass at 1920x1080. Times are wall-clock around glFinish, the
+ * median of 15 runs (llvmpipe reports no timer-query time for compute),
+ * and GL timer queries where the driver gives them. The translucency pass
+ * is set against its bandwidth lower bound: the bytes it must move per
+ * vertex (its own position and T, and per sample the sample record, the
+ * back vertex's position, fan area and L_d) over the memory bandwidth
+ * measured here with memcpy.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "sam/sam_build.h"
+#include "sam/sam_runtime.h"
+#include "sam/sam_shape.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void die(const char *what, const sam_error *err)
+{
+    fprintf(stderr, "bench_frame: %s: %s\n", what, err ? err->message : "failed");
+    exit(1);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Copy bandwidth in bytes per second (read + write counted), best of 5. */
+static double memory_bandwidth(void)
+{
+    size_t n = 256u << 20;
+    char *a = malloc(n), *b = malloc(n);
+    if (!a || !b)
+        die("bandwidth buffers", NULL);
+    memset(a, 1, n);
+    memset(b, 2, n);
+    double best = 0;
+    for (int i = 0; i < 5; ++i) {
+        double t = now();
+        memcpy(b, a, n);
+        t = now() - t;
+        best = fmax(best, 2.0 * (double)n / t);
+        a[i] = b[n - 1 - i]; /* keep the copies observable */
+    }
+    free(a);
+    free(b);
+    return best;
+}
+
+typedef sam_status (*pass_fn)(sam_runtime *rt, void *user, sam_error *err);
+
+static sam_status run_irradiance(sam_runtime *rt, void *user, sam_error *err)
+{
+    (void)user;
+    return sam_runtime_irradiance(rt, err);
+}
+
+static sam_status run_translucency(sam_runtime *rt, void *user, sam_error *err)
+{
+    (void)user;
+    return sam_runtime_translucency(rt, 0, 1.0f / 60.0f, 0, err);
+}
+
+static sam_status run_shade(sam_runtime *rt, void *user, sam_error *err)
+{
+    sam_image img;
+    sam_status st = sam_runtime_render(rt, user, &img, err);
+    sam_image_destroy(&img);
+    return st;
+}
+
+/* Median wall time (ms) of `runs` calls, each closed by glFinish. */
+static double median_ms(sam_runtime *rt, pass_fn fn, void *user, int runs)
+{
+    double t[32];
+    sam_error err;
+    for (int i = 0; i < runs; ++i) {
+        glFinish();
+        double start = now();
+        if (fn(rt, user, &err) != SAM_OK)
+            die("pass", &err);
+        glFinish();
+        t[i] = 1e3 * (now() - start);
+    }
+    qsort(t, (size_t)runs, sizeof *t, cmp_double);
+    return t[runs / 2];
+}
+
+int main(int argc, char **argv)
+{
+    const char *json_path = argc > 2 && !strcmp(argv[1], "--json") ? argv[2] : "bench/results/frame.json";
+    sam_gl_context *gl;
+    sam_error err;
+    if (sam_gl_context_create_headless(&gl, &err) != SAM_OK)
+        die("GL", &err);
+    const sam_gl_info *info = sam_gl_context_info(gl);
+    double bandwidth = memory_bandwidth();
+    FILE *json = fopen(json_path, "w");
+    if (!json)
+        die(json_path, NULL);
+    fprintf(json, "{\n  \"renderer\": \"%s\",\n  \"memcpy_bandwidth_gb_s\": %.2f,\n  \"meshes\": [\n", info->renderer,
+            bandwidth * 1e-9);
+    printf("GL: %s; memcpy bandwidth %.1f GB/s\n", info->renderer, bandwidth * 1e-9);
+    printf("%9s %11s %13s %11s %12s %13s %10s %11s\n", "vertices", "irradiance", "translucency", "shade 1080p",
+           "Mvertices/s", "bound (ms)", "of bound", "SAM share");
+    const int resolutions[3] = {120, 400, 900};
+    sam_profile skin;
+    sam_profile_preset("skin", &skin, NULL);
+    for (int m = 0; m < 3; ++m) {
+        sam_shape_params sp;
+        sam_shape_default_params("knot", &sp, NULL);
+        sp.resolution = resolutions[m];
+        sam_shape_mesh s;
+        if (sam_shape_generate("knot", &sp, &s, &err) != SAM_OK)
+            die("knot", &err);
+        sam_mesh_input in = {.name = "knot", .vertex_count = s.vertex_count, .positions = s.positions,
+                             .uvs = s.uvs, .triangle_count = s.triangle_count, .triangles = s.triangles};
+        sam_mesh mesh;
+        if (sam_mesh_create(&in, &mesh, NULL, &err) != SAM_OK)
+            die("mesh", &err);
+        sam_shape_mesh_destroy(&s);
+        sam_build_settings set;
+        sam_build_default_settings(&set);
+        sam_build_context *ctx;
+        sam_build_result r;
+        samfile_data d;
+        if (sam_build_context_create(&mesh, &skin, 40.0f, &set, &ctx, &err) != SAM_OK ||
+            sam_build_run(ctx, NULL, NULL, &r, &err) != SAM_OK || sam_build_to_samfile(ctx, &r, NULL, &d, &err) != SAM_OK)
+            die("build", &err);
+        sam_build_result_destroy(&r);
+        sam_build_context_destroy(ctx);
+        sam_runtime *rt;
+        if (sam_runtime_create(&d, &skin, 40.0f, &rt, &err) != SAM_OK)
+            die("runtime", &err);
+        sam_light light;
+        memset(&light, 0, sizeof light);
+        light.type = SAM_LIGHT_POINT;
+        light.color[0] = light.color[1] = light.color[2] = 1.0f;
+        light.intensity = 2.0f;
+        light.shadow = 1;
+        light.position[2] = -2.0f;
+        float sh[9][3] = {{1.0f, 1.0f, 1.0f}};
+        if (sam_runtime_set_lights(rt, &light, 1, &err) != SAM_OK)
+            die("lights", &err);
+        sam_runtime_set_environment(rt, sh);
+        sam_render_view view;
+        memset(&view, 0, sizeof view);
+        view.width = 1920, view.height = 1080, view.fov_deg = 40.0f, view.front = 1;
+        view.eye[2] = 3.0f, view.up[1] = 1.0f;
+        view.albedo[0] = view.albedo[1] = view.albedo[2] = 0.8f;
+        double irr = median_ms(rt, run_irradiance, NULL, 15);
+        double tra = median_ms(rt, run_translucency, NULL, 15);
+        double sha = median_ms(rt, run_shade, &view, 5);
+        /* Bytes the translucency pass must move per vertex. */
+        double bytes = 16 + 16 + 16 + (double)d.samples_per_vertex * (16 + 16 + 4 + 16);
+        double bound = 1e3 * bytes * d.vertex_count / bandwidth;
+        double share = tra / (irr + tra + sha);
+        printf("%9u %9.3f ms %11.3f ms %8.2f ms %12.1f %13.3f %9.0f%% %10.1f%%\n", d.vertex_count, irr, tra, sha,
+               1e-3 * d.vertex_count / tra, bound, 100 * bound / tra, 100 * share);
+        fprintf(json,
+                "    {\"vertices\": %u, \"samples_per_vertex\": %u, \"irradiance_ms\": %.4f, \"translucency_ms\": "
+                "%.4f, \"shade_1080p_ms\": %.3f, \"translucency_vertices_per_s\": %.0f, \"bytes_per_vertex\": %.0f, "
+                "\"bandwidth_bound_ms\": %.4f, \"fraction_of_bound\": %.4f, \"translucency_share_1080p\": %.4f}%s\n",
+                d.vertex_count, d.samples_per_vertex, irr, tra, sha, 1e3 * d.vertex_count / tra, bytes, bound,
+                bound / tra, share, m < 2 ? "," : "");
+        sam_runtime_destroy(rt);
+        samfile_free(&d);
+        sam_mesh_destroy(&mesh);
+    }
+    fprintf(json, "  ]\n}\n");
+    fclose(json);
+    sam_gl_context_destroy(gl);
+    return 0;
+}
