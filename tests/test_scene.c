@@ -457,8 +457,6 @@ static const error_case error_cases[] = {
     {"{\"sam\": \"head.sam\", \"sam\": \"head.sam\"}", SAM_ERR_FORMAT, "scene.json: sam: duplicate key"},
     {"{\"sam\": \"head.sam\", \"Mesh\": 1}", SAM_ERR_FORMAT,
      "scene.json: Mesh: unknown key (expected one of: mesh, sam, material"},
-    {"{\"sam\": \"head.sam\", \"mesh\": \"head.obj\"}", SAM_ERR_FORMAT,
-     "scene.json: sam: expected either \"mesh\" or \"sam\", found both"},
     {"{\"albedo\": [1, 1, 1]}", SAM_ERR_FORMAT, "scene.json: mesh: missing (give \"mesh\" or \"sam\")"},
     {"{\"sam\": 5}", SAM_ERR_FORMAT, "scene.json: sam: expected a non-empty string, found 5"},
     {"{\"sam\": \"\"}", SAM_ERR_FORMAT, "scene.json: sam: expected a non-empty string, found \"\""},
@@ -717,6 +715,24 @@ static void test_load_errors_and_relative_paths(void **state)
     sam_scene_destroy(&s);
 }
 
+/* "mesh" with "sam": the .sam is that mesh's prebuilt map; both paths
+ * are kept (and written back), material and scale stay required. */
+static void test_mesh_with_prebuilt_sam(void **state)
+{
+    (void)state;
+    sam_scene s;
+    sam_error err;
+    assert_int_equal(parse("{\"mesh\": \"head.obj\", \"sam\": \"head.sam\", \"material\": \"skin\", "
+                           "\"scale\": {\"mm_per_unit\": 2}}",
+                           &s, &err),
+                     SAM_OK);
+    assert_non_null(s.mesh_path);
+    assert_non_null(s.sam_path);
+    sam_scene_destroy(&s);
+    assert_int_equal(parse("{\"mesh\": \"head.obj\", \"sam\": \"head.sam\"}", &s, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "material: missing"));
+}
+
 static void test_names(void **state)
 {
     (void)state;
@@ -739,6 +755,7 @@ int main(void)
         cmocka_unit_test(test_too_many_lights),
         cmocka_unit_test(test_every_truncation_fails),
         cmocka_unit_test(test_load_errors_and_relative_paths),
+        cmocka_unit_test(test_mesh_with_prebuilt_sam),
         cmocka_unit_test(test_names),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

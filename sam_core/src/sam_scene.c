@@ -806,15 +806,11 @@ static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scen
 
     const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(root, "mesh");
     const cJSON *sam = cJSON_GetObjectItemCaseSensitive(root, "sam");
-    if (mesh && sam)
-        return fail_at(p, SAM_ERR_FORMAT, "sam", "expected either \"mesh\" or \"sam\", found both");
     if (!mesh && !sam)
         return fail_at(p, SAM_ERR_FORMAT, "mesh", "missing (give \"mesh\" or \"sam\")");
-    if (mesh)
-        st = get_file(p, mesh, "mesh", &scene->mesh_path);
-    else
-        st = get_file(p, sam, "sam", &scene->sam_path);
-    if (st != SAM_OK)
+    if (mesh && (st = get_file(p, mesh, "mesh", &scene->mesh_path)) != SAM_OK)
+        return st;
+    if (sam && (st = get_file(p, sam, "sam", &scene->sam_path)) != SAM_OK)
         return st;
 
     const cJSON *v;

@@ -13,6 +13,7 @@
 #include "sam/sam_build.h"
 #include "sam/sam_light.h"
 #include "sam/sam_runtime.h"
+#include "sam/sam_sha256.h"
 
 static void usage(FILE *out)
 {
@@ -68,6 +69,22 @@ static sam_status load_object(const sam_scene *scene, samfile_data *sam, sam_pro
                           scene->sam_path);
         else
             st = sam_profile_parse_json(text, strlen(text), scene->sam_path, profile, err);
+        /* With "mesh" too, the .sam must be that mesh's map. */
+        if (st == SAM_OK && scene->mesh_path) {
+            const cJSON *source = info ? cJSON_GetObjectItemCaseSensitive(info, "source") : NULL;
+            const cJSON *sha = source ? cJSON_GetObjectItemCaseSensitive(source, "sha256") : NULL;
+            const cJSON *file = source ? cJSON_GetObjectItemCaseSensitive(source, "file") : NULL;
+            char hex[65];
+            st = sam_sha256_file(scene->mesh_path, hex, err);
+            if (st == SAM_OK && !cJSON_IsString(sha))
+                st = sam_fail(err, SAM_ERR_FORMAT, "%s: records no source hash, so it cannot be checked against %s",
+                              scene->sam_path, scene->mesh_path);
+            else if (st == SAM_OK && strcmp(sha->valuestring, hex))
+                st = sam_fail(err, SAM_ERR_FORMAT,
+                              "%s was built from another mesh (%s, sha256 %.12s...), not from %s (sha256 %.12s...)",
+                              scene->sam_path, cJSON_IsString(file) ? file->valuestring : "unnamed",
+                              sha->valuestring, scene->mesh_path, hex);
+        }
         cJSON_free(text);
         cJSON_Delete(info);
         if (scene->scale_kind == SAM_SCALE_MM_PER_UNIT)

@@ -53,5 +53,13 @@ expect_error 2 "bad frames" "$tmp/scene.json" --frames 0
 # A prebuilt .sam renders too, with its recorded material and scale.
 printf '{"sam": "ear.sam", "lights": [{"type": "point", "position": [0.1, 0.0, -1.2], "intensity": 6.0}], "resolution": [64, 64]}' > "$tmp/sam.json"
 "$bin/sam_render" "$tmp/sam.json" -o "$tmp/s.exr" 2>/dev/null || fail "scene with a .sam"
+# A scene pairing a mesh with its prebuilt .sam renders; a .sam built from
+# another mesh is refused.
+printf '{"mesh": "ear.obj", "sam": "ear.sam", "material": "skin", "scale": {"mm_per_unit": 60}, "resolution": [32, 32]}' > "$tmp/pair.json"
+"$bin/sam_render" "$tmp/pair.json" -o "$tmp/pair.exr" 2>/dev/null || fail "mesh with its own .sam"
+"$bin/sam_meshgen" sphere -o "$tmp/other.obj" --resolution 8 2>/dev/null || fail "meshgen"
+printf '{"mesh": "other.obj", "sam": "ear.sam", "material": "skin", "scale": {"mm_per_unit": 60}}' > "$tmp/other.json"
+expect_error 1 ".sam from another mesh" "$tmp/other.json"
+grep -q "was built from another mesh (ear.obj" "$tmp/err.txt" || fail "mismatch message: $(cat "$tmp/err.txt")"
 "$bin/sam_render" --help | grep -q "usage: sam_render" || fail "--help"
 echo "sam_render cli: ok"

@@ -7,7 +7,9 @@
  *
  * File format (keys not listed are errors, so a typo never goes unnoticed):
  *
- *   "mesh": "head.obj"  OR  "sam": "head.sam"      exactly one, required
+ *   "mesh": "head.obj"  and/or  "sam": "head.sam"  at least one; with both,
+ *        the .sam is the prebuilt map of that mesh (a renderer refuses it
+ *        when its recorded source hash is another file's)
  *   "material": "skin" | "marble" | ... | "my_profile.json"
  *        a sam_profile preset name, else a profile file (sam_profile_load).
  *        Required with "mesh"; optional with "sam" (absent: the material the
@@ -147,7 +149,7 @@ typedef struct sam_camera {
 } sam_camera;
 
 typedef struct sam_scene {
-    char *mesh_path; /* absolute; exactly one of mesh_path and sam_path is non-NULL */
+    char *mesh_path; /* absolute; at least one of mesh_path and sam_path is non-NULL */
     char *sam_path;
 
     char *material;      /* preset name as written, absolute profile path, or NULL ("sam" only) */
