@@ -3,9 +3,8 @@
  * (llvmpipe without a GPU), measured side by side in one run.
  *
  * For knots at three resolutions (about 2k, 18k and 88k vertices; skin,
- * N = 3): the irradiance
- * pass (one shadowed point light + environment), the translucency pass and
- * the shading pass at 1920x1080. Times are wall-clock around glFinish, the
+ * N = 3): the irradiance pass (one shadowed point light + environment), the
+ * translucency pass and the shading pass at 1920x1080. Times are wall-clock around glFinish, the
  * median of 15 runs (llvmpipe reports no timer-query time for compute),
  * and GL timer queries where the driver gives them. The translucency pass
  * is set against its bandwidth lower bound: the bytes it must move per
@@ -137,16 +136,9 @@ int main(int argc, char **argv)
         if (sam_mesh_create(&in, &mesh, NULL, &err) != SAM_OK)
             die("mesh", &err);
         sam_shape_mesh_destroy(&s);
-        sam_build_settings set;
-        sam_build_default_settings(&set);
-        sam_build_context *ctx;
-        sam_build_result r;
         samfile_data d;
-        if (sam_build_context_create(&mesh, &skin, 40.0f, &set, &ctx, &err) != SAM_OK ||
-            sam_build_run(ctx, NULL, NULL, &r, &err) != SAM_OK || sam_build_to_samfile(ctx, &r, NULL, &d, &err) != SAM_OK)
+        if (sam_build_samfile(&mesh, &skin, 40.0f, NULL, NULL, NULL, NULL, &d, NULL, &err) != SAM_OK)
             die("build", &err);
-        sam_build_result_destroy(&r);
-        sam_build_context_destroy(ctx);
         sam_runtime *rt;
         if (sam_runtime_create(&d, &skin, 40.0f, &rt, &err) != SAM_OK)
             die("runtime", &err);

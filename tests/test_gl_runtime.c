@@ -118,13 +118,7 @@ static void build_sam(const char *material, samfile_data *out, sam_profile *prof
     sam_build_settings set;
     sam_build_default_settings(&set);
     set.samples_per_vertex = 4;
-    sam_build_context *ctx;
-    assert_int_equal(sam_build_context_create(&mesh, profile, 60.0f, &set, &ctx, &err), SAM_OK);
-    sam_build_result r;
-    assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, &err), SAM_OK);
-    assert_int_equal(sam_build_to_samfile(ctx, &r, NULL, out, &err), SAM_OK);
-    sam_build_result_destroy(&r);
-    sam_build_context_destroy(ctx);
+    assert_int_equal(sam_build_samfile(&mesh, profile, 60.0f, &set, NULL, NULL, NULL, out, NULL, &err), SAM_OK);
     sam_mesh_destroy(&mesh);
 }
 
@@ -399,15 +393,7 @@ static void two_slabs(samfile_data *out, sam_profile *profile)
     sam_mesh mesh;
     assert_int_equal(sam_mesh_create(&in, &mesh, NULL, &err), SAM_OK);
     assert_int_equal(sam_profile_preset("marble", profile, &err), SAM_OK);
-    sam_build_settings set;
-    sam_build_default_settings(&set);
-    sam_build_context *ctx;
-    assert_int_equal(sam_build_context_create(&mesh, profile, 10.0f, &set, &ctx, &err), SAM_OK);
-    sam_build_result r;
-    assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, &err), SAM_OK);
-    assert_int_equal(sam_build_to_samfile(ctx, &r, NULL, out, &err), SAM_OK);
-    sam_build_result_destroy(&r);
-    sam_build_context_destroy(ctx);
+    assert_int_equal(sam_build_samfile(&mesh, profile, 10.0f, NULL, NULL, NULL, NULL, out, NULL, &err), SAM_OK);
     sam_mesh_destroy(&mesh);
     sam_shape_mesh_destroy(&a);
     sam_shape_mesh_destroy(&b);

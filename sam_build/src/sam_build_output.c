@@ -105,3 +105,30 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
     out->adjacency_offsets[nv] = (uint32_t)a;
     return SAM_OK;
 }
+
+sam_status sam_build_samfile(const sam_mesh *mesh, const sam_profile *profile, float mm_per_unit,
+                             const sam_build_settings *settings, const sam_build_source *source,
+                             sam_build_progress_fn progress, void *user, samfile_data *out, double *seconds,
+                             sam_error *err)
+{
+    memset(out, 0, sizeof *out);
+    sam_build_settings defaults;
+    if (!settings) {
+        sam_build_default_settings(&defaults);
+        settings = &defaults;
+    }
+    sam_build_context *ctx;
+    sam_status st = sam_build_context_create(mesh, profile, mm_per_unit, settings, &ctx, err);
+    if (st != SAM_OK)
+        return st;
+    sam_build_result result;
+    st = sam_build_run(ctx, progress, user, &result, err);
+    if (st == SAM_OK) {
+        st = sam_build_to_samfile(ctx, &result, source, out, err);
+        if (seconds)
+            *seconds = result.seconds;
+        sam_build_result_destroy(&result);
+    }
+    sam_build_context_destroy(ctx);
+    return st;
+}

@@ -109,22 +109,12 @@ static sam_status load_object(const sam_scene *scene, samfile_data *sam, sam_pro
     } else {
         *mm_per_unit = scene->scale_value;
     }
-    sam_build_settings settings;
-    sam_build_default_settings(&settings);
-    sam_build_context *ctx = NULL;
-    sam_build_result result;
-    memset(&result, 0, sizeof result);
-    st = sam_build_context_create(&mesh, profile, *mm_per_unit, &settings, &ctx, err);
-    if (st == SAM_OK)
-        st = sam_build_run(ctx, NULL, NULL, &result, err);
     sam_build_source source = {scene->mesh_path, NULL};
-    if (st == SAM_OK)
-        st = sam_build_to_samfile(ctx, &result, &source, sam, err);
+    double seconds = 0;
+    st = sam_build_samfile(&mesh, profile, *mm_per_unit, NULL, &source, NULL, NULL, sam, &seconds, err);
     if (st == SAM_OK)
         fprintf(stderr, "sam_render: built the map of %s (%u vertices) in %.2f s\n", scene->mesh_path,
-                mesh.vertex_count, result.seconds);
-    sam_build_result_destroy(&result);
-    sam_build_context_destroy(ctx);
+                mesh.vertex_count, seconds);
     sam_mesh_destroy(&mesh);
     return st;
 }

@@ -130,6 +130,16 @@ typedef struct sam_build_source {
 sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_result *result,
                                 const sam_build_source *source, samfile_data *out, sam_error *err);
 
+/* Context, fast build and .sam assembly in one call, for callers that need
+ * no intermediate result. `settings` may be NULL (defaults); `source`,
+ * `progress` and `seconds` (the build's wall time) may be NULL. `out` is
+ * filled on success (caller frees it with samfile_free).
+ * Errors: those of the three steps. */
+sam_status sam_build_samfile(const sam_mesh *mesh, const sam_profile *profile, float mm_per_unit,
+                             const sam_build_settings *settings, const sam_build_source *source,
+                             sam_build_progress_fn progress, void *user, samfile_data *out, double *seconds,
+                             sam_error *err);
+
 #ifdef __cplusplus
 }
 #endif
