@@ -316,6 +316,35 @@ sam_status sam_profile_separable_kernel(const sam_profile *profile, uint32_t tap
     return SAM_OK;
 }
 
+sam_status sam_profile_separable_kernel_direct(const sam_profile *profile, uint32_t taps,
+                                               sam_separable_kernel *kernel, sam_error *err)
+{
+    /* The eq.-1 kernel's layout and width, then each channel's own cell
+     * masses in place of the reshaped red channel. */
+    sam_status st = sam_profile_separable_kernel(profile, taps, kernel, err);
+    if (st != SAM_OK)
+        return st;
+    half_layout l;
+    make_layout(taps, kernel->width_mm, &l);
+    double target[3][SAM_KERNEL_MAX_TAPS / 2 + 1];
+    target_masses(profile, &l, sam_profile_scale_max(profile), target);
+    int h = l.half;
+    for (int c = 0; c < 3; c++) {
+        double sum = target[c][0];
+        for (int j = 1; j <= h; j++)
+            sum += 2 * target[c][j];
+        for (int j = 0; j <= h; j++) {
+            /* A channel with no energy keeps only its centre tap. */
+            double w = sum > 0 ? target[c][j] / sum : (j == 0);
+            kernel->weight[h + j][c] = (float)w;
+            kernel->weight[h - j][c] = (float)w;
+        }
+        kernel->strength[c] = 1.0f;
+        kernel->falloff[c] = 1.0f;
+    }
+    return SAM_OK;
+}
+
 float sam_profile_kernel_error(const sam_profile *profile, const sam_separable_kernel *kernel,
                                int channel)
 {
