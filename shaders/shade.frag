@@ -29,7 +29,17 @@ uniform int u_rho_size;
 uniform float u_roughness_coord;
 uniform float u_specular_k;
 
-out vec4 o_color;
+uniform int u_split;               // 1: write the parts surface diffusion needs
+
+// u_split == 0: o_color is the final linear radiance.
+// u_split == 1: o_color = (light entering the surface, linear view depth),
+// o_factor = rho_dt(N.V) / pi * albedo (applied after the blur),
+// o_specular = the specular radiance (not blurred).
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec4 o_factor;
+layout(location = 2) out vec4 o_specular;
+
+in float v_depth;
 
 float rho_dt_view(float n_dot_v)
 {
@@ -79,13 +89,22 @@ void main()
     vec3 entering = v_translucency;
     if (u_front != 0)
         entering += v_irradiance * u_total_reflectance;
-    vec3 color = rho_dt_view(dot(n, v)) / PI * entering * u_albedo;
+    vec3 factor = rho_dt_view(dot(n, v)) / PI * u_albedo;
+    vec3 specular = vec3(0.0);
     for (uint i = 0u; i < u_light_count; ++i) {
         float n_dot_l;
         vec3 e = light_irradiance(lights[i], v_position, n, n_dot_l);
         if (e != vec3(0.0))
-            color += u_specular_k * ks_specular(n, light_direction(lights[i], v_position), v) * e *
-                     shadow(lights[i], v_position, n);
+            specular += u_specular_k * ks_specular(n, light_direction(lights[i], v_position), v) * e *
+                        shadow(lights[i], v_position, n);
     }
-    o_color = vec4(color, 1.0);
+    if (u_split != 0) {
+        o_color = vec4(entering, v_depth);
+        o_factor = vec4(factor, 1.0);
+        o_specular = vec4(specular, 1.0);
+    } else {
+        o_color = vec4(factor * entering + specular, 1.0);
+        o_factor = vec4(0.0);
+        o_specular = vec4(0.0);
+    }
 }

@@ -8,6 +8,7 @@ layout(std430, binding = 4) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 5) readonly buffer Translucency { vec4 translucency[]; };
 
 uniform mat4 u_view_proj;
+uniform vec3 u_forward;       // unit view direction: linear depth = (p - eye) . forward
 uniform vec3 u_eye;
 
 out vec3 v_position;
@@ -15,6 +16,7 @@ out vec3 v_normal;
 out vec3 v_to_eye;
 out vec3 v_irradiance;
 out vec3 v_translucency;
+out float v_depth;
 
 void main()
 {
@@ -23,5 +25,6 @@ void main()
     v_to_eye = u_eye - a_position.xyz;
     v_irradiance = irradiance[gl_VertexID].rgb;
     v_translucency = translucency[gl_VertexID].rgb;
+    v_depth = dot(a_position.xyz - u_eye, u_forward);
     gl_Position = u_view_proj * vec4(a_position.xyz, 1.0);
 }

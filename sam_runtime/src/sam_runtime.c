@@ -41,7 +41,8 @@ struct sam_runtime {
     /* Shadow maps. */
     uint32_t triangle_count;
     float centre[3], radius; /* bounding sphere of the positions, model units */
-    GLuint vao, fbo, shadow_program, shade_program;
+    GLuint vao, fbo, shadow_program, shade_program, blur_program, compose_program;
+    sam_separable_kernel kernel;
     float total_reflectance[3];
     GLuint cube_tex[MAX_CUBE_SHADOWS], flat_tex[MAX_FLAT_SHADOWS];
     uint32_t cube_count, flat_count;
@@ -175,7 +176,10 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
     glBindVertexArray(0);
     glGenFramebuffers(1, &rt->fbo);
     if ((st = sam_gl_render_program("shadow.vert", "shadow.frag", NULL, &rt->shadow_program, err)) != SAM_OK ||
-        (st = sam_gl_render_program("shade.vert", "shade.frag", NULL, &rt->shade_program, err)) != SAM_OK)
+        (st = sam_gl_render_program("shade.vert", "shade.frag", NULL, &rt->shade_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("sss_blur.comp", NULL, &rt->blur_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("sss_compose.comp", NULL, &rt->compose_program, err)) != SAM_OK ||
+        (st = sam_profile_separable_kernel_direct(profile, 17, &rt->kernel, err)) != SAM_OK)
         goto done;
     sam_profile_total_reflectance(profile, rt->total_reflectance);
     if ((st = sam_brdf_rho_dt_table(RHO_SIZE, RHO_SIZE, SKIN_F0, SAM_BRDF_ROUGHNESS_MAX, rt->rho_table, err)) !=
@@ -216,6 +220,10 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->shadow_program);
     if (rt->shade_program)
         glDeleteProgram(rt->shade_program);
+    if (rt->blur_program)
+        glDeleteProgram(rt->blur_program);
+    if (rt->compose_program)
+        glDeleteProgram(rt->compose_program);
     glDeleteVertexArrays(1, &rt->vao);
     glDeleteFramebuffers(1, &rt->fbo);
     glDeleteTextures(MAX_CUBE_SHADOWS, rt->cube_tex);
@@ -518,19 +526,24 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
     sam_status st = sam_image_create(out, view->width, view->height, 4, err);
     if (st != SAM_OK)
         return st;
-    GLuint fbo, color, depth;
+    /* 0: colour (or entering light + depth), 1: factor, 2: specular,
+     * 3, 4: blur ping-pong and the composed result. */
+    GLuint fbo, tex[5], depth;
     glGenFramebuffers(1, &fbo);
-    glGenTextures(1, &color);
+    glGenTextures(5, tex);
     glGenRenderbuffers(1, &depth);
-    glBindTexture(GL_TEXTURE_2D, color);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, (GLsizei)view->width, (GLsizei)view->height, 0, GL_RGBA, GL_FLOAT,
-                 NULL);
+    for (int i = 0; i < 5; ++i) {
+        glBindTexture(GL_TEXTURE_2D, tex[i]);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, (GLsizei)view->width, (GLsizei)view->height);
+    }
     glBindRenderbuffer(GL_RENDERBUFFER, depth);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, (GLsizei)view->width, (GLsizei)view->height);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
+    for (int i = 0; i < 3; ++i)
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, tex[i], 0);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    glDrawBuffer(GL_COLOR_ATTACHMENT0);
+    static const GLenum attachments[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(3, attachments);
     GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         st = sam_fail(err, SAM_ERR_UNSUPPORTED, "render: framebuffer incomplete (0x%04x) at %ux%u", status,
@@ -563,6 +576,13 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         glUniform1f(glGetUniformLocation(p, "u_roughness"), rt->roughness);
         glUniform1f(glGetUniformLocation(p, "u_f0"), SKIN_F0);
         glUniform1ui(glGetUniformLocation(p, "u_light_count"), view->front ? rt->light_count : 0);
+        glUniform1i(glGetUniformLocation(p, "u_split"), view->diffusion != 0);
+        float forward[3] = {view->target[0] - view->eye[0], view->target[1] - view->eye[1],
+                            view->target[2] - view->eye[2]};
+        float fl = sqrtf(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
+        for (int c = 0; c < 3; ++c)
+            forward[c] /= fl;
+        glUniform3fv(glGetUniformLocation(p, "u_forward"), 1, forward);
         bind_shadows(rt, p);
         for (int b = 0; b < B_COUNT; ++b)
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
@@ -572,11 +592,43 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         glBindVertexArray(0);
         glEndQuery(GL_TIME_ELAPSED);
         rt->query_used[SAM_PASS_SHADE] = 1;
+        GLuint result = tex[0];
+        if (view->diffusion) {
+            GLuint gx = (view->width + 7) / 8, gy = (view->height + 7) / 8;
+            GLuint b = rt->blur_program;
+            glUseProgram(b);
+            float offsets[SAM_KERNEL_MAX_TAPS];
+            for (uint32_t k = 0; k < rt->kernel.taps; ++k)
+                offsets[k] = rt->kernel.offset_mm[k];
+            glUniform1i(glGetUniformLocation(b, "u_taps"), (GLint)rt->kernel.taps);
+            glUniform1fv(glGetUniformLocation(b, "u_offset_mm"), (GLsizei)rt->kernel.taps, offsets);
+            glUniform3fv(glGetUniformLocation(b, "u_weight"), (GLsizei)rt->kernel.taps, &rt->kernel.weight[0][0]);
+            glUniform1f(glGetUniformLocation(b, "u_mm_per_unit"), rt->mm_per_unit);
+            glUniform1f(glGetUniformLocation(b, "u_pixels_per_unit_at_depth_one"),
+                        (float)view->height / (2.0f * tanf(0.5f * view->fov_deg * 3.14159265f / 180.0f)));
+            glUniform1f(glGetUniformLocation(b, "u_depth_jump"), rt->kernel.width_mm / rt->mm_per_unit);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+            for (int pass = 0; pass < 2; ++pass) {
+                glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
+                glBindImageTexture(0, pass == 0 ? tex[0] : tex[3], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+                glBindImageTexture(1, pass == 0 ? tex[3] : tex[4], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+                glDispatchCompute(gx, gy, 1);
+                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            }
+            glUseProgram(rt->compose_program);
+            glBindImageTexture(0, tex[4], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+            glBindImageTexture(1, tex[1], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+            glBindImageTexture(2, tex[2], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+            glBindImageTexture(3, tex[3], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glDispatchCompute(gx, gy, 1);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+            result = tex[3];
+        }
         /* GL's rows run bottom-up; images top-down. */
         size_t row = (size_t)view->width * 4;
-        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        glBindTexture(GL_TEXTURE_2D, result);
         glPixelStorei(GL_PACK_ALIGNMENT, 4);
-        glReadPixels(0, 0, (GLsizei)view->width, (GLsizei)view->height, GL_RGBA, GL_FLOAT, out->pixels);
+        glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out->pixels);
         float *tmp = malloc(row * sizeof *tmp);
         if (!tmp) {
             st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: out of memory");
@@ -592,7 +644,7 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDeleteFramebuffers(1, &fbo);
-    glDeleteTextures(1, &color);
+    glDeleteTextures(5, tex);
     glDeleteRenderbuffers(1, &depth);
     if (st != SAM_OK)
         sam_image_destroy(out);

@@ -27,6 +27,8 @@ static void usage(FILE *out)
             "  --dt S                 frame time in seconds for temporal smoothing (default 1/60)\n"
             "  --technique sam|none   translucency technique (default: the scene's)\n"
             "  --translucency-only    the translucency alone, without front lighting\n"
+            "  --diffusion none|screen surface diffusion (default: the scene's; screen-space\n"
+            "                         separable SSS; texture and preintegrated are not available yet)\n"
             "  --dump-vertices FILE   write per-vertex L_d and T as CSV\n"
             "A scene naming a mesh builds its .sam first (N = 3, the scene's material and scale).\n"
             "Per-pass GPU times are printed to stderr.\n");
@@ -134,7 +136,7 @@ static sam_status write_vertices(const char *path, const float *ld, const float 
 
 int main(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out = NULL, *png = NULL, *dump = NULL, *technique = NULL;
+    const char *scene_path = NULL, *out = NULL, *png = NULL, *dump = NULL, *technique = NULL, *diffusion = NULL;
     long frames = 1;
     float dt = 1.0f / 60.0f;
     int translucency_only = 0;
@@ -156,6 +158,12 @@ int main(int argc, char **argv)
             dump = argv[++i];
         } else if (!strcmp(a, "--technique")) {
             technique = argv[++i];
+        } else if (!strcmp(a, "--diffusion")) {
+            diffusion = argv[++i];
+            if (strcmp(diffusion, "none") && strcmp(diffusion, "screen")) {
+                fprintf(stderr, "sam_render: --diffusion must be none or screen, got \"%s\"\n", diffusion);
+                return 2;
+            }
         } else if (!strcmp(a, "--frames")) {
             char *end;
             frames = strtol(argv[++i], &end, 10);
@@ -199,6 +207,11 @@ int main(int argc, char **argv)
         sam_scene_destroy(&scene);
         return fail("the scene's technique is not available in sam_render yet (sam or none)");
     }
+    int use_diffusion = diffusion ? !strcmp(diffusion, "screen") : 1;
+    if (!diffusion && scene.diffusion != SAM_DIFFUSION_SCREEN) {
+        sam_scene_destroy(&scene);
+        return fail("the scene's diffusion is not available yet (screen, or --diffusion none)");
+    }
     samfile_data sam;
     sam_profile profile;
     float mm_per_unit;
@@ -241,6 +254,7 @@ int main(int argc, char **argv)
     view.height = scene.height;
     memcpy(view.albedo, scene.albedo, sizeof view.albedo);
     view.front = !translucency_only;
+    view.diffusion = use_diffusion;
     if (scene.has_camera) {
         memcpy(view.eye, scene.camera.position, sizeof view.eye);
         memcpy(view.target, scene.camera.target, sizeof view.target);

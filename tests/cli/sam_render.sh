@@ -25,6 +25,8 @@ cmp -s "$tmp/a.exr" "$tmp/b.exr" || fail "two renders of the same scene differ"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/none.exr" --technique none --frames 3 2>/dev/null || fail "technique none"
 cmp -s "$tmp/a.exr" "$tmp/none.exr" && fail "technique none looks the same as sam"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/t.exr" --translucency-only 2>/dev/null || fail "--translucency-only"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/nd.exr" --diffusion none --frames 3 2>/dev/null || fail "--diffusion none"
+cmp -s "$tmp/a.exr" "$tmp/nd.exr" && fail "screen diffusion changed nothing"
 
 expect_error() { # status label args...
   local want=$1 label=$2; shift 2
@@ -50,6 +52,7 @@ expect_error 1 "negative intensity" "$tmp/negative.json"
 expect_error 1 "corrupted .sam" "$tmp/broken.json"
 expect_error 2 "bad technique" "$tmp/scene.json" --technique tsm
 expect_error 2 "bad frames" "$tmp/scene.json" --frames 0
+expect_error 2 "bad diffusion" "$tmp/scene.json" --diffusion blur
 # A prebuilt .sam renders too, with its recorded material and scale.
 printf '{"sam": "ear.sam", "lights": [{"type": "point", "position": [0.1, 0.0, -1.2], "intensity": 6.0}], "resolution": [64, 64]}' > "$tmp/sam.json"
 "$bin/sam_render" "$tmp/sam.json" -o "$tmp/s.exr" 2>/dev/null || fail "scene with a .sam"

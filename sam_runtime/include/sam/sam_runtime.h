@@ -99,12 +99,17 @@ typedef struct sam_render_view {
     float near_plane, far_plane; /* 0: from the object's bounds */
     float albedo[3];
     int front;               /* 1: front lighting + translucency; 0: translucency only */
+    int diffusion;           /* 0: none; 1: screen-space separable SSS of the entering light */
 } sam_render_view;
 
 /* Renders the object with its current L_d and T into a linear HDR RGBA
  * image (caller destroys it with sam_image_destroy): per pixel
- * rho_dt(N.V) / pi * (R_total L_d [if front] + T) * albedo, alpha 1 on the
- * object and 0 on the background. Errors: SAM_ERR_INVALID_ARGUMENT (size),
+ * rho_dt(N.V) / pi * (R_total L_d [if front] + T) * albedo plus specular,
+ * alpha 1 on the object and 0 on the background. With screen diffusion the
+ * entering light R_total L_d + T is blurred first by two 1D passes of the
+ * profile's 17-tap separable kernel (sam_profile_separable_kernel_direct),
+ * its millimetre offsets scaled to pixels by each pixel's depth, taps across
+ * depth jumps or off the object replaced by the centre. Errors: SAM_ERR_INVALID_ARGUMENT (size),
  * SAM_ERR_UNSUPPORTED (incomplete framebuffer), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err);
 

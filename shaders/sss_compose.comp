@@ -1,0 +1,22 @@
+#version 430 core
+// After the blur: radiance = blurred entering light * factor + specular.
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(rgba32f, binding = 0) readonly uniform image2D u_blurred;
+layout(rgba32f, binding = 1) readonly uniform image2D u_factor;
+layout(rgba32f, binding = 2) readonly uniform image2D u_specular;
+layout(rgba32f, binding = 3) writeonly uniform image2D u_out;
+
+void main()
+{
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = imageSize(u_out);
+    if (p.x >= size.x || p.y >= size.y)
+        return;
+    vec4 b = imageLoad(u_blurred, p);
+    if (b.a <= 0.0) {
+        imageStore(u_out, p, vec4(0.0));
+        return;
+    }
+    imageStore(u_out, p, vec4(b.rgb * imageLoad(u_factor, p).rgb + imageLoad(u_specular, p).rgb, 1.0));
+}
