@@ -40,6 +40,102 @@ layout(location = 1) out vec4 o_factor;
 layout(location = 2) out vec4 o_specular;
 
 in float v_depth;
+in float v_curvature;
+
+// Pre-integrated skin (Penner): tables of sam_preint, RGB, 64 x 64.
+layout(std430, binding = 12) readonly buffer PreDiffuse { float pre_diffuse[]; };
+layout(std430, binding = 13) readonly buffer PrePenumbra { float pre_penumbra[]; };
+uniform int u_preintegrated;
+uniform int u_pre_size;
+uniform float u_pre_max_curvature;  // 1/mm
+uniform float u_pre_max_penumbra;   // mm
+uniform float u_min_penumbra;       // mm: the profile's 99% radius
+uniform float u_mm_per_unit;
+uniform vec3 u_sh[9];
+uniform int u_has_environment;
+uniform float u_environment_rho_dt;
+
+float rho_dt_view(float n_dot_v);
+
+// Bilinear lookup in a table with texel-centred samples, x and y in [0, 1].
+vec3 table_rgb(int which, float x, float y)
+{
+    float fx = clamp(x, 0.0, 1.0) * float(u_pre_size) - 0.5, fy = clamp(y, 0.0, 1.0) * float(u_pre_size) - 0.5;
+    int x0 = clamp(int(floor(fx)), 0, u_pre_size - 1), x1 = clamp(int(floor(fx)) + 1, 0, u_pre_size - 1);
+    int y0 = clamp(int(floor(fy)), 0, u_pre_size - 1), y1 = clamp(int(floor(fy)) + 1, 0, u_pre_size - 1);
+    vec3 t[4];
+    ivec2 at[4] = ivec2[4](ivec2(x0, y0), ivec2(x1, y0), ivec2(x0, y1), ivec2(x1, y1));
+    for (int i = 0; i < 4; ++i) {
+        int k = 3 * (at[i].y * u_pre_size + at[i].x);
+        t[i] = which == 0 ? vec3(pre_diffuse[k], pre_diffuse[k + 1], pre_diffuse[k + 2])
+                          : vec3(pre_penumbra[k], pre_penumbra[k + 1], pre_penumbra[k + 2]);
+    }
+    float ax = fx - floor(fx), ay = fy - floor(fy);
+    return mix(mix(t[0], t[1], ax), mix(t[2], t[3], ax), ay);
+}
+
+vec3 sh_irradiance(vec3 n)
+{
+    const float A0 = PI, A1 = 2.0 * A0 / 3.0, A2 = A0 / 4.0;
+    float x = n.x, y = n.y, z = n.z;
+    vec3 e = A0 * 0.282094792 * u_sh[0] + A1 * 0.488602512 * (y * u_sh[1] + z * u_sh[2] + x * u_sh[3]) +
+             A2 * (1.092548431 * (x * y * u_sh[4] + y * z * u_sh[5] + x * z * u_sh[7]) +
+                   0.315391565 * (3.0 * z * z - 1.0) * u_sh[6] + 0.546274215 * (x * x - y * y) * u_sh[8]);
+    return max(e, vec3(0.0));
+}
+
+// Light arriving at p from a point, spot or directional light, before the
+// cosine: pre-integration applies its own falloff over N.L.
+vec3 light_radiance(Light l, vec3 p)
+{
+    int type = int(l.color_type.w);
+    if (type == 2)
+        return l.color_type.rgb;
+    vec3 to = l.position.xyz - p;
+    float d2 = dot(to, to);
+    float f = 1.0;
+    if (type == 1)
+        f = spot_falloff(-dot(to, l.direction.xyz) / sqrt(d2), l.direction.w, l.params.x);
+    return l.color_type.rgb * f / d2;
+}
+
+// The shadow filter's penumbra across the surface in mm: the 4-texel PCF
+// footprint at the light's distance, stretched on slanted surfaces.
+float penumbra_mm(Light l, vec3 p, float n_dot_l)
+{
+    int type = int(l.color_type.w);
+    float texel = type == 2 ? 0.0 : 2.0 * distance(l.position.xyz, p) / (type == 0 ? 512.0 : 1024.0);
+    return 4.0 * texel * u_mm_per_unit / max(abs(n_dot_l), 0.2);
+}
+
+vec3 preintegrated_front(vec3 n, vec3 p)
+{
+    vec3 sum = vec3(0.0);
+    float k = clamp(abs(v_curvature) / u_pre_max_curvature, 0.0, 1.0);
+    for (uint i = 0u; i < u_light_count; ++i) {
+        Light l = lights[i];
+        if (int(l.color_type.w) == 3) {
+            float n_dot_l;
+            vec3 e = light_irradiance(l, p, n, n_dot_l);
+            sum += e * rho_dt_view(n_dot_l) * shadow(l, p, n);
+            continue;
+        }
+        vec3 dir = int(l.color_type.w) == 2 ? -l.direction.xyz : normalize(l.position.xyz - p);
+        float n_dot_l = dot(n, dir);
+        vec3 falloff = table_rgb(0, 0.5 * n_dot_l + 0.5, k);
+        // Inside a penumbra, the shadow value re-mapped through the penumbra
+        // table (Penner), its width clamped up to the profile's extent as the
+        // table assumes; outside one (0 or 1) there is no edge to scatter across.
+        float s = shadow(l, p, n);
+        vec3 shade = vec3(s);
+        if (l.params.z >= 0.0 && s > 0.001 && s < 0.999)
+            shade = table_rgb(1, s, max(penumbra_mm(l, p, n_dot_l), u_min_penumbra) / u_pre_max_penumbra);
+        sum += light_radiance(l, p) * falloff * shade * rho_dt_view(max(n_dot_l, 0.0));
+    }
+    if (u_has_environment != 0)
+        sum += sh_irradiance(n) * u_environment_rho_dt;
+    return sum;
+}
 
 float rho_dt_view(float n_dot_v)
 {
@@ -88,7 +184,7 @@ void main()
         n = -n;
     vec3 entering = v_translucency;
     if (u_front != 0)
-        entering += v_irradiance * u_total_reflectance;
+        entering += (u_preintegrated != 0 ? preintegrated_front(n, v_position) : v_irradiance) * u_total_reflectance;
     vec3 factor = rho_dt_view(dot(n, v)) / PI * u_albedo;
     vec3 specular = vec3(0.0);
     for (uint i = 0u; i < u_light_count; ++i) {

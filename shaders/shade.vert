@@ -6,6 +6,7 @@ layout(location = 1) in vec4 a_normal;
 
 layout(std430, binding = 4) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 5) readonly buffer Translucency { vec4 translucency[]; };
+layout(std430, binding = 11) readonly buffer Curvature { float curvature[]; };
 
 uniform mat4 u_view_proj;
 uniform vec3 u_forward;       // unit view direction: linear depth = (p - eye) . forward
@@ -17,6 +18,7 @@ out vec3 v_to_eye;
 out vec3 v_irradiance;
 out vec3 v_translucency;
 out float v_depth;
+out float v_curvature;       // 1/mm
 
 void main()
 {
@@ -26,5 +28,6 @@ void main()
     v_irradiance = irradiance[gl_VertexID].rgb;
     v_translucency = translucency[gl_VertexID].rgb;
     v_depth = dot(a_position.xyz - u_eye, u_forward);
+    v_curvature = curvature[gl_VertexID];
     gl_Position = u_view_proj * vec4(a_position.xyz, 1.0);
 }

@@ -664,20 +664,21 @@ static double cotangent(const double *u, const double *w)
     return s > 0 ? dot3(u, w) / s : 0.0;
 }
 
-void sam_mesh_mean_curvature(const sam_mesh *mesh, float *out)
+void sam_mesh_ring_curvature(uint32_t count, const float *positions, const uint32_t *position_of,
+                             const float *normals, const uint32_t *ring_offsets, const uint32_t *ring, float *out)
 {
-    const float *pos = mesh->positions;
-    for (uint32_t t = 0; t < mesh->topo_count; ++t) {
-        uint32_t begin = mesh->ring_offsets[t], end = mesh->ring_offsets[t + 1];
-        if (mesh->ring[begin] != mesh->ring[end - 1]) {
+#define POS(i) (positions + 3 * (size_t)(position_of ? position_of[i] : (i)))
+    for (uint32_t t = 0; t < count; ++t) {
+        uint32_t begin = ring_offsets[t], end = ring_offsets[t + 1];
+        if (end - begin < 2 || ring[begin] != ring[end - 1]) {
             out[t] = NAN; /* boundary: filled in below */
             continue;
         }
-        const float *v = topo_position(mesh, pos, t);
+        const float *v = POS(t);
         double lap[3] = {0, 0, 0}, area = 0;
         for (uint32_t k = begin + 1; k < end; ++k) {
-            const float *p = topo_position(mesh, pos, mesh->ring[k - 1]);
-            const float *q = topo_position(mesh, pos, mesh->ring[k]);
+            const float *p = POS(ring[k - 1]);
+            const float *q = POS(ring[k]);
             double vp[3], vq[3], pv[3], pq[3], qv[3], qp[3], n[3];
             sub3(p, v, vp);
             sub3(q, v, vq);
@@ -700,26 +701,32 @@ void sam_mesh_mean_curvature(const sam_mesh *mesh, float *out)
             else
                 area += (dot3(vp, vp) * cot_q + dot3(vq, vq) * cot_p) / 8.0;
         }
-        double nrm[3] = {mesh->topo_normals[3 * (size_t)t], mesh->topo_normals[3 * (size_t)t + 1],
-                         mesh->topo_normals[3 * (size_t)t + 2]};
+        double nrm[3] = {normals[3 * (size_t)t], normals[3 * (size_t)t + 1], normals[3 * (size_t)t + 2]};
         /* Laplace-Beltrami of position = -2 H n. */
         out[t] = area > 0 ? (float)(-dot3(lap, nrm) / (2.0 * area) / 2.0) : 0.0f;
     }
-    for (uint32_t t = 0; t < mesh->topo_count; ++t) {
+#undef POS
+    for (uint32_t t = 0; t < count; ++t) {
         if (!isnan(out[t]))
             continue;
         double sum = 0;
         uint32_t n = 0;
-        for (uint32_t k = mesh->ring_offsets[t]; k < mesh->ring_offsets[t + 1]; ++k) {
-            uint32_t u = mesh->ring[k];
-            uint32_t ub = mesh->ring_offsets[u], ue = mesh->ring_offsets[u + 1];
-            if (mesh->ring[ub] == mesh->ring[ue - 1]) {
+        for (uint32_t k = ring_offsets[t]; k < ring_offsets[t + 1]; ++k) {
+            uint32_t u = ring[k];
+            uint32_t ub = ring_offsets[u], ue = ring_offsets[u + 1];
+            if (ue - ub >= 2 && ring[ub] == ring[ue - 1]) {
                 sum += out[u];
                 n++;
             }
         }
         out[t] = n ? (float)(sum / n) : 0.0f;
     }
+}
+
+void sam_mesh_mean_curvature(const sam_mesh *mesh, float *out)
+{
+    sam_mesh_ring_curvature(mesh->topo_count, mesh->positions, mesh->topo_rep, mesh->topo_normals,
+                            mesh->ring_offsets, mesh->ring, out);
 }
 
 char *sam_mesh_report_summary(const sam_mesh_report *r, char *buf, size_t n)

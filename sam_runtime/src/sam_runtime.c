@@ -4,12 +4,20 @@
 #include <math.h>
 
 #include "sam/sam_brdf.h"
+#include "sam/sam_mesh.h"
+#include "sam/sam_preint.h"
 #include "sam_mat4.h"
 #include <stdlib.h>
 #include <string.h>
 
 enum { B_POSITIONS, B_NORMALS, B_SAMPLES, B_FAN_AREAS, B_IRRADIANCE, B_TRANSLUCENCY, B_ADJ_OFFSETS, B_ADJACENCY,
-       B_LIGHTS, B_RHO_DT, B_TRIANGLES, B_COUNT };
+       B_LIGHTS, B_RHO_DT, B_TRIANGLES, B_CURVATURE, B_PRE_DIFFUSE, B_PRE_PENUMBRA, B_COUNT };
+
+/* Pre-integrated skin tables: 64 x 64, curvature up to 2 / mm (a 0.5 mm
+ * radius), penumbra width up to 20 mm. */
+#define PRE_SIZE 64
+#define PRE_MAX_CURVATURE 2.0f
+#define PRE_MAX_PENUMBRA_MM 20.0f
 
 #define MAX_CUBE_SHADOWS 4
 #define MAX_FLAT_SHADOWS 4
@@ -43,6 +51,7 @@ struct sam_runtime {
     float centre[3], radius; /* bounding sphere of the positions, model units */
     GLuint vao, fbo, shadow_program, shade_program, blur_program, compose_program;
     sam_separable_kernel kernel;
+    int preint_ready;
     float total_reflectance[3];
     GLuint cube_tex[MAX_CUBE_SHADOWS], flat_tex[MAX_FLAT_SHADOWS];
     uint32_t cube_count, flat_count;
@@ -150,6 +159,22 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
             SAM_OK)
         goto done;
     rt->triangle_count = sam->triangle_count;
+    {
+        /* Mean curvature in 1/mm from the .sam's own rings. */
+        float *curvature = malloc(nv * sizeof *curvature);
+        if (!curvature) {
+            st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory");
+            goto done;
+        }
+        sam_mesh_ring_curvature(sam->vertex_count, sam->positions, NULL, sam->normals, sam->adjacency_offsets,
+                                sam->adjacency, curvature);
+        for (size_t v = 0; v < nv; ++v)
+            curvature[v] /= mm_per_unit;
+        st = upload(rt, B_CURVATURE, curvature, nv * sizeof *curvature, err);
+        free(curvature);
+        if (st != SAM_OK)
+            goto done;
+    }
     {
         float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (size_t v = 0; v < nv; ++v)
@@ -516,9 +541,34 @@ void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius)
     *radius = rt->radius;
 }
 
+/* Builds and uploads the pre-integrated tables on first use (about 0.3 s). */
+static sam_status ensure_preintegrated(sam_runtime *rt, sam_error *err)
+{
+    if (rt->preint_ready)
+        return SAM_OK;
+    float *table = malloc(PRE_SIZE * PRE_SIZE * 3 * sizeof *table);
+    if (!table)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory");
+    sam_status st = sam_preint_diffuse_table(&rt->profile, PRE_SIZE, PRE_SIZE, PRE_MAX_CURVATURE, table, err);
+    if (st == SAM_OK)
+        st = upload(rt, B_PRE_DIFFUSE, table, PRE_SIZE * PRE_SIZE * 3 * sizeof *table, err);
+    if (st == SAM_OK)
+        st = sam_preint_penumbra_table(&rt->profile, PRE_SIZE, PRE_SIZE, PRE_MAX_PENUMBRA_MM, table, err);
+    if (st == SAM_OK)
+        st = upload(rt, B_PRE_PENUMBRA, table, PRE_SIZE * PRE_SIZE * 3 * sizeof *table, err);
+    free(table);
+    rt->preint_ready = st == SAM_OK;
+    return st;
+}
+
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err)
 {
     memset(out, 0, sizeof *out);
+    if (view->diffusion == 2) {
+        sam_status pst = ensure_preintegrated(rt, err);
+        if (pst != SAM_OK)
+            return pst;
+    }
     if (!view->width || !view->height || view->width > 16384 || view->height > 16384 ||
         !(view->fov_deg > 0 && view->fov_deg < 180))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: size %ux%u or field of view %g out of range",
@@ -576,7 +626,17 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         glUniform1f(glGetUniformLocation(p, "u_roughness"), rt->roughness);
         glUniform1f(glGetUniformLocation(p, "u_f0"), SKIN_F0);
         glUniform1ui(glGetUniformLocation(p, "u_light_count"), view->front ? rt->light_count : 0);
-        glUniform1i(glGetUniformLocation(p, "u_split"), view->diffusion != 0);
+        glUniform1i(glGetUniformLocation(p, "u_split"), view->diffusion == 1);
+        glUniform1i(glGetUniformLocation(p, "u_preintegrated"), view->diffusion == 2);
+        glUniform1i(glGetUniformLocation(p, "u_pre_size"), PRE_SIZE);
+        glUniform1f(glGetUniformLocation(p, "u_pre_max_curvature"), PRE_MAX_CURVATURE);
+        glUniform1f(glGetUniformLocation(p, "u_pre_max_penumbra"), PRE_MAX_PENUMBRA_MM);
+        glUniform1f(glGetUniformLocation(p, "u_min_penumbra"),
+                    fminf(sam_profile_radius(&rt->profile, 0.01f), PRE_MAX_PENUMBRA_MM));
+        glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+        glUniform3fv(glGetUniformLocation(p, "u_sh"), 9, &rt->sh[0][0]);
+        glUniform1i(glGetUniformLocation(p, "u_has_environment"), rt->has_environment);
+        glUniform1f(glGetUniformLocation(p, "u_environment_rho_dt"), rt->environment_rho_dt);
         float forward[3] = {view->target[0] - view->eye[0], view->target[1] - view->eye[1],
                             view->target[2] - view->eye[2]};
         float fl = sqrtf(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
@@ -593,7 +653,7 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         glEndQuery(GL_TIME_ELAPSED);
         rt->query_used[SAM_PASS_SHADE] = 1;
         GLuint result = tex[0];
-        if (view->diffusion) {
+        if (view->diffusion == 1) {
             GLuint gx = (view->width + 7) / 8, gy = (view->height + 7) / 8;
             GLuint b = rt->blur_program;
             glUseProgram(b);

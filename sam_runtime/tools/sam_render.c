@@ -27,8 +27,9 @@ static void usage(FILE *out)
             "  --dt S                 frame time in seconds for temporal smoothing (default 1/60)\n"
             "  --technique sam|none   translucency technique (default: the scene's)\n"
             "  --translucency-only    the translucency alone, without front lighting\n"
-            "  --diffusion none|screen surface diffusion (default: the scene's; screen-space\n"
-            "                         separable SSS; texture and preintegrated are not available yet)\n"
+            "  --diffusion none|screen|preintegrated\n"
+            "                         surface diffusion (default: the scene's): screen-space separable\n"
+            "                         SSS, or pre-integrated skin (texture space is not available yet)\n"
             "  --dump-vertices FILE   write per-vertex L_d and T as CSV\n"
             "A scene naming a mesh builds its .sam first (N = 3, the scene's material and scale).\n"
             "Per-pass GPU times are printed to stderr.\n");
@@ -160,8 +161,9 @@ int main(int argc, char **argv)
             technique = argv[++i];
         } else if (!strcmp(a, "--diffusion")) {
             diffusion = argv[++i];
-            if (strcmp(diffusion, "none") && strcmp(diffusion, "screen")) {
-                fprintf(stderr, "sam_render: --diffusion must be none or screen, got \"%s\"\n", diffusion);
+            if (strcmp(diffusion, "none") && strcmp(diffusion, "screen") && strcmp(diffusion, "preintegrated")) {
+                fprintf(stderr, "sam_render: --diffusion must be none, screen or preintegrated, got \"%s\"\n",
+                        diffusion);
                 return 2;
             }
         } else if (!strcmp(a, "--frames")) {
@@ -207,10 +209,14 @@ int main(int argc, char **argv)
         sam_scene_destroy(&scene);
         return fail("the scene's technique is not available in sam_render yet (sam or none)");
     }
-    int use_diffusion = diffusion ? !strcmp(diffusion, "screen") : 1;
-    if (!diffusion && scene.diffusion != SAM_DIFFUSION_SCREEN) {
+    int use_diffusion = 1;
+    if (diffusion)
+        use_diffusion = !strcmp(diffusion, "screen") ? 1 : !strcmp(diffusion, "preintegrated") ? 2 : 0;
+    else if (scene.diffusion == SAM_DIFFUSION_PREINTEGRATED)
+        use_diffusion = 2;
+    else if (scene.diffusion != SAM_DIFFUSION_SCREEN) {
         sam_scene_destroy(&scene);
-        return fail("the scene's diffusion is not available yet (screen, or --diffusion none)");
+        return fail("texture-space diffusion is not available yet (use screen or preintegrated)");
     }
     samfile_data sam;
     sam_profile profile;

@@ -27,6 +27,9 @@ cmp -s "$tmp/a.exr" "$tmp/none.exr" && fail "technique none looks the same as sa
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/t.exr" --translucency-only 2>/dev/null || fail "--translucency-only"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/nd.exr" --diffusion none --frames 3 2>/dev/null || fail "--diffusion none"
 cmp -s "$tmp/a.exr" "$tmp/nd.exr" && fail "screen diffusion changed nothing"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/pi.exr" --diffusion preintegrated --frames 3 2>/dev/null \
+  || fail "--diffusion preintegrated"
+cmp -s "$tmp/pi.exr" "$tmp/nd.exr" && fail "pre-integrated shading changed nothing"
 
 expect_error() { # status label args...
   local want=$1 label=$2; shift 2

@@ -120,6 +120,14 @@ void sam_mesh_fan_areas(const sam_mesh *mesh, const float *positions, float mm_p
  * `out` has topo_count elements. */
 void sam_mesh_mean_curvature(const sam_mesh *mesh, float *out);
 
+/* The same mean curvature for any vertices with fan-ordered rings (the
+ * layout above, also a .sam's ADJO/ADJV): `count` vertices; vertex i's
+ * position is positions[3 * position_of[i]] (position_of NULL: identity),
+ * its normal normals[3 * i]; ring entries are vertex indices. `out` has
+ * `count` elements, 1/position units. */
+void sam_mesh_ring_curvature(uint32_t count, const float *positions, const uint32_t *position_of,
+                             const float *normals, const uint32_t *ring_offsets, const uint32_t *ring, float *out);
+
 /* One-line summary of a report's repairs into buf (size n), e.g.
  * "dropped 2 degenerate, 1 zero-area triangles; split 1 non-manifold vertex"
  * or "no repairs". Returns buf. */

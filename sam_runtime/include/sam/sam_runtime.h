@@ -99,7 +99,8 @@ typedef struct sam_render_view {
     float near_plane, far_plane; /* 0: from the object's bounds */
     float albedo[3];
     int front;               /* 1: front lighting + translucency; 0: translucency only */
-    int diffusion;           /* 0: none; 1: screen-space separable SSS of the entering light */
+    int diffusion;           /* 0: none; 1: screen-space separable SSS of the entering light;
+                              * 2: pre-integrated skin (local, no blur) */
 } sam_render_view;
 
 /* Renders the object with its current L_d and T into a linear HDR RGBA
@@ -109,7 +110,11 @@ typedef struct sam_render_view {
  * entering light R_total L_d + T is blurred first by two 1D passes of the
  * profile's 17-tap separable kernel (sam_profile_separable_kernel_direct),
  * its millimetre offsets scaled to pixels by each pixel's depth, taps across
- * depth jumps or off the object replaced by the centre. Errors: SAM_ERR_INVALID_ARGUMENT (size),
+ * depth jumps or off the object replaced by the centre. Pre-integrated
+ * shading (Penner) instead computes the front light per pixel: point, spot
+ * and directional lights through the diffuse-falloff table at the vertex's
+ * mean curvature (from the .sam's rings) and N.L, their shadow through the
+ * penumbra table; area lights and the environment as in L_d. Errors: SAM_ERR_INVALID_ARGUMENT (size),
  * SAM_ERR_UNSUPPORTED (incomplete framebuffer), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err);
 
