@@ -27,18 +27,11 @@
 
 #include "sam/sam_build.h"
 #include "sam/sam_shape.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "bench_util.h"
 
 static void die(const char *what, const sam_error *err)
 {
-    fprintf(stderr, "bench_build: %s: %s\n", what, err ? err->message : "failed");
-    exit(1);
+    bench_die("bench_build", what, err);
 }
 
 static void shape(const char *name, int resolution, double size, double thickness, sam_mesh *mesh)
@@ -93,12 +86,6 @@ typedef struct run {
     uint64_t candidates_seen;
 } run;
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* Capture of `fast` against `ref` (both on ctx's mesh), K of fast's pairs
  * taken from the reference's estimator. */
 static void capture(const sam_build_context *rctx, const sam_build_settings *rs, const sam_build_result *fast,
@@ -122,7 +109,7 @@ static void capture(const sam_build_context *rctx, const sam_build_settings *rs,
         if (best > 1e-7)
             c[rows++] = got / best;
     }
-    qsort(c, rows, sizeof *c, cmp_double);
+    qsort(c, rows, sizeof *c, bench_cmp_double);
     out->capture_median = rows ? c[rows / 2] : 1;
     out->capture_p10 = rows ? c[rows / 10] : 1;
     free(c);
@@ -136,11 +123,11 @@ static run build(const sam_mesh *mesh, const sam_profile *profile, float mm, con
     if (sam_build_context_create(mesh, profile, mm, s, &ctx, &err) != SAM_OK)
         die("context", &err);
     sam_build_result r;
-    double t = now();
+    double t = sam_seconds();
     if ((reference ? sam_build_reference(ctx, NULL, NULL, &r, &err) : sam_build_run(ctx, NULL, NULL, &r, &err)) !=
         SAM_OK)
         die("build", &err);
-    run out = {now() - t, 0, 0, r.candidates_seen};
+    run out = {sam_seconds() - t, 0, 0, r.candidates_seen};
     if (keep)
         *keep = r;
     else
@@ -403,7 +390,7 @@ static void memory_study(FILE *json, const char *bin_dir)
     sam_shape_mesh_destroy(&s);
     char exe[1100];
     snprintf(exe, sizeof exe, "%s/sam_build", bin_dir);
-    double t = now();
+    double t = sam_seconds();
     pid_t pid = fork();
     if (pid == 0) {
         execl(exe, exe, mesh_path, "-o", out_path, "--material", "skin", "--mm-per-unit", "40", "--force", "--quiet",
@@ -418,7 +405,7 @@ static void memory_study(FILE *json, const char *bin_dir)
         fprintf(stderr, "bench_build: %s failed\n", exe);
         exit(1);
     }
-    t = now() - t;
+    t = sam_seconds() - t;
     double per = (double)ru.ru_maxrss * 1024.0 / vertices;
     printf("memory: %u vertices, peak %.0f MiB, %.0f bytes per vertex, %.1f s\n", vertices,
            ru.ru_maxrss / 1024.0, per, t);

@@ -22,24 +22,11 @@
 #include "sam/sam_build.h"
 #include "sam/sam_runtime.h"
 #include "sam/sam_shape.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "bench_util.h"
 
 static void die(const char *what, const sam_error *err)
 {
-    fprintf(stderr, "bench_frame: %s: %s\n", what, err ? err->message : "failed");
-    exit(1);
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
+    bench_die("bench_frame", what, err);
 }
 
 /* Copy bandwidth in bytes per second (read + write counted), best of 5. */
@@ -53,9 +40,9 @@ static double memory_bandwidth(void)
     memset(b, 2, n);
     double best = 0;
     for (int i = 0; i < 5; ++i) {
-        double t = now();
+        double t = sam_seconds();
         memcpy(b, a, n);
-        t = now() - t;
+        t = sam_seconds() - t;
         best = fmax(best, 2.0 * (double)n / t);
         a[i] = b[n - 1 - i]; /* keep the copies observable */
     }
@@ -93,13 +80,13 @@ static double median_ms(sam_runtime *rt, pass_fn fn, void *user, int runs)
     sam_error err;
     for (int i = 0; i < runs; ++i) {
         glFinish();
-        double start = now();
+        double start = sam_seconds();
         if (fn(rt, user, &err) != SAM_OK)
             die("pass", &err);
         glFinish();
-        t[i] = 1e3 * (now() - start);
+        t[i] = 1e3 * (sam_seconds() - start);
     }
-    qsort(t, (size_t)runs, sizeof *t, cmp_double);
+    qsort(t, (size_t)runs, sizeof *t, bench_cmp_double);
     return t[runs / 2];
 }
 

@@ -11,13 +11,6 @@
 
 #include "sam_build_internal.h"
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static sam_status result_alloc(const sam_build_context *ctx, sam_build_result *r, sam_error *err)
 {
     memset(r, 0, sizeof *r);
@@ -437,7 +430,7 @@ static sam_status finish_progress(progress_state *p, sam_build_result *r, double
     }
     if (p->fn)
         p->fn(p->user, p->total, p->total);
-    r->seconds = now_seconds() - start;
+    r->seconds = sam_seconds() - start;
     return SAM_OK;
 }
 
@@ -449,7 +442,7 @@ static int thread_count(const sam_build_context *ctx)
 sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
                          sam_build_result *result, sam_error *err)
 {
-    double start = now_seconds();
+    double start = sam_seconds();
     sam_status st = result_alloc(ctx, result, err);
     if (st != SAM_OK)
         return st;
@@ -534,7 +527,7 @@ sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn pro
 sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
                                sam_build_result *result, sam_error *err)
 {
-    double start = now_seconds();
+    double start = sam_seconds();
     sam_status st = result_alloc(ctx, result, err);
     if (st != SAM_OK)
         return st;

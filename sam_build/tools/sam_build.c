@@ -61,13 +61,6 @@ typedef struct progress_view {
     int open_line; /* a carriage-return bar is on screen without its newline */
 } progress_view;
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static int show_progress(void *user, uint64_t done, uint64_t total)
 {
     progress_view *v = user;
@@ -75,7 +68,7 @@ static int show_progress(void *user, uint64_t done, uint64_t total)
         return 1;
     if (v->quiet || total == 0)
         return 0;
-    double elapsed = now_seconds() - v->start, frac = (double)done / (double)total;
+    double elapsed = sam_seconds() - v->start, frac = (double)done / (double)total;
     double eta = frac > 0 ? elapsed * (1 - frac) / frac : 0;
     if (v->tty) {
         char bar[41];
@@ -253,7 +246,7 @@ int main(int argc, char **argv)
     }
     char sha[65];
     int code = 1;
-    progress_view view = {now_seconds(), isatty(2), quiet, 0, 0};
+    progress_view view = {sam_seconds(), isatty(2), quiet, 0, 0};
     sam_build_context *ctx = NULL;
     sam_build_result result;
     memset(&result, 0, sizeof result);
@@ -262,7 +255,7 @@ int main(int argc, char **argv)
     if (sam_sha256_file(mesh_path, sha, &err) != SAM_OK ||
         sam_build_context_create(&mesh, &profile, mm_per_unit, &settings, &ctx, &err) != SAM_OK)
         goto done;
-    view.start = now_seconds();
+    view.start = sam_seconds();
     if (!quiet)
         fprintf(stderr, "sam_build: %s: %u vertices (%u welded), %s at %g mm per unit, N=%u, search radius %.3g mm\n",
                 mesh_path, mesh.vertex_count, mesh.topo_count, profile.name, mm_per_unit, settings.samples_per_vertex,

@@ -89,6 +89,9 @@ sam_status sam_read_file(const char *path, uint8_t **data, size_t *size, sam_err
 /* malloc'd copy of a NUL-terminated string (caller frees), NULL when out of memory. */
 char *sam_strdup(const char *s);
 
+/* Seconds on a monotonic clock (for durations, progress and benchmarks). */
+double sam_seconds(void);
+
 /* Returns a pointer to the file name part of `path` (after the last '/'). */
 const char *sam_path_basename(const char *path);
 
