@@ -41,6 +41,11 @@ layout(location = 2) out vec4 o_specular;
 
 in float v_depth;
 in float v_curvature;
+in vec2 v_uv;
+
+// Texture-space diffusion: the blurred entering light, read at the UV.
+uniform int u_texture_space;
+uniform sampler2D u_atlas;
 
 // Pre-integrated skin (Penner): tables of sam_preint, RGB, 64 x 64.
 layout(std430, binding = 12) readonly buffer PreDiffuse { float pre_diffuse[]; };
@@ -185,6 +190,8 @@ void main()
     vec3 entering = v_translucency;
     if (u_front != 0)
         entering += (u_preintegrated != 0 ? preintegrated_front(n, v_position) : v_irradiance) * u_total_reflectance;
+    if (u_texture_space != 0)
+        entering = texture(u_atlas, v_uv).rgb;
     vec3 factor = rho_dt_view(dot(n, v)) / PI * u_albedo;
     vec3 specular = vec3(0.0);
     for (uint i = 0u; i < u_light_count; ++i) {

@@ -3,6 +3,7 @@
 // passes' buffers, indexed by the vertex the index buffer names.
 layout(location = 0) in vec4 a_position;
 layout(location = 1) in vec4 a_normal;
+layout(location = 2) in vec2 a_uv;
 
 layout(std430, binding = 4) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 5) readonly buffer Translucency { vec4 translucency[]; };
@@ -19,6 +20,7 @@ out vec3 v_irradiance;
 out vec3 v_translucency;
 out float v_depth;
 out float v_curvature;       // 1/mm
+out vec2 v_uv;
 
 void main()
 {
@@ -29,5 +31,6 @@ void main()
     v_translucency = translucency[gl_VertexID].rgb;
     v_depth = dot(a_position.xyz - u_eye, u_forward);
     v_curvature = curvature[gl_VertexID];
+    v_uv = a_uv;
     gl_Position = u_view_proj * vec4(a_position.xyz, 1.0);
 }

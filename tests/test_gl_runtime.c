@@ -469,85 +469,111 @@ static void test_shadows_block_light(void **state)
     samfile_free(&d);
 }
 
-/* Screen-space diffusion: uniform entering light stays uniform away from
- * silhouettes (each channel's kernel sums to 1), a sharp light edge is
- * softened, and the background stays empty. */
-static void test_screen_diffusion(void **state)
+/* A 40 x 40 x 2 mm slab (10 mm per unit) with its UV charts, as a .sam. */
+static void uv_slab(const sam_profile *profile, samfile_data *out)
+{
+    sam_shape_params sp;
+    sam_error err;
+    assert_int_equal(sam_shape_default_params("slab", &sp, &err), SAM_OK);
+    sp.resolution = 48, sp.size = sp.depth = 4.0, sp.thickness = 0.2;
+    sam_shape_mesh s;
+    assert_int_equal(sam_shape_generate("slab", &sp, &s, &err), SAM_OK);
+    sam_mesh_input in = {.name = "slab", .vertex_count = s.vertex_count, .positions = s.positions, .uvs = s.uvs,
+                         .triangle_count = s.triangle_count, .triangles = s.triangles};
+    sam_mesh mesh;
+    assert_int_equal(sam_mesh_create(&in, &mesh, NULL, &err), SAM_OK);
+    sam_shape_mesh_destroy(&s);
+    assert_int_equal(sam_build_samfile(&mesh, profile, 10.0f, NULL, NULL, NULL, NULL, out, NULL, &err), SAM_OK);
+    sam_mesh_destroy(&mesh);
+}
+
+/* Screen-space and texture-space diffusion: uniform entering light stays
+ * uniform away from silhouettes (kernels and level weights sum to 1), a
+ * sharp light edge is softened, and the background stays empty. */
+static void test_diffusion_energy_and_blur(void **state)
 {
     (void)state;
-    samfile_data d;
     sam_profile profile;
-    two_slabs(&d, &profile); /* the upper slab is 20 x 20 mm at 10 mm per unit */
-    /* Skin's kernel is narrow enough that the taps of the central pixels
-     * stay on the flat top (the translucency, built for marble, is 0 there). */
     assert_int_equal(sam_profile_preset("skin", &profile, NULL), SAM_OK);
+    /* Skin's kernel is narrow enough that the central pixels' taps stay on
+     * the flat top. */
     sam_separable_kernel kernel;
     assert_int_equal(sam_profile_separable_kernel_direct(&profile, 17, &kernel, NULL), SAM_OK);
     assert_true(kernel.width_mm < 6.0f);
+    samfile_data d;
+    uv_slab(&profile, &d);
     sam_runtime *rt;
     sam_error err;
     assert_int_equal(sam_runtime_create(&d, &profile, 10.0f, &rt, &err), SAM_OK);
-    sam_light l;
-    memset(&l, 0, sizeof l);
-    l.type = SAM_LIGHT_DIRECTIONAL;
-    l.color[0] = l.color[1] = l.color[2] = 1.0f;
-    l.intensity = 1.0f;
-    memcpy(l.direction, (float[3]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
-    assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
-    assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
-    assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
+    assert_true(sam_runtime_has_uvs(rt));
     sam_render_view view;
     memset(&view, 0, sizeof view);
     view.width = view.height = 128;
     view.fov_deg = 30.0f;
-    memcpy(view.eye, (float[3]){0.0f, 4.0f, 0.001f}, 3 * sizeof(float));
+    memcpy(view.eye, (float[3]){0.0f, 8.0f, 0.001f}, 3 * sizeof(float));
     memcpy(view.up, (float[3]){0.0f, 0.0f, -1.0f}, 3 * sizeof(float));
     view.albedo[0] = view.albedo[1] = view.albedo[2] = 1.0f;
     view.front = 1;
-    sam_image plain, blurred;
-    assert_int_equal(sam_runtime_render(rt, &view, &plain, &err), SAM_OK);
-    view.diffusion = 1;
-    assert_int_equal(sam_runtime_render(rt, &view, &blurred, &err), SAM_OK);
-    /* The central 40 x 40 pixels (6.7 mm) see only the upper slab's flat top,
-     * and their taps (+-width) stay 10 - 3.3 - 6 > 0 mm inside its edge. */
-    double worst = 0;
-    for (int y = 44; y < 84; ++y)
-        for (int x = 44; x < 84; ++x)
-            for (int c = 0; c < 3; ++c) {
-                float a = plain.pixels[4 * (y * 128 + x) + c], b = blurred.pixels[4 * (y * 128 + x) + c];
-                assert_true(a > 0);
-                worst = fmax(worst, fabs(b - a) / a);
-            }
-    printf("screen diffusion, uniform light: worst relative change %.2e in the interior\n", worst);
-    assert_true(worst <= 1e-4);
-    assert_float_equal(blurred.pixels[3], 0.0f, 0.0f); /* corner: background */
-    assert_float_equal(blurred.pixels[0], 0.0f, 0.0f);
+    const char *names[4] = {"none", "screen", "pre-integrated", "texture"};
+    for (int mode = 1; mode <= 3; mode += 2) {
+        sam_light l;
+        memset(&l, 0, sizeof l);
+        l.type = SAM_LIGHT_DIRECTIONAL;
+        l.color[0] = l.color[1] = l.color[2] = 1.0f;
+        l.intensity = 1.0f;
+        memcpy(l.direction, (float[3]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
+        assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+        assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+        assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
+        sam_image plain, blurred;
+        view.diffusion = 0;
+        assert_int_equal(sam_runtime_render(rt, &view, &plain, &err), SAM_OK);
+        view.diffusion = mode;
+        if (sam_runtime_render(rt, &view, &blurred, &err) != SAM_OK)
+            fail_msg("%s", err.message);
+        /* The view spans 43 mm; the central 40 x 40 pixels (13.4 mm) see
+         * only the flat top, and their taps stay inside its 20 mm half-width:
+         * 6.7 + 6 (screen kernel) or 6.7 + 8.2 (3 sigma of the widest
+         * texture-space level). */
+        double worst = 0;
+        for (int y = 44; y < 84; ++y)
+            for (int x = 44; x < 84; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    float a = plain.pixels[4 * (y * 128 + x) + c], b = blurred.pixels[4 * (y * 128 + x) + c];
+                    assert_true(a > 0);
+                    worst = fmax(worst, fabs(b - a) / a);
+                }
+        printf("%s diffusion, uniform light: worst relative change %.2e in the interior\n", names[mode], worst);
+        assert_true(worst <= 1e-4);
+        assert_float_equal(blurred.pixels[3], 0.0f, 0.0f); /* corner: background */
+        sam_image_destroy(&plain);
+        sam_image_destroy(&blurred);
 
-    /* A spot whose cone edge crosses the slab: the blur softens the edge. */
-    l.type = SAM_LIGHT_SPOT;
-    memcpy(l.position, (float[3]){0.0f, 3.0f, 0.0f}, 3 * sizeof(float));
-    l.inner_angle_deg = l.outer_angle_deg = 8.0f; /* a hard edge, about 0.43 units from the centre */
-    l.intensity = 9.0f;
-    assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
-    assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
-    assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
-    sam_image_destroy(&plain);
-    sam_image_destroy(&blurred);
-    view.diffusion = 0;
-    assert_int_equal(sam_runtime_render(rt, &view, &plain, &err), SAM_OK);
-    view.diffusion = 1;
-    assert_int_equal(sam_runtime_render(rt, &view, &blurred, &err), SAM_OK);
-    /* Largest jump between neighbours along the middle row. */
-    double step_plain = 0, step_blurred = 0;
-    for (int x = 20; x < 107; ++x) {
-        step_plain = fmax(step_plain, fabs(plain.pixels[4 * (64 * 128 + x + 1)] - plain.pixels[4 * (64 * 128 + x)]));
-        step_blurred = fmax(step_blurred, fabs(blurred.pixels[4 * (64 * 128 + x + 1)] -
-                                               blurred.pixels[4 * (64 * 128 + x)]));
+        /* A spot whose hard cone edge crosses the slab: the blur softens it. */
+        l.type = SAM_LIGHT_SPOT;
+        memcpy(l.position, (float[3]){0.0f, 3.0f, 0.0f}, 3 * sizeof(float));
+        l.inner_angle_deg = l.outer_angle_deg = 8.0f; /* about 0.43 units from the centre */
+        l.intensity = 9.0f;
+        assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+        assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+        assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
+        view.diffusion = 0;
+        assert_int_equal(sam_runtime_render(rt, &view, &plain, &err), SAM_OK);
+        view.diffusion = mode;
+        assert_int_equal(sam_runtime_render(rt, &view, &blurred, &err), SAM_OK);
+        double step_plain = 0, step_blurred = 0;
+        for (int x = 20; x < 107; ++x) {
+            step_plain =
+                fmax(step_plain, fabs(plain.pixels[4 * (64 * 128 + x + 1)] - plain.pixels[4 * (64 * 128 + x)]));
+            step_blurred = fmax(step_blurred, fabs(blurred.pixels[4 * (64 * 128 + x + 1)] -
+                                                   blurred.pixels[4 * (64 * 128 + x)]));
+        }
+        printf("%s diffusion, spot edge: largest step %.4g without, %.4g with the blur\n", names[mode], step_plain,
+               step_blurred);
+        assert_true(step_blurred < 0.8 * step_plain);
+        sam_image_destroy(&plain);
+        sam_image_destroy(&blurred);
     }
-    printf("screen diffusion, spot edge: largest step %.4g without, %.4g with the blur\n", step_plain, step_blurred);
-    assert_true(step_blurred < 0.8 * step_plain);
-    sam_image_destroy(&plain);
-    sam_image_destroy(&blurred);
     sam_runtime_destroy(rt);
     samfile_free(&d);
 }
@@ -629,7 +655,7 @@ int main(void)
         cmocka_unit_test(test_temporal_smoothing),
         cmocka_unit_test(test_irradiance_matches_cpu),
         cmocka_unit_test(test_shadows_block_light),
-        cmocka_unit_test(test_screen_diffusion),
+        cmocka_unit_test(test_diffusion_energy_and_blur),
         cmocka_unit_test(test_preintegrated_wraps_light),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

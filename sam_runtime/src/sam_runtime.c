@@ -11,7 +11,9 @@
 #include <string.h>
 
 enum { B_POSITIONS, B_NORMALS, B_SAMPLES, B_FAN_AREAS, B_IRRADIANCE, B_TRANSLUCENCY, B_ADJ_OFFSETS, B_ADJACENCY,
-       B_LIGHTS, B_RHO_DT, B_TRIANGLES, B_CURVATURE, B_PRE_DIFFUSE, B_PRE_PENUMBRA, B_COUNT };
+       B_LIGHTS, B_RHO_DT, B_TRIANGLES, B_CURVATURE, B_PRE_DIFFUSE, B_PRE_PENUMBRA, B_UVS, B_COUNT };
+
+#define ATLAS_SIZE 1024
 
 /* Pre-integrated skin tables: 64 x 64, curvature up to 2 / mm (a 0.5 mm
  * radius), penumbra width up to 20 mm. */
@@ -52,6 +54,9 @@ struct sam_runtime {
     GLuint vao, fbo, shadow_program, shade_program, blur_program, compose_program;
     sam_separable_kernel kernel;
     int preint_ready;
+    int has_uvs;
+    sam_gaussian_fit fit;
+    GLuint tsd_program, tsd_blur_program, tsd_accumulate_program;
     float total_reflectance[3];
     GLuint cube_tex[MAX_CUBE_SHADOWS], flat_tex[MAX_FLAT_SHADOWS];
     uint32_t cube_count, flat_count;
@@ -197,6 +202,16 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
     glBindBuffer(GL_ARRAY_BUFFER, rt->buffer[B_NORMALS]);
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), NULL);
+    if (sam->uvs) {
+        rt->has_uvs = 1;
+        if ((st = upload(rt, B_UVS, sam->uvs, nv * 2 * sizeof(float), err)) != SAM_OK)
+            goto done;
+        glBindBuffer(GL_ARRAY_BUFFER, rt->buffer[B_UVS]);
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), NULL);
+    } else {
+        glVertexAttrib2f(2, 0.0f, 0.0f);
+    }
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, rt->buffer[B_TRIANGLES]);
     glBindVertexArray(0);
     glGenFramebuffers(1, &rt->fbo);
@@ -204,7 +219,12 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
         (st = sam_gl_render_program("shade.vert", "shade.frag", NULL, &rt->shade_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("sss_blur.comp", NULL, &rt->blur_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("sss_compose.comp", NULL, &rt->compose_program, err)) != SAM_OK ||
-        (st = sam_profile_separable_kernel_direct(profile, 17, &rt->kernel, err)) != SAM_OK)
+        (st = sam_profile_separable_kernel_direct(profile, 17, &rt->kernel, err)) != SAM_OK ||
+        (st = sam_gl_render_program("tsd_irradiance.vert", "tsd_irradiance.frag", NULL, &rt->tsd_program, err)) !=
+            SAM_OK ||
+        (st = sam_gl_compute_program("tsd_blur.comp", NULL, &rt->tsd_blur_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("tsd_accumulate.comp", NULL, &rt->tsd_accumulate_program, err)) != SAM_OK ||
+        (st = sam_profile_fit_gaussians(profile, &rt->fit, err)) != SAM_OK)
         goto done;
     sam_profile_total_reflectance(profile, rt->total_reflectance);
     if ((st = sam_brdf_rho_dt_table(RHO_SIZE, RHO_SIZE, SKIN_F0, SAM_BRDF_ROUGHNESS_MAX, rt->rho_table, err)) !=
@@ -249,6 +269,12 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->blur_program);
     if (rt->compose_program)
         glDeleteProgram(rt->compose_program);
+    if (rt->tsd_program)
+        glDeleteProgram(rt->tsd_program);
+    if (rt->tsd_blur_program)
+        glDeleteProgram(rt->tsd_blur_program);
+    if (rt->tsd_accumulate_program)
+        glDeleteProgram(rt->tsd_accumulate_program);
     glDeleteVertexArrays(1, &rt->vao);
     glDeleteFramebuffers(1, &rt->fbo);
     glDeleteTextures(MAX_CUBE_SHADOWS, rt->cube_tex);
@@ -561,9 +587,98 @@ static sam_status ensure_preintegrated(sam_runtime *rt, sam_error *err)
     return st;
 }
 
+int sam_runtime_has_uvs(const sam_runtime *rt)
+{
+    return rt->has_uvs;
+}
+
+/* d'Eon's texture-space diffusion into `atlas` (ATLAS_SIZE^2 RGBA32F): the
+ * entering light unwrapped into UV space with its stretch map, blurred into
+ * one level per Gaussian of the fit, each level from the previous one, and
+ * summed with the fit's weights over the total reflectance. */
+static void texture_space_diffusion(sam_runtime *rt, int front, GLuint atlas)
+{
+    GLuint fbo, tex[4]; /* 0: entering / level, 1: stretch, 2: blur temporary, 3: next level */
+    glGenFramebuffers(1, &fbo);
+    glGenTextures(4, tex);
+    for (int i = 0; i < 4; ++i) {
+        glBindTexture(GL_TEXTURE_2D, tex[i]);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, ATLAS_SIZE, ATLAS_SIZE);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[0], 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[1], 0);
+    static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, two);
+    glViewport(0, 0, ATLAS_SIZE, ATLAS_SIZE);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    GLuint p = rt->tsd_program;
+    glUseProgram(p);
+    glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
+    glUniform1i(glGetUniformLocation(p, "u_front"), front);
+    glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+    for (int b = 0; b < B_COUNT; ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+    glBindVertexArray(rt->vao);
+    glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+
+    GLuint groups = (ATLAS_SIZE + 7) / 8, level = tex[0], next = tex[3];
+    float previous_variance = 0.0f;
+    for (uint32_t g = 0; g < rt->fit.count; ++g) {
+        float sigma = sqrtf(fmaxf(rt->fit.variance[g] - previous_variance, 0.0f));
+        previous_variance = rt->fit.variance[g];
+        GLuint b = rt->tsd_blur_program;
+        glUseProgram(b);
+        glUniform1f(glGetUniformLocation(b, "u_sigma_mm"), sigma);
+        glBindImageTexture(2, tex[1], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        for (int pass = 0; pass < 2; ++pass) {
+            glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
+            glBindImageTexture(0, pass == 0 ? level : tex[2], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+            glBindImageTexture(1, pass == 0 ? tex[2] : next, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glDispatchCompute(groups, groups, 1);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        }
+        GLuint a = rt->tsd_accumulate_program;
+        glUseProgram(a);
+        float w[3];
+        for (int c = 0; c < 3; ++c)
+            w[c] = rt->total_reflectance[c] > 0 ? rt->fit.weight[g][c] / rt->total_reflectance[c] : 0.0f;
+        glUniform3fv(glGetUniformLocation(a, "u_weight"), 1, w);
+        glUniform1i(glGetUniformLocation(a, "u_first"), g == 0);
+        glBindImageTexture(0, next, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(1, atlas, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glDispatchCompute(groups, groups, 1);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        GLuint t = level;
+        level = next;
+        next = t;
+    }
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteTextures(4, tex);
+}
+
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err)
 {
     memset(out, 0, sizeof *out);
+    if (view->diffusion == 3 && !rt->has_uvs)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "render: texture-space diffusion needs UVs and this mesh has none");
+    GLuint atlas = 0;
+    if (view->diffusion == 3) {
+        glGenTextures(1, &atlas);
+        glBindTexture(GL_TEXTURE_2D, atlas);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, ATLAS_SIZE, ATLAS_SIZE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        texture_space_diffusion(rt, view->front, atlas);
+    }
     if (view->diffusion == 2) {
         sam_status pst = ensure_preintegrated(rt, err);
         if (pst != SAM_OK)
@@ -628,6 +743,12 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         glUniform1ui(glGetUniformLocation(p, "u_light_count"), view->front ? rt->light_count : 0);
         glUniform1i(glGetUniformLocation(p, "u_split"), view->diffusion == 1);
         glUniform1i(glGetUniformLocation(p, "u_preintegrated"), view->diffusion == 2);
+        glUniform1i(glGetUniformLocation(p, "u_texture_space"), view->diffusion == 3);
+        /* The atlas takes the unit after the shadow maps. */
+        glActiveTexture(GL_TEXTURE0 + MAX_CUBE_SHADOWS + MAX_FLAT_SHADOWS);
+        glBindTexture(GL_TEXTURE_2D, atlas);
+        glActiveTexture(GL_TEXTURE0);
+        glUniform1i(glGetUniformLocation(p, "u_atlas"), MAX_CUBE_SHADOWS + MAX_FLAT_SHADOWS);
         glUniform1i(glGetUniformLocation(p, "u_pre_size"), PRE_SIZE);
         glUniform1f(glGetUniformLocation(p, "u_pre_max_curvature"), PRE_MAX_CURVATURE);
         glUniform1f(glGetUniformLocation(p, "u_pre_max_penumbra"), PRE_MAX_PENUMBRA_MM);
@@ -706,6 +827,8 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
     glDeleteFramebuffers(1, &fbo);
     glDeleteTextures(5, tex);
     glDeleteRenderbuffers(1, &depth);
+    if (atlas)
+        glDeleteTextures(1, &atlas);
     if (st != SAM_OK)
         sam_image_destroy(out);
     return st;

@@ -27,9 +27,10 @@ static void usage(FILE *out)
             "  --dt S                 frame time in seconds for temporal smoothing (default 1/60)\n"
             "  --technique sam|none   translucency technique (default: the scene's)\n"
             "  --translucency-only    the translucency alone, without front lighting\n"
-            "  --diffusion none|screen|preintegrated\n"
+            "  --diffusion none|screen|texture|preintegrated\n"
             "                         surface diffusion (default: the scene's): screen-space separable\n"
-            "                         SSS, or pre-integrated skin (texture space is not available yet)\n"
+            "                         SSS, texture-space sum of Gaussians (meshes without UVs fall back\n"
+            "                         to screen space with a warning), or pre-integrated skin\n"
             "  --dump-vertices FILE   write per-vertex L_d and T as CSV\n"
             "A scene naming a mesh builds its .sam first (N = 3, the scene's material and scale).\n"
             "Per-pass GPU times are printed to stderr.\n");
@@ -161,8 +162,10 @@ int main(int argc, char **argv)
             technique = argv[++i];
         } else if (!strcmp(a, "--diffusion")) {
             diffusion = argv[++i];
-            if (strcmp(diffusion, "none") && strcmp(diffusion, "screen") && strcmp(diffusion, "preintegrated")) {
-                fprintf(stderr, "sam_render: --diffusion must be none, screen or preintegrated, got \"%s\"\n",
+            if (strcmp(diffusion, "none") && strcmp(diffusion, "screen") && strcmp(diffusion, "texture") &&
+                strcmp(diffusion, "preintegrated")) {
+                fprintf(stderr,
+                        "sam_render: --diffusion must be none, screen, texture or preintegrated, got \"%s\"\n",
                         diffusion);
                 return 2;
             }
@@ -209,15 +212,15 @@ int main(int argc, char **argv)
         sam_scene_destroy(&scene);
         return fail("the scene's technique is not available in sam_render yet (sam or none)");
     }
-    int use_diffusion = 1;
+    /* 0 none, 1 screen, 2 pre-integrated, 3 texture (sam_render_view.diffusion) */
+    int use_diffusion = scene.diffusion == SAM_DIFFUSION_PREINTEGRATED ? 2
+                        : scene.diffusion == SAM_DIFFUSION_TEXTURE    ? 3
+                                                                      : 1;
     if (diffusion)
-        use_diffusion = !strcmp(diffusion, "screen") ? 1 : !strcmp(diffusion, "preintegrated") ? 2 : 0;
-    else if (scene.diffusion == SAM_DIFFUSION_PREINTEGRATED)
-        use_diffusion = 2;
-    else if (scene.diffusion != SAM_DIFFUSION_SCREEN) {
-        sam_scene_destroy(&scene);
-        return fail("texture-space diffusion is not available yet (use screen or preintegrated)");
-    }
+        use_diffusion = !strcmp(diffusion, "screen")          ? 1
+                        : !strcmp(diffusion, "preintegrated") ? 2
+                        : !strcmp(diffusion, "texture")       ? 3
+                                                              : 0;
     samfile_data sam;
     sam_profile profile;
     float mm_per_unit;
@@ -260,6 +263,10 @@ int main(int argc, char **argv)
     view.height = scene.height;
     memcpy(view.albedo, scene.albedo, sizeof view.albedo);
     view.front = !translucency_only;
+    if (use_diffusion == 3 && !sam_runtime_has_uvs(rt)) {
+        fprintf(stderr, "sam_render: warning: the mesh has no UVs; texture-space diffusion falls back to screen space\n");
+        use_diffusion = 1;
+    }
     view.diffusion = use_diffusion;
     if (scene.has_camera) {
         memcpy(view.eye, scene.camera.position, sizeof view.eye);

@@ -30,6 +30,14 @@ cmp -s "$tmp/a.exr" "$tmp/nd.exr" && fail "screen diffusion changed nothing"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/pi.exr" --diffusion preintegrated --frames 3 2>/dev/null \
   || fail "--diffusion preintegrated"
 cmp -s "$tmp/pi.exr" "$tmp/nd.exr" && fail "pre-integrated shading changed nothing"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tx.exr" --diffusion texture --frames 3 2> "$tmp/tx.txt" \
+  || fail "--diffusion texture: $(cat "$tmp/tx.txt")"
+grep -q warning "$tmp/tx.txt" && fail "the ear has UVs, yet texture space fell back"
+cmp -s "$tmp/tx.exr" "$tmp/nd.exr" && fail "texture-space diffusion changed nothing"
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > "$tmp/tet.off"
+printf '{"mesh": "tet.off", "material": "skin", "scale": {"mm_per_unit": 10}, "diffusion": "texture", "lights": [{"type": "directional", "direction": [0, -1, 0]}], "resolution": [32, 32]}' > "$tmp/tet.json"
+"$bin/sam_render" "$tmp/tet.json" -o "$tmp/tet.exr" 2> "$tmp/tet.txt" || fail "no-UV texture fallback: $(cat "$tmp/tet.txt")"
+[ "$(grep -c 'warning: the mesh has no UVs' "$tmp/tet.txt")" -eq 1 ] || fail "expected one fallback warning: $(cat "$tmp/tet.txt")"
 
 expect_error() { # status label args...
   local want=$1 label=$2; shift 2

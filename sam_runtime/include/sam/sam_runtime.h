@@ -100,7 +100,8 @@ typedef struct sam_render_view {
     float albedo[3];
     int front;               /* 1: front lighting + translucency; 0: translucency only */
     int diffusion;           /* 0: none; 1: screen-space separable SSS of the entering light;
-                              * 2: pre-integrated skin (local, no blur) */
+                              * 2: pre-integrated skin (local, no blur);
+                              * 3: texture-space sum of Gaussians (needs UVs) */
 } sam_render_view;
 
 /* Renders the object with its current L_d and T into a linear HDR RGBA
@@ -114,9 +115,17 @@ typedef struct sam_render_view {
  * shading (Penner) instead computes the front light per pixel: point, spot
  * and directional lights through the diffuse-falloff table at the vertex's
  * mean curvature (from the .sam's rings) and N.L, their shadow through the
- * penumbra table; area lights and the environment as in L_d. Errors: SAM_ERR_INVALID_ARGUMENT (size),
+ * penumbra table; area lights and the environment as in L_d. Texture-space
+ * diffusion (d'Eon) unwraps the entering light into a 1024^2 UV atlas with
+ * a stretch map, blurs it hierarchically with 7-tap Gaussians, one level
+ * per Gaussian of the profile's 8-Gaussian fit, and sums the levels with
+ * the fit's weights; the mesh then reads it at its UVs.
+ * Errors also: SAM_ERR_UNSUPPORTED for texture space without UVs. Errors: SAM_ERR_INVALID_ARGUMENT (size),
  * SAM_ERR_UNSUPPORTED (incomplete framebuffer), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err);
+
+/* 1 when the .sam has UVs (texture-space diffusion needs them). */
+int sam_runtime_has_uvs(const sam_runtime *rt);
 
 /* The object's bounding sphere in model units. */
 void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius);

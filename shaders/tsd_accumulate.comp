@@ -1,0 +1,21 @@
+#version 430 core
+// Texture-space diffusion, step 3: the sum of the Gaussian levels with the
+// material's 8-Gaussian fit weights (each over the total reflectance, since
+// the entering light already carries it).
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(rgba32f, binding = 0) readonly uniform image2D u_level;
+layout(rgba32f, binding = 1) uniform image2D u_sum;
+
+uniform vec3 u_weight;
+uniform int u_first;
+
+void main()
+{
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= imageSize(u_sum).x || p.y >= imageSize(u_sum).y)
+        return;
+    vec4 level = imageLoad(u_level, p);
+    vec3 prev = u_first != 0 ? vec3(0.0) : imageLoad(u_sum, p).rgb;
+    imageStore(u_sum, p, vec4(prev + u_weight * level.rgb, level.a));
+}
