@@ -4,7 +4,8 @@
  *
  * For knots at three resolutions (about 2k, 18k and 88k vertices; skin,
  * N = 3): the irradiance pass (one shadowed point light + environment), the
- * translucency pass and the shading pass at 1920x1080. Times are wall-clock around glFinish, the
+ * translucency pass and the shading pass at 1920x1080, the latter with
+ * each surface-diffusion technique. Times are wall-clock around glFinish, the
  * median of 15 runs (llvmpipe reports no timer-query time for compute),
  * and GL timer queries where the driver gives them. The translucency pass
  * is set against its bandwidth lower bound: the bytes it must move per
@@ -148,18 +149,31 @@ int main(int argc, char **argv)
         double irr = median_ms(rt, run_irradiance, NULL, 15);
         double tra = median_ms(rt, run_translucency, NULL, 15);
         double sha = median_ms(rt, run_shade, &view, 5);
+        /* Every surface-diffusion technique on the same frame. */
+        static const char *diffusion_names[4] = {"none", "screen", "preintegrated", "texture"};
+        double diffusion_ms[4];
+        for (int t = 0; t < 4; ++t) {
+            view.diffusion = t;
+            diffusion_ms[t] = median_ms(rt, run_shade, &view, 3);
+        }
+        view.diffusion = 0;
         /* Bytes the translucency pass must move per vertex. */
         double bytes = 16 + 16 + 16 + (double)d.samples_per_vertex * (16 + 16 + 4 + 16);
         double bound = 1e3 * bytes * d.vertex_count / bandwidth;
         double share = tra / (irr + tra + sha);
         printf("%9u %9.3f ms %11.3f ms %8.2f ms %12.1f %13.3f %9.0f%% %10.1f%%\n", d.vertex_count, irr, tra, sha,
                1e-3 * d.vertex_count / tra, bound, 100 * bound / tra, 100 * share);
+        printf("          1080p shading by diffusion: none %.1f ms, screen %.1f ms, pre-integrated %.1f ms, "
+               "texture %.1f ms\n",
+               diffusion_ms[0], diffusion_ms[1], diffusion_ms[2], diffusion_ms[3]);
         fprintf(json,
                 "    {\"vertices\": %u, \"samples_per_vertex\": %u, \"irradiance_ms\": %.4f, \"translucency_ms\": "
                 "%.4f, \"shade_1080p_ms\": %.3f, \"translucency_vertices_per_s\": %.0f, \"bytes_per_vertex\": %.0f, "
-                "\"bandwidth_bound_ms\": %.4f, \"fraction_of_bound\": %.4f, \"translucency_share_1080p\": %.4f}%s\n",
+                "\"bandwidth_bound_ms\": %.4f, \"fraction_of_bound\": %.4f, \"translucency_share_1080p\": %.4f, "
+                "\"shade_1080p_ms_by_diffusion\": {\"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f}}%s\n",
                 d.vertex_count, d.samples_per_vertex, irr, tra, sha, 1e3 * d.vertex_count / tra, bytes, bound,
-                bound / tra, share, m < 2 ? "," : "");
+                bound / tra, share, diffusion_names[0], diffusion_ms[0], diffusion_names[1], diffusion_ms[1],
+                diffusion_names[2], diffusion_ms[2], diffusion_names[3], diffusion_ms[3], m < 2 ? "," : "");
         sam_runtime_destroy(rt);
         samfile_free(&d);
         sam_mesh_destroy(&mesh);
