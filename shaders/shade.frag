@@ -8,6 +8,7 @@
 // light, shadowed like L_d. Linear HDR out; tonemapping happens on output.
 #include "lights.glsl"
 #include "shadows.glsl"
+#include "surface.glsl"
 
 in vec3 v_position;
 in vec3 v_normal;
@@ -16,7 +17,6 @@ in vec3 v_irradiance;
 in vec3 v_translucency;
 
 layout(std430, binding = 8) readonly buffer Lights { Light lights[]; };
-layout(std430, binding = 9) readonly buffer RhoDt { float rho_dt_table[]; };
 
 uniform uint u_light_count;       // 0 for translucency only
 uniform float u_roughness;        // Beckmann m
@@ -25,9 +25,6 @@ uniform float u_f0;               // Schlick F0
 uniform vec3 u_albedo;
 uniform vec3 u_total_reflectance;
 uniform int u_front;               // 0: translucency only
-uniform int u_rho_size;
-uniform float u_roughness_coord;
-uniform float u_specular_k;
 
 uniform int u_split;               // 1: write the parts surface diffusion needs
 
@@ -56,18 +53,14 @@ uniform float u_pre_max_curvature;  // 1/mm
 uniform float u_pre_max_penumbra;   // mm
 uniform float u_min_penumbra;       // mm: the profile's 99% radius
 uniform float u_mm_per_unit;
-uniform vec3 u_sh[9];
-uniform int u_has_environment;
-uniform float u_environment_rho_dt;
 
-float rho_dt_view(float n_dot_v);
-
-// Bilinear lookup in a table with texel-centred samples, x and y in [0, 1].
+// Bilinear lookup in a pre-integrated table (texel-centred), x and y in [0, 1].
 vec3 table_rgb(int which, float x, float y)
 {
-    float fx = clamp(x, 0.0, 1.0) * float(u_pre_size) - 0.5, fy = clamp(y, 0.0, 1.0) * float(u_pre_size) - 0.5;
-    int x0 = clamp(int(floor(fx)), 0, u_pre_size - 1), x1 = clamp(int(floor(fx)) + 1, 0, u_pre_size - 1);
-    int y0 = clamp(int(floor(fy)), 0, u_pre_size - 1), y1 = clamp(int(floor(fy)) + 1, 0, u_pre_size - 1);
+    int x0, x1, y0, y1;
+    float ax, ay;
+    centred_taps(x, u_pre_size, x0, x1, ax);
+    centred_taps(y, u_pre_size, y0, y1, ay);
     vec3 t[4];
     ivec2 at[4] = ivec2[4](ivec2(x0, y0), ivec2(x1, y0), ivec2(x0, y1), ivec2(x1, y1));
     for (int i = 0; i < 4; ++i) {
@@ -75,18 +68,7 @@ vec3 table_rgb(int which, float x, float y)
         t[i] = which == 0 ? vec3(pre_diffuse[k], pre_diffuse[k + 1], pre_diffuse[k + 2])
                           : vec3(pre_penumbra[k], pre_penumbra[k + 1], pre_penumbra[k + 2]);
     }
-    float ax = fx - floor(fx), ay = fy - floor(fy);
     return mix(mix(t[0], t[1], ax), mix(t[2], t[3], ax), ay);
-}
-
-vec3 sh_irradiance(vec3 n)
-{
-    const float A0 = PI, A1 = 2.0 * A0 / 3.0, A2 = A0 / 4.0;
-    float x = n.x, y = n.y, z = n.z;
-    vec3 e = A0 * 0.282094792 * u_sh[0] + A1 * 0.488602512 * (y * u_sh[1] + z * u_sh[2] + x * u_sh[3]) +
-             A2 * (1.092548431 * (x * y * u_sh[4] + y * z * u_sh[5] + x * z * u_sh[7]) +
-                   0.315391565 * (3.0 * z * z - 1.0) * u_sh[6] + 0.546274215 * (x * x - y * y) * u_sh[8]);
-    return max(e, vec3(0.0));
 }
 
 // Light arriving at p from a point, spot or directional light, before the
@@ -122,7 +104,7 @@ vec3 preintegrated_front(vec3 n, vec3 p)
         if (int(l.color_type.w) == 3) {
             float n_dot_l;
             vec3 e = light_irradiance(l, p, n, n_dot_l);
-            sum += e * rho_dt_view(n_dot_l) * shadow(l, p, n);
+            sum += e * rho_dt(n_dot_l) * shadow(l, p, n);
             continue;
         }
         vec3 dir = int(l.color_type.w) == 2 ? -l.direction.xyz : normalize(l.position.xyz - p);
@@ -135,22 +117,9 @@ vec3 preintegrated_front(vec3 n, vec3 p)
         vec3 shade = vec3(s);
         if (l.params.z >= 0.0 && s > 0.001 && s < 0.999)
             shade = table_rgb(1, s, max(penumbra_mm(l, p, n_dot_l), u_min_penumbra) / u_pre_max_penumbra);
-        sum += light_radiance(l, p) * falloff * shade * rho_dt_view(max(n_dot_l, 0.0));
+        sum += light_radiance(l, p) * falloff * shade * rho_dt(max(n_dot_l, 0.0));
     }
-    if (u_has_environment != 0)
-        sum += sh_irradiance(n) * u_environment_rho_dt;
-    return sum;
-}
-
-float rho_dt_view(float n_dot_v)
-{
-    float x = clamp(n_dot_v, 0.0, 1.0) * float(u_rho_size) - 0.5;
-    float y = clamp(u_roughness_coord, 0.0, 1.0) * float(u_rho_size) - 0.5;
-    int i0 = clamp(int(floor(x)), 0, u_rho_size - 1), i1 = clamp(int(floor(x)) + 1, 0, u_rho_size - 1);
-    int j0 = clamp(int(floor(y)), 0, u_rho_size - 1), j1 = clamp(int(floor(y)) + 1, 0, u_rho_size - 1);
-    float a = mix(rho_dt_table[j0 * u_rho_size + i0], rho_dt_table[j0 * u_rho_size + i1], x - floor(x));
-    float b = mix(rho_dt_table[j1 * u_rho_size + i0], rho_dt_table[j1 * u_rho_size + i1], x - floor(x));
-    return 1.0 - u_specular_k * (1.0 - mix(a, b, y - floor(y)));
+    return sum + environment_irradiance(n);
 }
 
 // f_r = D(N.H) F(V.H) / |L + V|^2 (sam_brdf_ks_eval), D normalised Beckmann.
@@ -192,7 +161,7 @@ void main()
         entering += (u_preintegrated != 0 ? preintegrated_front(n, v_position) : v_irradiance) * u_total_reflectance;
     if (u_texture_space != 0)
         entering = texture(u_atlas, v_uv).rgb;
-    vec3 factor = rho_dt_view(dot(n, v)) / PI * u_albedo;
+    vec3 factor = rho_dt(dot(n, v)) / PI * u_albedo;
     vec3 specular = vec3(0.0);
     for (uint i = 0u; i < u_light_count; ++i) {
         float n_dot_l;

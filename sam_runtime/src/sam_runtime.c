@@ -535,6 +535,17 @@ static void bind_shadows(const sam_runtime *rt, GLuint p)
     glUniform1f(glGetUniformLocation(p, "u_depth_bias"), 0.002f);
 }
 
+/* The uniforms of surface.glsl, which the irradiance and shading passes share. */
+static void set_surface_uniforms(const sam_runtime *rt, GLuint p)
+{
+    glUniform1i(glGetUniformLocation(p, "u_rho_size"), RHO_SIZE);
+    glUniform1f(glGetUniformLocation(p, "u_roughness_coord"), rt->roughness / SAM_BRDF_ROUGHNESS_MAX);
+    glUniform1f(glGetUniformLocation(p, "u_specular_k"), (float)(3.14159265358979323846 * rt->rho_s));
+    glUniform3fv(glGetUniformLocation(p, "u_sh"), 9, &rt->sh[0][0]);
+    glUniform1i(glGetUniformLocation(p, "u_has_environment"), rt->has_environment);
+    glUniform1f(glGetUniformLocation(p, "u_environment_rho_dt"), rt->environment_rho_dt);
+}
+
 sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
 {
     (void)err;
@@ -543,13 +554,7 @@ sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
     glUseProgram(p);
     glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
     glUniform1ui(glGetUniformLocation(p, "u_light_count"), rt->light_count);
-    glUniform3fv(glGetUniformLocation(p, "u_sh"), 9, &rt->sh[0][0]);
-    glUniform1i(glGetUniformLocation(p, "u_has_environment"), rt->has_environment);
-    glUniform1f(glGetUniformLocation(p, "u_environment_rho_dt"), rt->environment_rho_dt);
-    glUniform1i(glGetUniformLocation(p, "u_rho_size_ndotl"), RHO_SIZE);
-    glUniform1i(glGetUniformLocation(p, "u_rho_size_roughness"), RHO_SIZE);
-    glUniform1f(glGetUniformLocation(p, "u_roughness_coord"), rt->roughness / SAM_BRDF_ROUGHNESS_MAX);
-    glUniform1f(glGetUniformLocation(p, "u_specular_k"), (float)(3.14159265358979323846 * rt->rho_s));
+    set_surface_uniforms(rt, p);
     bind_shadows(rt, p);
     for (int b = 0; b < B_COUNT; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
@@ -735,9 +740,6 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         glUniform3fv(glGetUniformLocation(p, "u_albedo"), 1, view->albedo);
         glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
         glUniform1i(glGetUniformLocation(p, "u_front"), view->front);
-        glUniform1i(glGetUniformLocation(p, "u_rho_size"), RHO_SIZE);
-        glUniform1f(glGetUniformLocation(p, "u_roughness_coord"), rt->roughness / SAM_BRDF_ROUGHNESS_MAX);
-        glUniform1f(glGetUniformLocation(p, "u_specular_k"), (float)(3.14159265358979323846 * rt->rho_s));
         glUniform1f(glGetUniformLocation(p, "u_roughness"), rt->roughness);
         glUniform1f(glGetUniformLocation(p, "u_f0"), SKIN_F0);
         glUniform1ui(glGetUniformLocation(p, "u_light_count"), view->front ? rt->light_count : 0);
@@ -755,15 +757,13 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         glUniform1f(glGetUniformLocation(p, "u_min_penumbra"),
                     fminf(sam_profile_radius(&rt->profile, 0.01f), PRE_MAX_PENUMBRA_MM));
         glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
-        glUniform3fv(glGetUniformLocation(p, "u_sh"), 9, &rt->sh[0][0]);
-        glUniform1i(glGetUniformLocation(p, "u_has_environment"), rt->has_environment);
-        glUniform1f(glGetUniformLocation(p, "u_environment_rho_dt"), rt->environment_rho_dt);
         float forward[3] = {view->target[0] - view->eye[0], view->target[1] - view->eye[1],
                             view->target[2] - view->eye[2]};
         float fl = sqrtf(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
         for (int c = 0; c < 3; ++c)
             forward[c] /= fl;
         glUniform3fv(glGetUniformLocation(p, "u_forward"), 1, forward);
+        set_surface_uniforms(rt, p);
         bind_shadows(rt, p);
         for (int b = 0; b < B_COUNT; ++b)
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
