@@ -14,9 +14,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
 #include <embree3/rtcore.h>
 
+#include "sam/sam_build.h"
 #include "sam/sam_image.h"
 #include "sam/sam_profile.h"
 #include "sam/samfile.h"
@@ -108,22 +108,16 @@ int main(int argc, char **argv)
     if (samfile_read(in, &d, &err) != SAM_OK)
         return fail(err.message);
     /* The material and scale the map was built with. */
-    sam_profile profile;
-    float mm_per_unit = 0;
-    cJSON *info = cJSON_Parse(d.info_json);
-    cJSON *mat = info ? cJSON_GetObjectItemCaseSensitive(info, "material") : NULL;
-    char *mat_text = mat ? cJSON_PrintUnformatted(mat) : NULL;
-    const cJSON *scale_item = info ? cJSON_GetObjectItemCaseSensitive(info, "mm_per_unit") : NULL;
-    if (cJSON_IsNumber(scale_item))
-        mm_per_unit = (float)scale_item->valuedouble;
-    sam_status st = mat_text ? sam_profile_parse_json(mat_text, strlen(mat_text), in, &profile, &err)
-                             : sam_fail(&err, SAM_ERR_FORMAT, "%s: INFO has no material", in);
-    cJSON_free(mat_text);
-    cJSON_Delete(info);
+    sam_build_info info;
+    sam_status st = sam_build_info_read(&d, in, &info, &err);
+    if (st == SAM_OK && !info.has_material)
+        st = sam_fail(&err, SAM_ERR_FORMAT, "%s: INFO has no material", in);
     if (st != SAM_OK) {
         samfile_free(&d);
         return fail(err.message);
     }
+    const sam_profile profile = info.profile;
+    const float mm_per_unit = info.mm_per_unit;
     const uint32_t nv = d.vertex_count, nt = d.triangle_count, n = d.samples_per_vertex;
 
     /* Camera along the thinnest bounding-box axis unless told otherwise. */

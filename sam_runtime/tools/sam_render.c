@@ -8,7 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
 
 #include "sam/sam_build.h"
 #include "sam/sam_light.h"
@@ -61,36 +60,30 @@ static sam_status load_object(const sam_scene *scene, samfile_data *sam, sam_pro
         sam_status st = samfile_read(scene->sam_path, sam, err);
         if (st != SAM_OK)
             return st;
-        cJSON *info = cJSON_Parse(sam->info_json);
-        const cJSON *mat = info ? cJSON_GetObjectItemCaseSensitive(info, "material") : NULL;
-        const cJSON *mm = info ? cJSON_GetObjectItemCaseSensitive(info, "mm_per_unit") : NULL;
-        char *text = mat ? cJSON_PrintUnformatted(mat) : NULL;
-        *mm_per_unit = cJSON_IsNumber(mm) ? (float)mm->valuedouble : 0.0f;
-        if (scene->material)
-            *profile = scene->profile;
-        else if (!text)
+        sam_build_info info;
+        st = sam_build_info_read(sam, scene->sam_path, &info, err);
+        *mm_per_unit = info.mm_per_unit;
+        /* The scene's material replaces the one INFO records. */
+        if (scene->material && st == SAM_ERR_FORMAT)
+            st = SAM_OK;
+        if (st == SAM_OK && !scene->material && !info.has_material)
             st = sam_fail(err, SAM_ERR_FORMAT, "%s: INFO records no material and the scene gives none",
                           scene->sam_path);
-        else
-            st = sam_profile_parse_json(text, strlen(text), scene->sam_path, profile, err);
+        if (st == SAM_OK)
+            *profile = scene->material ? scene->profile : info.profile;
         /* With "mesh" too, the .sam must be that mesh's map. */
         if (st == SAM_OK && scene->mesh_path) {
-            const cJSON *source = info ? cJSON_GetObjectItemCaseSensitive(info, "source") : NULL;
-            const cJSON *sha = source ? cJSON_GetObjectItemCaseSensitive(source, "sha256") : NULL;
-            const cJSON *file = source ? cJSON_GetObjectItemCaseSensitive(source, "file") : NULL;
             char hex[65];
             st = sam_sha256_file(scene->mesh_path, hex, err);
-            if (st == SAM_OK && !cJSON_IsString(sha))
+            if (st == SAM_OK && !info.source_sha256[0])
                 st = sam_fail(err, SAM_ERR_FORMAT, "%s: records no source hash, so it cannot be checked against %s",
                               scene->sam_path, scene->mesh_path);
-            else if (st == SAM_OK && strcmp(sha->valuestring, hex))
+            else if (st == SAM_OK && strcmp(info.source_sha256, hex))
                 st = sam_fail(err, SAM_ERR_FORMAT,
                               "%s was built from another mesh (%s, sha256 %.12s...), not from %s (sha256 %.12s...)",
-                              scene->sam_path, cJSON_IsString(file) ? file->valuestring : "unnamed",
-                              sha->valuestring, scene->mesh_path, hex);
+                              scene->sam_path, info.source_file[0] ? info.source_file : "unnamed",
+                              info.source_sha256, scene->mesh_path, hex);
         }
-        cJSON_free(text);
-        cJSON_Delete(info);
         if (scene->scale_kind == SAM_SCALE_MM_PER_UNIT)
             *mm_per_unit = scene->scale_value;
         if (st == SAM_OK && !(*mm_per_unit > 0))

@@ -140,6 +140,24 @@ sam_status sam_build_samfile(const sam_mesh *mesh, const sam_profile *profile, f
                              sam_build_progress_fn progress, void *user, samfile_data *out, double *seconds,
                              sam_error *err);
 
+/* What a .sam's INFO records about its build, for tools that light or
+ * inspect a map with the material and scale it was built with. */
+typedef struct sam_build_info {
+    int has_material;          /* 0: INFO records no material (profile untouched) */
+    sam_profile profile;       /* valid when has_material */
+    float mm_per_unit;         /* 0 when INFO records no scale */
+    char source_file[256];     /* "" when not recorded; cut to fit */
+    char source_sha256[65];    /* 64 hex digits, or "" when not recorded */
+} sam_build_info;
+
+/* Reads the INFO of `data` (as validated by samfile_read). `name` (the
+ * file's name, may be NULL) prefixes messages. Fields INFO lacks are left
+ * empty as described above; deciding whether that is an error is the
+ * caller's.
+ * Errors: SAM_ERR_FORMAT when the recorded material is not a valid one
+ * (the message names the field), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_build_info_read(const samfile_data *data, const char *name, sam_build_info *out, sam_error *err);
+
 #ifdef __cplusplus
 }
 #endif
