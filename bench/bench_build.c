@@ -72,14 +72,6 @@ static void knot(uint32_t target, double size, double thickness, sam_mesh *mesh)
     shape("knot", resolution, size, thickness, mesh);
 }
 
-static float diagonal(const sam_mesh *m)
-{
-    float lo[3], hi[3];
-    sam_mesh_bounds(m, lo, hi);
-    return sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
-
 typedef struct run {
     double seconds;
     double capture_median, capture_p10;
@@ -197,7 +189,7 @@ static void brute_study(FILE *json)
     for (size_t i = 0; i < 3; ++i) {
         sam_mesh mesh;
         knot(sizes[i], 0, 0, &mesh);
-        float mm = 40.0f / diagonal(&mesh) * 1.0f;
+        float mm = 40.0f / (float)sam_mesh_diagonal(&mesh);
         sam_build_settings s, rs;
         sam_build_default_settings(&s);
         rs = s;
@@ -234,7 +226,7 @@ static void scaling_study(FILE *json)
         sam_mesh mesh;
         /* The same knot at a fixed physical size: only the density changes. */
         knot(sizes[i], 0, 0, &mesh);
-        float mm = 120.0f / diagonal(&mesh);
+        float mm = 120.0f / (float)sam_mesh_diagonal(&mesh);
         sam_build_settings s;
         sam_build_default_settings(&s);
         run r = build(&mesh, &skin, mm, &s, 0, NULL);
@@ -336,7 +328,7 @@ static void large_study(FILE *json, const char *scans)
             load_scan(scans, "bunny.off", &mesh);
             subdivide(&mesh);
             subdivide(&mesh);
-            mm = 150.0f / diagonal(&mesh);
+            mm = 150.0f / (float)sam_mesh_diagonal(&mesh);
             label = "bunny scan x16 (midpoints), 150 mm, skin";
         }
         sam_build_settings s;
@@ -361,7 +353,7 @@ static void dragon_study(FILE *json, const char *scans)
     for (int i = 0; i < 2; ++i) {
         sam_build_settings s;
         sam_build_default_settings(&s);
-        run r = build(&mesh, &marble, sizes[i] / diagonal(&mesh), &s, 0, NULL);
+        run r = build(&mesh, &marble, sizes[i] / (float)sam_mesh_diagonal(&mesh), &s, 0, NULL);
         t[i] = r.seconds;
         printf("dragon %u vertices, marble, %3.0f mm: %.3f s, %llu candidates scored\n", mesh.topo_count, sizes[i],
                r.seconds, (unsigned long long)r.candidates_seen);

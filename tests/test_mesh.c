@@ -86,6 +86,7 @@ static void test_cube_obj_with_uv_seams(void **state)
     assert_int_equal(rep.non_manifold_vertices, 0);
     assert_int_equal(rep.non_manifold_edges, 0);
     assert_false(rep.normals_from_file);
+    assert_float_equal(sam_mesh_diagonal(&m), sqrt(3.0), 1e-6); /* the unit cube */
 
     float *area = malloc(m.topo_count * sizeof *area);
     sam_mesh_fan_areas(&m, NULL, 10.0f, area); /* 10 mm per unit: faces are 100 mm^2 */

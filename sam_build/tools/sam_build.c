@@ -233,10 +233,7 @@ int main(int argc, char **argv)
     if (strcmp(summary, "no repairs"))
         fprintf(stderr, "sam_build: %s: %s\n", mesh_path, summary);
     if (!isnan(size_mm)) {
-        float lo[3], hi[3];
-        sam_mesh_bounds(&mesh, lo, hi);
-        double diag = sqrt((double)(hi[0] - lo[0]) * (hi[0] - lo[0]) + (double)(hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                           (double)(hi[2] - lo[2]) * (hi[2] - lo[2]));
+        double diag = sam_mesh_diagonal(&mesh);
         if (!(diag > 0)) {
             fprintf(stderr, "sam_build: %s: the mesh has no extent, so --size-mm cannot scale it\n", mesh_path);
             sam_mesh_destroy(&mesh);

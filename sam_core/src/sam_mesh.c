@@ -632,6 +632,16 @@ void sam_mesh_bounds(const sam_mesh *mesh, float min[3], float max[3])
         }
 }
 
+double sam_mesh_diagonal(const sam_mesh *mesh)
+{
+    float lo[3], hi[3];
+    sam_mesh_bounds(mesh, lo, hi);
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i)
+        d2 += ((double)hi[i] - lo[i]) * ((double)hi[i] - lo[i]);
+    return sqrt(d2);
+}
+
 static const float *topo_position(const sam_mesh *mesh, const float *positions, uint32_t t)
 {
     return positions + 3 * (size_t)mesh->topo_rep[t];

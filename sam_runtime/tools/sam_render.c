@@ -97,15 +97,8 @@ static sam_status load_object(const sam_scene *scene, samfile_data *sam, sam_pro
     if (st != SAM_OK)
         return st;
     *profile = scene->profile;
-    if (scene->scale_kind == SAM_SCALE_SIZE_MM) {
-        float lo[3], hi[3];
-        sam_mesh_bounds(&mesh, lo, hi);
-        double diag = sqrt((double)(hi[0] - lo[0]) * (hi[0] - lo[0]) + (double)(hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                           (double)(hi[2] - lo[2]) * (hi[2] - lo[2]));
-        *mm_per_unit = (float)(scene->scale_value / diag);
-    } else {
-        *mm_per_unit = scene->scale_value;
-    }
+    *mm_per_unit = scene->scale_kind == SAM_SCALE_SIZE_MM ? (float)(scene->scale_value / sam_mesh_diagonal(&mesh))
+                                                          : scene->scale_value;
     sam_build_source source = {scene->mesh_path, NULL};
     double seconds = 0;
     st = sam_build_samfile(&mesh, profile, *mm_per_unit, NULL, &source, NULL, NULL, sam, &seconds, err);

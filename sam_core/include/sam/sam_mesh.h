@@ -105,6 +105,11 @@ void sam_mesh_destroy(sam_mesh *mesh);
 /* Axis-aligned bounds of the render positions (model units). */
 void sam_mesh_bounds(const sam_mesh *mesh, float min[3], float max[3]);
 
+/* Length of the bounds' diagonal (model units), which --size-mm and the
+ * scenes' "size_mm" scale to; 0 for a mesh with no extent, infinity for one
+ * with no vertices. */
+double sam_mesh_diagonal(const sam_mesh *mesh);
+
 /* Reduced fan area F' of every topo vertex (SAM paper eq. 16): one third of
  * the area of the triangles around it, in (mm_per_unit)^2 * model units^2,
  * i.e. mm^2 when mm_per_unit converts model units to millimetres.
