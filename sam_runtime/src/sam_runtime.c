@@ -54,6 +54,7 @@ struct sam_runtime {
     GLuint vao, fbo, shadow_program, shade_program, blur_program, compose_program;
     sam_separable_kernel kernel;
     int preint_ready;
+    float min_penumbra_mm;  /* the penumbra table's floor: the profile's 99% radius */
     int has_uvs;
     sam_gaussian_fit fit;
     GLuint tsd_program, tsd_blur_program, tsd_accumulate_program;
@@ -588,6 +589,7 @@ static sam_status ensure_preintegrated(sam_runtime *rt, sam_error *err)
     if (st == SAM_OK)
         st = upload(rt, B_PRE_PENUMBRA, table, PRE_SIZE * PRE_SIZE * 3 * sizeof *table, err);
     free(table);
+    rt->min_penumbra_mm = fminf(sam_profile_radius(&rt->profile, 0.01f), PRE_MAX_PENUMBRA_MM);
     rt->preint_ready = st == SAM_OK;
     return st;
 }
@@ -754,8 +756,7 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         glUniform1i(glGetUniformLocation(p, "u_pre_size"), PRE_SIZE);
         glUniform1f(glGetUniformLocation(p, "u_pre_max_curvature"), PRE_MAX_CURVATURE);
         glUniform1f(glGetUniformLocation(p, "u_pre_max_penumbra"), PRE_MAX_PENUMBRA_MM);
-        glUniform1f(glGetUniformLocation(p, "u_min_penumbra"),
-                    fminf(sam_profile_radius(&rt->profile, 0.01f), PRE_MAX_PENUMBRA_MM));
+        glUniform1f(glGetUniformLocation(p, "u_min_penumbra"), rt->min_penumbra_mm);
         glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
         float forward[3] = {view->target[0] - view->eye[0], view->target[1] - view->eye[1],
                             view->target[2] - view->eye[2]};
