@@ -439,6 +439,75 @@ static int thread_count(const sam_build_context *ctx)
     return ctx->settings.threads > 0 ? ctx->settings.threads : omp_get_max_threads();
 }
 
+/* One vertex's search: fills sc->cand with `count` candidates, choose()s
+ * the result's samples and adds to the counters. */
+typedef void (*vertex_search_fn)(const sam_build_context *ctx, const void *data, uint32_t o, scratch *sc,
+                                 sam_build_result *result, uint64_t *seen, uint64_t *form_factors);
+
+/* The per-vertex loop both builds share: threads with their own scratch
+ * (room for `capacity` candidates), dynamic chunks of `chunk` vertices,
+ * progress and cancellation, and the result's counters and time. `what`
+ * names the build in messages. On failure the result is destroyed. */
+static sam_status search_vertices(const sam_build_context *ctx, vertex_search_fn search, const void *data,
+                                  uint32_t capacity, int chunk, const char *what, sam_build_progress_fn progress,
+                                  void *user, double start, sam_build_result *result, sam_error *err)
+{
+    const uint32_t n = ctx->mesh->topo_count;
+    progress_state prog = {progress, user, 0, n, 0, 0};
+    uint64_t seen = 0, form_factors = 0;
+    int oom = 0;
+#pragma omp parallel num_threads(thread_count(ctx)) reduction(+ : seen, form_factors)
+    {
+        scratch sc;
+        if (!scratch_alloc(&sc, capacity, ctx->settings.mc_samples)) {
+#pragma omp atomic write
+            oom = 1;
+#pragma omp atomic write
+            prog.cancelled = 1;
+        }
+#pragma omp for schedule(dynamic, chunk)
+        for (uint32_t o = 0; o < n; ++o)
+            if (!progress_step(&prog))
+                search(ctx, data, o, &sc, result, &seen, &form_factors);
+        scratch_free(&sc);
+    }
+    if (oom) {
+        sam_build_result_destroy(result);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for per-thread buffers", what);
+    }
+    result->candidates_seen = seen;
+    result->form_factors = form_factors;
+    return finish_progress(&prog, result, start, err);
+}
+
+/* What the fast search's vertices share: the clusters and their BVH. */
+typedef struct search_data {
+    RTCScene scene;
+    const cluster_set *clusters;
+} search_data;
+
+/* The fast build: candidates from a point query of the cluster BVH. */
+static void search_fast(const sam_build_context *ctx, const void *data, uint32_t o, scratch *sc,
+                        sam_build_result *result, uint64_t *seen, uint64_t *form_factors)
+{
+    const search_data *d = data;
+    query_state q = {ctx, d->clusters, o, {0, 0, 0}, ctx->search_radius, 0.0f, {sc->cand, 0, ctx->candidates}, 0};
+    memcpy(q.normal, ctx->mesh->topo_normals + 3 * (size_t)o, sizeof q.normal);
+    struct RTCPointQuery query;
+    query.x = ctx->pos[3 * (size_t)o];
+    query.y = ctx->pos[3 * (size_t)o + 1];
+    query.z = ctx->pos[3 * (size_t)o + 2];
+    query.time = 0.0f;
+    query.radius = ctx->search_radius;
+    struct RTCPointQueryContext qc;
+    rtcInitPointQueryContext(&qc);
+    rtcPointQuery(d->scene, &query, &qc, point_query, &q);
+    *seen += q.seen;
+    qsort(sc->cand, q.heap.count, sizeof *sc->cand, cmp_scored);
+    choose(ctx, o, sc, q.heap.count, result);
+    *form_factors += q.heap.count;
+}
+
 sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
                          sam_build_result *result, sam_error *err)
 {
@@ -446,7 +515,6 @@ sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn pro
     sam_status st = result_alloc(ctx, result, err);
     if (st != SAM_OK)
         return st;
-    const uint32_t n = ctx->mesh->topo_count, cap = ctx->candidates, m = ctx->settings.mc_samples;
     cluster_set clusters;
     if (!cluster_set_build(ctx, &clusters)) {
         sam_build_result_destroy(result);
@@ -478,50 +546,26 @@ sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn pro
         return sam_fail(err, SAM_ERR_UNSUPPORTED, "build: %s", embree_msg);
     }
 
-    progress_state prog = {progress, user, 0, n, 0, 0};
-    uint64_t seen = 0, form_factors = 0;
-    int oom = 0;
-#pragma omp parallel num_threads(thread_count(ctx)) reduction(+ : seen, form_factors)
-    {
-        scratch sc;
-        if (!scratch_alloc(&sc, cap, m)) {
-#pragma omp atomic write
-            oom = 1;
-#pragma omp atomic write
-            prog.cancelled = 1;
-        }
-#pragma omp for schedule(dynamic, 64)
-        for (uint32_t o = 0; o < n; ++o) {
-            if (progress_step(&prog))
-                continue;
-            query_state q = {ctx, &clusters, o, {0, 0, 0}, ctx->search_radius, 0.0f, {sc.cand, 0, cap}, 0};
-            memcpy(q.normal, ctx->mesh->topo_normals + 3 * (size_t)o, sizeof q.normal);
-            struct RTCPointQuery query;
-            query.x = ctx->pos[3 * (size_t)o];
-            query.y = ctx->pos[3 * (size_t)o + 1];
-            query.z = ctx->pos[3 * (size_t)o + 2];
-            query.time = 0.0f;
-            query.radius = ctx->search_radius;
-            struct RTCPointQueryContext qc;
-            rtcInitPointQueryContext(&qc);
-            rtcPointQuery(scene, &query, &qc, point_query, &q);
-            seen += q.seen;
-            qsort(sc.cand, q.heap.count, sizeof *sc.cand, cmp_scored);
-            choose(ctx, o, &sc, q.heap.count, result);
-            form_factors += q.heap.count;
-        }
-        scratch_free(&sc);
-    }
+    const search_data data = {scene, &clusters};
+    st = search_vertices(ctx, search_fast, &data, ctx->candidates, 64, "build", progress, user, start, result, err);
     rtcReleaseScene(scene);
     rtcReleaseDevice(device);
     cluster_set_free(&clusters);
-    if (oom) {
-        sam_build_result_destroy(result);
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for per-thread buffers");
-    }
-    result->candidates_seen = seen;
-    result->form_factors = form_factors;
-    return finish_progress(&prog, result, start, err);
+    return st;
+}
+
+/* The reference: every back-side vertex is a candidate. */
+static void search_all(const sam_build_context *ctx, const void *data, uint32_t o, scratch *sc,
+                       sam_build_result *result, uint64_t *seen, uint64_t *form_factors)
+{
+    (void)data;
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < ctx->mesh->topo_count; ++i)
+        if (i != o && sam_build_is_back_side(ctx, o, i))
+            sc->cand[count++] = (scored){0.0f, i};
+    *seen += count;
+    *form_factors += count;
+    choose(ctx, o, sc, count, result);
 }
 
 sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
@@ -531,37 +575,6 @@ sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_
     sam_status st = result_alloc(ctx, result, err);
     if (st != SAM_OK)
         return st;
-    const uint32_t n = ctx->mesh->topo_count;
-    progress_state prog = {progress, user, 0, n, 0, 0};
-    uint64_t seen = 0;
-    int oom = 0;
-#pragma omp parallel num_threads(thread_count(ctx)) reduction(+ : seen)
-    {
-        scratch sc;
-        if (!scratch_alloc(&sc, n, ctx->settings.mc_samples)) {
-#pragma omp atomic write
-            oom = 1;
-#pragma omp atomic write
-            prog.cancelled = 1;
-        }
-#pragma omp for schedule(dynamic, 16)
-        for (uint32_t o = 0; o < n; ++o) {
-            if (progress_step(&prog))
-                continue;
-            uint32_t count = 0;
-            for (uint32_t i = 0; i < n; ++i)
-                if (i != o && sam_build_is_back_side(ctx, o, i))
-                    sc.cand[count++] = (scored){0.0f, i};
-            seen += count;
-            choose(ctx, o, &sc, count, result);
-        }
-        scratch_free(&sc);
-    }
-    if (oom) {
-        sam_build_result_destroy(result);
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "reference build: out of memory");
-    }
-    result->candidates_seen = seen;
-    result->form_factors = seen;
-    return finish_progress(&prog, result, start, err);
+    return search_vertices(ctx, search_all, NULL, ctx->mesh->topo_count, 16, "reference build", progress, user,
+                           start, result, err);
 }
