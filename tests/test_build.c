@@ -15,33 +15,9 @@
 #include <cmocka.h>
 
 #include "sam/sam_build.h"
-#include "sam/sam_shape.h"
 #include "sam_test.h"
 
 #define PI 3.14159265358979323846
-
-/* A procedural shape as a sam_mesh. */
-static void shape_mesh(const char *name, int resolution, double size, double thickness, int count, sam_mesh *mesh)
-{
-    sam_shape_params p;
-    sam_error err;
-    assert_int_equal(sam_shape_default_params(name, &p, &err), SAM_OK);
-    p.resolution = resolution;
-    if (size > 0)
-        p.size = p.depth = size; /* a square slab */
-    if (thickness > 0)
-        p.thickness = thickness;
-    if (count > 0)
-        p.count = count;
-    sam_shape_mesh s;
-    if (sam_shape_generate(name, &p, &s, &err) != SAM_OK)
-        fail_msg("%s", err.message);
-    sam_mesh_input in = {.name = name, .vertex_count = s.vertex_count, .positions = s.positions,
-                         .uvs = s.uvs, .triangle_count = s.triangle_count, .triangles = s.triangles};
-    if (sam_mesh_create(&in, mesh, NULL, &err) != SAM_OK)
-        fail_msg("%s", err.message);
-    sam_shape_mesh_destroy(&s);
-}
 
 /* Two flat hexagonal fans of radius `r` in planes z = 0 (normal +z... as a
  * closed-ish pair: each fan is a 6-triangle disk), centres `d` apart on z. */
@@ -279,7 +255,7 @@ static void test_matches_reference_ear(void **state)
 {
     (void)state;
     sam_mesh mesh;
-    shape_mesh("ear", 40, 0, 0, 0, &mesh);
+    sam_test_shape_mesh("ear", 40, 0, 0, 0, &mesh);
     sam_profile skin;
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     compare_with_reference("ear, skin, N=3", &mesh, &skin, 60.0f, 3);
@@ -290,7 +266,7 @@ static void test_matches_reference_knot(void **state)
 {
     (void)state;
     sam_mesh mesh;
-    shape_mesh("knot", 96, 0, 0, 0, &mesh);
+    sam_test_shape_mesh("knot", 96, 0, 0, 0, &mesh);
     sam_profile marble;
     assert_int_equal(sam_profile_preset("marble", &marble, NULL), SAM_OK);
     compare_with_reference("knot, marble, N=8", &mesh, &marble, 30.0f, 8);
@@ -302,7 +278,7 @@ static void test_matches_reference_blobs(void **state)
 {
     (void)state;
     sam_mesh mesh;
-    shape_mesh("blobs", 8, 0, 0, 8, &mesh);
+    sam_test_shape_mesh("blobs", 8, 0, 0, 8, &mesh);
     sam_profile potato;
     assert_int_equal(sam_profile_preset("potato", &potato, NULL), SAM_OK);
     float lo[3], hi[3];
@@ -363,7 +339,7 @@ static void test_thin_slab(void **state)
     (void)state;
     sam_mesh mesh;
     /* 20 x 20 mm, 1 mm thick, 0.5 mm spacing (mm_per_unit 1). */
-    shape_mesh("slab", 40, 20.0, 1.0, 0, &mesh);
+    sam_test_shape_mesh("slab", 40, 20.0, 1.0, 0, &mesh);
     sam_profile skin;
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_settings s;
@@ -406,7 +382,7 @@ static void test_large_and_small_sphere(void **state)
 {
     (void)state;
     sam_mesh mesh;
-    shape_mesh("sphere", 32, 1.0, 0, 0, &mesh);
+    sam_test_shape_mesh("sphere", 32, 1.0, 0, 0, &mesh);
     sam_profile skin;
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_settings s;
@@ -434,7 +410,7 @@ static void test_bit_identical_for_any_thread_count(void **state)
 {
     (void)state;
     sam_mesh mesh;
-    shape_mesh("ear", 32, 0, 0, 0, &mesh);
+    sam_test_shape_mesh("ear", 32, 0, 0, 0, &mesh);
     sam_profile skin;
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_result r[3];
@@ -464,7 +440,7 @@ static void test_samfile_output(void **state)
 {
     (void)state;
     sam_mesh mesh;
-    shape_mesh("ear", 32, 0, 0, 0, &mesh);
+    sam_test_shape_mesh("ear", 32, 0, 0, 0, &mesh);
     sam_profile skin;
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_settings s;
@@ -566,7 +542,7 @@ static void test_settings_and_cancel(void **state)
     assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_ERR_INVALID_ARGUMENT);
 
     sam_mesh mesh;
-    shape_mesh("ear", 32, 0, 0, 0, &mesh);
+    sam_test_shape_mesh("ear", 32, 0, 0, 0, &mesh);
     sam_profile skin;
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_default_settings(&s);

@@ -103,17 +103,9 @@ static void test_shader_errors_name_file_and_line(void **state)
 /* A small built .sam for the runtime tests. */
 static void build_sam(const char *material, samfile_data *out, sam_profile *profile)
 {
-    sam_shape_params sp;
     sam_error err;
-    assert_int_equal(sam_shape_default_params("ear", &sp, &err), SAM_OK);
-    sp.resolution = 24;
-    sam_shape_mesh s;
-    assert_int_equal(sam_shape_generate("ear", &sp, &s, &err), SAM_OK);
-    sam_mesh_input in = {.name = "ear", .vertex_count = s.vertex_count, .positions = s.positions, .uvs = s.uvs,
-                         .triangle_count = s.triangle_count, .triangles = s.triangles};
     sam_mesh mesh;
-    assert_int_equal(sam_mesh_create(&in, &mesh, NULL, &err), SAM_OK);
-    sam_shape_mesh_destroy(&s);
+    sam_test_shape_mesh("ear", 24, 0, 0, 0, &mesh);
     assert_int_equal(sam_profile_preset(material, profile, &err), SAM_OK);
     sam_build_settings set;
     sam_build_default_settings(&set);
@@ -472,17 +464,9 @@ static void test_shadows_block_light(void **state)
 /* A 40 x 40 x 2 mm slab (10 mm per unit) with its UV charts, as a .sam. */
 static void uv_slab(const sam_profile *profile, samfile_data *out)
 {
-    sam_shape_params sp;
     sam_error err;
-    assert_int_equal(sam_shape_default_params("slab", &sp, &err), SAM_OK);
-    sp.resolution = 48, sp.size = sp.depth = 4.0, sp.thickness = 0.2;
-    sam_shape_mesh s;
-    assert_int_equal(sam_shape_generate("slab", &sp, &s, &err), SAM_OK);
-    sam_mesh_input in = {.name = "slab", .vertex_count = s.vertex_count, .positions = s.positions, .uvs = s.uvs,
-                         .triangle_count = s.triangle_count, .triangles = s.triangles};
     sam_mesh mesh;
-    assert_int_equal(sam_mesh_create(&in, &mesh, NULL, &err), SAM_OK);
-    sam_shape_mesh_destroy(&s);
+    sam_test_shape_mesh("slab", 48, 4.0, 0.2, 0, &mesh);
     assert_int_equal(sam_build_samfile(&mesh, profile, 10.0f, NULL, NULL, NULL, NULL, out, NULL, &err), SAM_OK);
     sam_mesh_destroy(&mesh);
 }

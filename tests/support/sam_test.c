@@ -11,6 +11,9 @@
 
 #include <cmocka.h>
 
+#include "sam/sam_mesh.h"
+#include "sam/sam_shape.h"
+
 char *sam_test_tmp_path(char *buf, size_t n, const char *name)
 {
     snprintf(buf, n, "%s/%s", SAM_TEST_TMP_DIR, name);
@@ -51,4 +54,28 @@ int sam_test_count_temp_files(const char *name)
         count += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
     closedir(dir);
     return count;
+}
+
+void sam_test_shape_mesh(const char *name, int resolution, double size, double thickness, int count, sam_mesh *mesh)
+{
+    sam_shape_params p;
+    sam_error err;
+    if (sam_shape_default_params(name, &p, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    p.resolution = resolution;
+    if (size > 0)
+        p.size = p.depth = size;
+    if (thickness > 0)
+        p.thickness = thickness;
+    if (count > 0)
+        p.count = count;
+    sam_shape_mesh s;
+    if (sam_shape_generate(name, &p, &s, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    sam_mesh_input in = {.name = name, .vertex_count = s.vertex_count, .positions = s.positions,
+                         .uvs = s.uvs, .triangle_count = s.triangle_count, .triangles = s.triangles};
+    sam_status st = sam_mesh_create(&in, mesh, NULL, &err);
+    sam_shape_mesh_destroy(&s);
+    if (st != SAM_OK)
+        fail_msg("%s", err.message);
 }

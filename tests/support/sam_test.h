@@ -24,4 +24,13 @@ int sam_test_count_temp_files(const char *name);
 /* Returns 1 when `path` exists. */
 int sam_test_file_exists(const char *path);
 
+struct sam_mesh;
+
+/* The built-in shape `name` (sam_shape_generate, with its UVs) as a mesh:
+ * `resolution`, and where > 0 `size` (a square slab: depth too),
+ * `thickness` and `count` replace the defaults. Fails the running test on
+ * error; the caller destroys the mesh. */
+void sam_test_shape_mesh(const char *name, int resolution, double size, double thickness, int count,
+                         struct sam_mesh *mesh);
+
 #endif
