@@ -439,8 +439,8 @@ static int thread_count(const sam_build_context *ctx)
     return ctx->settings.threads > 0 ? ctx->settings.threads : omp_get_max_threads();
 }
 
-/* One vertex's search: fills sc->cand with `count` candidates, choose()s
- * the result's samples and adds to the counters. */
+/* One vertex's search: gathers vertex o's candidates in sc, choose()s its
+ * samples into the result and adds to the counters. */
 typedef void (*vertex_search_fn)(const sam_build_context *ctx, const void *data, uint32_t o, scratch *sc,
                                  sam_build_result *result, uint64_t *seen, uint64_t *form_factors);
 
