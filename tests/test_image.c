@@ -880,6 +880,394 @@ static void test_failed_writes_leave_no_file(void **state)
     sam_image_destroy(&img);
 }
 
+/* ------------------------------------------------------------------------ */
+/* Tonemapping                                                               */
+
+/* Tonemaps a single RGB or RGBA pixel and returns its 3 display values. */
+static void tonemap_pixel(const float *in, uint32_t channels, sam_tonemap curve, float ev,
+                          const float *backdrop, float out[3])
+{
+    sam_image hdr, ldr;
+    sam_error err;
+    make_image(&hdr, 1, 1, channels);
+    memcpy(hdr.pixels, in, channels * sizeof *in);
+    if (sam_image_tonemap(&hdr, curve, ev, backdrop, &ldr, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_int_equal(ldr.width, 1);
+    assert_int_equal(ldr.height, 1);
+    assert_int_equal(ldr.channels, 3);
+    memcpy(out, ldr.pixels, 3 * sizeof *out);
+    sam_image_destroy(&ldr);
+    sam_image_destroy(&hdr);
+}
+
+static void test_tonemap_curves(void **state)
+{
+    (void)state;
+    float out[3];
+    /* ACES (Narkowicz): 1 -> 2.54 / 3.16; 0.18 -> 0.086724 / 0.324932;
+     * past x ~= 7.25 the fit exceeds 1 and is clamped. */
+    tonemap_pixel((const float[3]){1.0f, 0.18f, 10.0f}, 3, SAM_TONEMAP_ACES, 0.0f, NULL, out);
+    assert_float_equal(out[0], 2.54f / 3.16f, 1e-6f);
+    assert_float_equal(out[1], 0.086724f / 0.324932f, 1e-6f);
+    assert_float_equal(out[2], 1.0f, 0.0f);
+    /* Reinhard x / (1 + x). */
+    tonemap_pixel((const float[3]){1.0f, 3.0f, 0.25f}, 3, SAM_TONEMAP_REINHARD, 0.0f, NULL, out);
+    assert_float_equal(out[0], 0.5f, 1e-7f);
+    assert_float_equal(out[1], 0.75f, 1e-7f);
+    assert_float_equal(out[2], 0.2f, 1e-7f);
+
+    /* No light, negative light and NaN are black; huge values and +inf are
+     * white on both curves (not inf / inf). */
+    for (int c = 0; c < 2; ++c) {
+        sam_tonemap curve = c ? SAM_TONEMAP_REINHARD : SAM_TONEMAP_ACES;
+        tonemap_pixel((const float[3]){0.0f, -0.1f, NAN}, 3, curve, 0.0f, NULL, out);
+        for (int k = 0; k < 3; ++k)
+            assert_true(out[k] == 0.0f);
+        tonemap_pixel((const float[3]){1e30f, 3.4e38f, INFINITY}, 3, curve, 0.0f, NULL, out);
+        for (int k = 0; k < 3; ++k)
+            assert_true(out[k] == 1.0f);
+    }
+
+    /* Exposure multiplies by 2^EV before the curve. */
+    tonemap_pixel((const float[3]){0.5f, 4.0f, 0.125f}, 3, SAM_TONEMAP_REINHARD, 1.0f, NULL, out);
+    assert_float_equal(out[0], 0.5f, 1e-7f);          /* 1 / 2 */
+    assert_float_equal(out[1], 8.0f / 9.0f, 1e-7f);   /* 8 / 9 */
+    assert_float_equal(out[2], 0.2f, 1e-7f);          /* 0.25 / 1.25 */
+    tonemap_pixel((const float[3]){4.0f, 4.0f, 4.0f}, 3, SAM_TONEMAP_ACES, -2.0f, NULL, out);
+    assert_float_equal(out[0], 2.54f / 3.16f, 1e-6f);
+}
+
+static void test_tonemap_alpha_over_backdrop(void **state)
+{
+    (void)state;
+    float out[3];
+    const float backdrop[3] = {0.2f, 0.4f, 0.0f};
+    /* Half covered: 0.5 * curve + 0.5 * backdrop, with curve(1) = 0.5. */
+    tonemap_pixel((const float[4]){1.0f, 1.0f, 1.0f, 0.5f}, 4, SAM_TONEMAP_REINHARD, 0.0f,
+                  backdrop, out);
+    assert_float_equal(out[0], 0.35f, 1e-7f);
+    assert_float_equal(out[1], 0.45f, 1e-7f);
+    assert_float_equal(out[2], 0.25f, 1e-7f);
+    /* Uncovered: the backdrop exactly, whatever the colour. */
+    tonemap_pixel((const float[4]){5.0f, NAN, 1.0f, 0.0f}, 4, SAM_TONEMAP_ACES, 0.0f, backdrop,
+                  out);
+    assert_memory_equal(out, backdrop, sizeof backdrop);
+    /* Covered: the curve alone. Alpha is clamped to [0, 1], NaN as 0. */
+    tonemap_pixel((const float[4]){3.0f, 1.0f, 0.0f, 1.0f}, 4, SAM_TONEMAP_REINHARD, 0.0f,
+                  backdrop, out);
+    assert_float_equal(out[0], 0.75f, 1e-7f);
+    assert_float_equal(out[1], 0.5f, 1e-7f);
+    assert_float_equal(out[2], 0.0f, 0.0f);
+    tonemap_pixel((const float[4]){3.0f, 1.0f, 0.0f, 7.0f}, 4, SAM_TONEMAP_REINHARD, 0.0f,
+                  backdrop, out);
+    assert_float_equal(out[0], 0.75f, 1e-7f);
+    tonemap_pixel((const float[4]){3.0f, 1.0f, 0.0f, NAN}, 4, SAM_TONEMAP_REINHARD, 0.0f,
+                  backdrop, out);
+    assert_memory_equal(out, backdrop, sizeof backdrop);
+    /* No backdrop is black. */
+    tonemap_pixel((const float[4]){1.0f, 3.0f, 0.0f, 0.5f}, 4, SAM_TONEMAP_REINHARD, 0.0f, NULL,
+                  out);
+    assert_float_equal(out[0], 0.25f, 1e-7f);
+    assert_float_equal(out[1], 0.375f, 1e-7f);
+    assert_float_equal(out[2], 0.0f, 0.0f);
+
+    /* Every pixel of a larger image, in place. */
+    sam_image hdr, ldr;
+    sam_error err;
+    make_image(&hdr, 3, 2, 4);
+    for (uint32_t i = 0; i < 6; ++i) {
+        hdr.pixels[4 * i + 0] = (float)i;
+        hdr.pixels[4 * i + 3] = i % 2 ? 1.0f : 0.0f;
+    }
+    assert_int_equal(sam_image_tonemap(&hdr, SAM_TONEMAP_REINHARD, 0.0f, backdrop, &ldr, &err),
+                     SAM_OK);
+    for (uint32_t i = 0; i < 6; ++i) {
+        float want = i % 2 ? (float)i / (1.0f + (float)i) : backdrop[0];
+        assert_float_equal(ldr.pixels[3 * i], want, 1e-7f);
+    }
+    sam_image_destroy(&ldr);
+    sam_image_destroy(&hdr);
+}
+
+static void test_tonemap_errors(void **state)
+{
+    (void)state;
+    sam_image hdr, ldr;
+    sam_error err;
+    make_image(&hdr, 2, 2, 3);
+    memset(&ldr, 0x5a, sizeof ldr); /* must be zeroed on failure */
+    assert_int_equal(sam_image_tonemap(&hdr, (sam_tonemap)2, 0.0f, NULL, &ldr, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "unknown curve 2"));
+    assert_null(ldr.pixels);
+    assert_int_equal(ldr.width, 0);
+    assert_int_equal(sam_image_tonemap(&hdr, SAM_TONEMAP_ACES, NAN, NULL, &ldr, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "exposure nan EV is not finite"));
+    assert_int_equal(sam_image_tonemap(&hdr, SAM_TONEMAP_ACES, INFINITY, NULL, &ldr, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "exposure inf EV"));
+    assert_int_equal(sam_image_tonemap(&hdr, SAM_TONEMAP_ACES, 0.0f, (const float[3]){0, 1.5f, 0},
+                                       &ldr, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "backdrop[1] = 1.5 is outside [0, 1]"));
+    assert_int_equal(sam_image_tonemap(&hdr, SAM_TONEMAP_ACES, 0.0f, (const float[3]){0, 0, NAN},
+                                       &ldr, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    sam_image bad = hdr;
+    bad.channels = 2;
+    assert_int_equal(sam_image_tonemap(&bad, SAM_TONEMAP_ACES, 0.0f, NULL, &ldr, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "2 channels (expected 3 or 4)"));
+    assert_int_equal(sam_image_tonemap(NULL, SAM_TONEMAP_ACES, 0.0f, NULL, &ldr, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(sam_image_tonemap(&hdr, SAM_TONEMAP_ACES, 0.0f, NULL, NULL, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_null(ldr.pixels);
+    sam_image_destroy(&hdr);
+}
+
+/* ------------------------------------------------------------------------ */
+/* 8-bit comparison                                                          */
+
+/* Linear values that sam_image_write_png (SAM_PNG_SRGB) stores as these
+ * bytes: 0.5 -> 188 and 0.2141 -> 128 are checked against the writer in
+ * test_png_srgb_known_values_clamp_and_nan. */
+#define BYTE_188 0.5f
+#define BYTE_128 0.2141f
+
+static sam_image_comparison compare(const sam_image *a, const sam_image *b, const sam_image *mask)
+{
+    sam_image_comparison c;
+    sam_error err;
+    if (sam_image_compare_srgb8(a, b, mask, &c, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    return c;
+}
+
+static void fill(sam_image *img, float v)
+{
+    for (size_t i = 0; i < (size_t)img->width * img->height * img->channels; ++i)
+        img->pixels[i] = v;
+}
+
+static void test_compare_known_differences(void **state)
+{
+    (void)state;
+    sam_image a, b;
+    make_image(&a, 2, 2, 3);
+    make_image(&b, 2, 2, 3);
+    fill(&a, BYTE_188);
+    fill(&b, BYTE_188);
+
+    /* One channel of one pixel 60 levels off: over 4 pixels x 3 channels
+     * rmse = sqrt(60^2 / 12); over the differing pixel, sqrt(60^2 / 3). */
+    b.pixels[3 * 2 + 1] = BYTE_128;
+    sam_image_comparison c = compare(&a, &b, NULL);
+    assert_int_equal(c.pixels, 4);
+    assert_int_equal(c.differing_pixels, 1);
+    double rmse = sqrt(60.0 * 60.0 / 12.0), rmse_d = sqrt(60.0 * 60.0 / 3.0);
+    assert_float_equal(c.rmse, rmse, 1e-9);
+    assert_float_equal(c.psnr_db, 20.0 * log10(255.0 / rmse), 1e-9);
+    assert_float_equal(c.psnr_db, 23.3596, 1e-4); /* 20 log10(255 / sqrt(300)) */
+    assert_float_equal(c.rmse_differing, rmse_d, 1e-9);
+    assert_float_equal(c.psnr_differing_db, 20.0 * log10(255.0 / rmse_d), 1e-9);
+    /* Symmetric. */
+    sam_image_comparison r = compare(&b, &a, NULL);
+    assert_memory_equal(&r, &c, sizeof r);
+
+    /* A second pixel off by 255 in two channels: 60^2 + 2 * 255^2. */
+    a.pixels[3 * 3 + 1] = 1.0f;
+    a.pixels[3 * 3 + 2] = 1.0f;
+    b.pixels[3 * 3 + 1] = 0.0f;
+    b.pixels[3 * 3 + 2] = 0.0f;
+    c = compare(&a, &b, NULL);
+    double sum = 60.0 * 60.0 + 2.0 * 255.0 * 255.0;
+    assert_int_equal(c.pixels, 4);
+    assert_int_equal(c.differing_pixels, 2);
+    assert_float_equal(c.rmse, sqrt(sum / 12.0), 1e-9);
+    assert_float_equal(c.psnr_db, 20.0 * log10(255.0 / sqrt(sum / 12.0)), 1e-9);
+    assert_float_equal(c.rmse_differing, sqrt(sum / 6.0), 1e-9);
+    assert_float_equal(c.psnr_differing_db, 20.0 * log10(255.0 / sqrt(sum / 6.0)), 1e-9);
+
+    /* One level: 0 against a value that encodes to byte 1 (0.6 / 255 in sRGB). */
+    fill(&a, 0.0f);
+    fill(&b, 0.0f);
+    b.pixels[0] = 0.6f / 255.0f / 12.92f;
+    c = compare(&a, &b, NULL);
+    assert_int_equal(c.differing_pixels, 1);
+    assert_float_equal(c.rmse, sqrt(1.0 / 12.0), 1e-9);
+    assert_float_equal(c.psnr_db, 20.0 * log10(255.0 / sqrt(1.0 / 12.0)), 1e-9);
+    sam_image_destroy(&a);
+    sam_image_destroy(&b);
+}
+
+static void test_compare_identical_in_8_bits(void **state)
+{
+    (void)state;
+    sam_image a, b;
+    make_image(&a, 2, 2, 4);
+    make_image(&b, 2, 2, 3);
+    fill(&a, BYTE_188);
+    fill(&b, BYTE_188);
+    /* Float differences that the same byte hides, values the encoder
+     * clamps (2 and 1, -1 and 0, NaN and 0), and alpha, which is not
+     * compared, all count as equal. */
+    b.pixels[0] = 0.5001f;
+    a.pixels[4 * 1 + 0] = 2.0f;
+    b.pixels[3 * 1 + 0] = 1.0f;
+    a.pixels[4 * 2 + 1] = -1.0f;
+    b.pixels[3 * 2 + 1] = 0.0f;
+    a.pixels[4 * 3 + 2] = NAN;
+    b.pixels[3 * 3 + 2] = 0.0f;
+    a.pixels[4 * 3 + 3] = 0.25f;
+    sam_image_comparison c = compare(&a, &b, NULL);
+    assert_int_equal(c.pixels, 4);
+    assert_int_equal(c.differing_pixels, 0);
+    assert_true(c.rmse == 0.0);
+    assert_true(isinf(c.psnr_db) && c.psnr_db > 0);
+    assert_true(c.rmse_differing == 0.0);
+    assert_true(isinf(c.psnr_differing_db) && c.psnr_differing_db > 0);
+    c = compare(&a, &a, NULL);
+    assert_int_equal(c.differing_pixels, 0);
+    assert_true(isinf(c.psnr_db));
+    sam_image_destroy(&a);
+    sam_image_destroy(&b);
+}
+
+static void test_compare_mask(void **state)
+{
+    (void)state;
+    sam_image a, b, mask;
+    make_image(&a, 2, 2, 3);
+    make_image(&b, 2, 2, 3);
+    make_image(&mask, 2, 2, 4);
+    fill(&a, BYTE_188);
+    fill(&b, BYTE_188);
+    b.pixels[3 * 1 + 0] = BYTE_128; /* pixel 1 differs by 60 in red */
+
+    /* Alpha 0 at the differing pixel (and -1, NaN count as outside). */
+    fill(&mask, 1.0f);
+    mask.pixels[4 * 1 + 3] = 0.0f;
+    mask.pixels[4 * 2 + 3] = -1.0f;
+    sam_image_comparison c = compare(&a, &b, &mask);
+    assert_int_equal(c.pixels, 2);
+    assert_int_equal(c.differing_pixels, 0);
+    assert_true(isinf(c.psnr_db));
+    assert_true(isinf(c.psnr_differing_db));
+
+    /* Only the differing pixel and one other: 60^2 over 2 x 3 values. The
+     * mask's colour does not matter, only its last channel. */
+    fill(&mask, 0.0f);
+    mask.pixels[4 * 1 + 3] = 1.0f;
+    mask.pixels[4 * 3 + 3] = 0.001f;
+    mask.pixels[4 * 0 + 0] = 1.0f;
+    mask.pixels[4 * 2 + 3] = NAN;
+    c = compare(&a, &b, &mask);
+    assert_int_equal(c.pixels, 2);
+    assert_int_equal(c.differing_pixels, 1);
+    assert_float_equal(c.rmse, sqrt(3600.0 / 6.0), 1e-9);
+    assert_float_equal(c.psnr_db, 20.0 * log10(255.0 / sqrt(600.0)), 1e-9);
+    assert_float_equal(c.rmse_differing, sqrt(3600.0 / 3.0), 1e-9);
+
+    /* An RGB mask selects by its last channel, blue. */
+    sam_image rgb;
+    make_image(&rgb, 2, 2, 3);
+    rgb.pixels[3 * 1 + 2] = 1.0f;
+    rgb.pixels[3 * 0 + 0] = 1.0f; /* red only: not selected */
+    c = compare(&a, &b, &rgb);
+    assert_int_equal(c.pixels, 1);
+    assert_int_equal(c.differing_pixels, 1);
+    assert_float_equal(c.rmse, c.rmse_differing, 0.0);
+
+    /* A mask that selects nothing is an error, not a perfect score. */
+    fill(&rgb, 0.0f);
+    sam_error err;
+    assert_int_equal(sam_image_compare_srgb8(&a, &b, &rgb, &c, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "the mask selects none of the 2 x 2 pixels"));
+    sam_image_destroy(&rgb);
+    sam_image_destroy(&mask);
+    sam_image_destroy(&a);
+    sam_image_destroy(&b);
+}
+
+/* The comparison sees the bytes sam_image_write_png stores: random values
+ * (with some out of range) compared directly and through two PNG files. */
+static void test_compare_matches_png_bytes(void **state)
+{
+    (void)state;
+    sam_image a, b, pa, pb;
+    sam_error err;
+    make_image(&a, 17, 9, 4);
+    make_image(&b, 17, 9, 3);
+    fill_random(&a, 3, -0.1f, 1.1f);
+    fill_random(&b, 4, -0.1f, 1.1f);
+    for (size_t i = 0; i < 17 * 9; i += 4) {
+        for (int k = 0; k < 3; ++k)
+            b.pixels[3 * i + k] = a.pixels[4 * i + k]; /* some equal pixels */
+    }
+    a.pixels[5] = NAN;
+    char path_a[512], path_b[512];
+    sam_test_tmp_path(path_a, sizeof path_a, "compare_a.png");
+    sam_test_tmp_path(path_b, sizeof path_b, "compare_b.png");
+    assert_int_equal(sam_image_write_png(path_a, &a, SAM_PNG_SRGB, &err), SAM_OK);
+    assert_int_equal(sam_image_write_png(path_b, &b, SAM_PNG_SRGB, &err), SAM_OK);
+    assert_int_equal(sam_image_read_png(path_a, &pa, SAM_PNG_LINEAR, &err), SAM_OK);
+    assert_int_equal(sam_image_read_png(path_b, &pb, SAM_PNG_LINEAR, &err), SAM_OK);
+    uint64_t sum = 0, differing = 0;
+    for (size_t i = 0; i < 17 * 9; ++i) {
+        uint64_t d2 = 0;
+        for (int k = 0; k < 3; ++k) {
+            long d = lroundf(pa.pixels[4 * i + k] * 255.0f) -
+                     lroundf(pb.pixels[3 * i + k] * 255.0f);
+            d2 += (uint64_t)(d * d);
+        }
+        sum += d2;
+        differing += d2 != 0;
+    }
+    sam_image_comparison c = compare(&a, &b, NULL);
+    assert_int_equal(c.pixels, 17 * 9);
+    assert_int_equal(c.differing_pixels, differing);
+    assert_true(differing > 0 && differing < 17 * 9);
+    assert_float_equal(c.rmse, sqrt((double)sum / (3.0 * 17 * 9)), 1e-12);
+    assert_float_equal(c.rmse_differing, sqrt((double)sum / (3.0 * (double)differing)), 1e-12);
+    sam_image_destroy(&pa);
+    sam_image_destroy(&pb);
+    sam_image_destroy(&a);
+    sam_image_destroy(&b);
+}
+
+static void test_compare_errors(void **state)
+{
+    (void)state;
+    sam_image a, b, mask;
+    sam_image_comparison c;
+    sam_error err;
+    make_image(&a, 2, 2, 3);
+    make_image(&b, 3, 2, 3);
+    make_image(&mask, 2, 5, 4);
+    memset(&c, 0x5a, sizeof c); /* must be zeroed on failure */
+    assert_int_equal(sam_image_compare_srgb8(&a, &b, NULL, &c, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "the images differ in size: 2 x 2 and 3 x 2 pixels"));
+    assert_int_equal(c.pixels, 0);
+    assert_true(c.rmse == 0.0);
+    assert_int_equal(sam_image_compare_srgb8(&a, &a, &mask, &c, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "the mask is 2 x 5 pixels, the images 2 x 2"));
+    sam_image bad = a;
+    bad.channels = 2;
+    assert_int_equal(sam_image_compare_srgb8(&a, &bad, NULL, &c, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "second image: 2 channels (expected 3 or 4)"));
+    assert_int_equal(sam_image_compare_srgb8(&a, &a, &bad, &c, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "mask: 2 channels"));
+    assert_int_equal(sam_image_compare_srgb8(NULL, &a, NULL, &c, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "first image: no image given"));
+    assert_int_equal(sam_image_compare_srgb8(&a, &a, NULL, NULL, &err), SAM_ERR_INVALID_ARGUMENT);
+    sam_image_destroy(&mask);
+    sam_image_destroy(&a);
+    sam_image_destroy(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -904,6 +1292,14 @@ int main(void)
         cmocka_unit_test(test_png_read_errors),
         cmocka_unit_test(test_png_truncated_files_fail_cleanly),
         cmocka_unit_test(test_failed_writes_leave_no_file),
+        cmocka_unit_test(test_tonemap_curves),
+        cmocka_unit_test(test_tonemap_alpha_over_backdrop),
+        cmocka_unit_test(test_tonemap_errors),
+        cmocka_unit_test(test_compare_known_differences),
+        cmocka_unit_test(test_compare_identical_in_8_bits),
+        cmocka_unit_test(test_compare_mask),
+        cmocka_unit_test(test_compare_matches_png_bytes),
+        cmocka_unit_test(test_compare_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

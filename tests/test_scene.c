@@ -44,6 +44,7 @@ static int setup(void **state)
     put_file("head.obj", "v 0 0 0\n");
     put_file("head.sam", "SAMF");
     put_file("sky.exr", "not read by the scene loader");
+    put_file("skin.png", "not read by the scene loader");
     put_file("profiles/custom.json",
              "{\"type\": \"dipole\", \"sigma_s_prime\": [1.0, 1.2, 1.4], "
              "\"sigma_a\": [0.01, 0.02, 0.03], \"eta\": 1.4}");
@@ -66,6 +67,7 @@ static const char full_scene[] =
     "  \"material\": \"profiles/custom.json\",\n"
     "  \"scale\": {\"size_mm\": 180},\n"
     "  \"albedo\": [0.9, 0.7, 0.6],\n"
+    "  \"albedo_map\": \"skin.png\",\n"
     "  \"lights\": [\n"
     "    {\"type\": \"point\", \"position\": [1, 2, 3], \"color\": [1, 0.5, 0.25],\n"
     "     \"intensity\": 10, \"shadow\": false},\n"
@@ -82,6 +84,9 @@ static const char full_scene[] =
     "  \"resolution\": [640, 480],\n"
     "  \"technique\": \"tsm\",\n"
     "  \"diffusion\": \"texture\",\n"
+    "  \"screen_space\": {\"kernel\": \"marginal\", \"samples\": 25},\n"
+    "  \"texture_space\": {\"atlas_size\": 2048, \"culled\": false, \"depth_sized\": true,\n"
+    "                    \"clipped\": false, \"texels_per_pixel\": 0.5},\n"
     "  \"tonemap\": \"reinhard\",\n"
     "  \"exposure\": -1.5\n"
     "}";
@@ -115,6 +120,8 @@ static void test_full_scene_loads(void **state)
     assert_int_equal(s.scale_kind, SAM_SCALE_SIZE_MM);
     assert_float_equal(s.scale_value, 180.0f, 0.0f);
     assert_vec3(s.albedo, 0.9f, 0.7f, 0.6f);
+    dir_file(want, sizeof want, "skin.png");
+    assert_string_equal(s.albedo_map, want);
 
     assert_int_equal(s.light_count, 4);
     const sam_light *l = s.lights;
@@ -163,11 +170,32 @@ static void test_full_scene_loads(void **state)
     assert_int_equal(s.height, 480);
     assert_int_equal(s.technique, SAM_TECHNIQUE_TSM);
     assert_int_equal(s.diffusion, SAM_DIFFUSION_TEXTURE);
+    const sam_diffusion_options *o = &s.diffusion_options;
+    assert_int_equal(o->sss_kernel, SAM_SSS_KERNEL_MARGINAL);
+    assert_int_equal(o->sss_samples, 25);
+    assert_int_equal(o->atlas_size, 2048);
+    assert_int_equal(o->culled, 0);
+    assert_int_equal(o->depth_sized, 1);
+    assert_int_equal(o->clipped, 0);
+    assert_float_equal(o->texels_per_pixel, 0.5f, 0.0f);
     assert_int_equal(s.tonemap, SAM_TONEMAP_REINHARD);
     assert_float_equal(s.exposure, -1.5f, 0.0f);
     sam_scene_destroy(&s);
     assert_null(s.lights);
+    assert_null(s.albedo_map);
     sam_scene_destroy(&s); /* twice is harmless */
+}
+
+/* The documented defaults of sam_diffusion_options. */
+static void assert_default_options(const sam_diffusion_options *o)
+{
+    assert_int_equal(o->sss_kernel, SAM_SSS_KERNEL_FIT2D);
+    assert_int_equal(o->sss_samples, 17);
+    assert_int_equal(o->atlas_size, 1024);
+    assert_int_equal(o->culled, 0);
+    assert_int_equal(o->depth_sized, 0);
+    assert_int_equal(o->clipped, 1);
+    assert_float_equal(o->texels_per_pixel, 1.0f, 0.0f);
 }
 
 static void test_defaults(void **state)
@@ -183,6 +211,7 @@ static void test_defaults(void **state)
     assert_null(s.material);
     assert_int_equal(s.scale_kind, SAM_SCALE_FROM_SAM);
     assert_vec3(s.albedo, 0.8f, 0.8f, 0.8f);
+    assert_null(s.albedo_map);
     assert_int_equal(s.light_count, 0);
     assert_null(s.lights);
     assert_null(s.environment.map);
@@ -191,6 +220,7 @@ static void test_defaults(void **state)
     assert_int_equal(s.height, 720);
     assert_int_equal(s.technique, SAM_TECHNIQUE_SAM);
     assert_int_equal(s.diffusion, SAM_DIFFUSION_SCREEN);
+    assert_default_options(&s.diffusion_options);
     assert_int_equal(s.tonemap, SAM_TONEMAP_ACES);
     assert_float_equal(s.exposure, 0.0f, 0.0f);
     sam_scene_destroy(&s);
@@ -240,6 +270,82 @@ static void test_defaults(void **state)
     assert_vec3(init.albedo, 0.8f, 0.8f, 0.8f);
     assert_float_equal(init.camera.fov_deg, 40.0f, 0.0f);
     assert_float_equal(init.environment.intensity, 1.0f, 0.0f);
+    assert_null(init.albedo_map);
+    assert_default_options(&init.diffusion_options);
+    sam_diffusion_options options;
+    memset(&options, 0xff, sizeof options);
+    sam_diffusion_options_default(&options);
+    assert_default_options(&options);
+    sam_diffusion_options_default(NULL);
+}
+
+/* Valid values of the diffusion settings, including the ends of each range;
+ * keys left out of "screen_space" and "texture_space" keep their defaults. */
+static void test_diffusion_options(void **state)
+{
+    (void)state;
+    sam_scene s;
+    sam_error err;
+    if (parse("{\"sam\": \"head.sam\", \"screen_space\": {\"kernel\": \"eq1\", \"samples\": 9},"
+              " \"texture_space\": {\"atlas_size\": 64, \"culled\": false, \"depth_sized\": true,"
+              " \"clipped\": false, \"texels_per_pixel\": 16}}",
+              &s, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    const sam_diffusion_options *o = &s.diffusion_options;
+    assert_int_equal(o->sss_kernel, SAM_SSS_KERNEL_EQ1);
+    assert_int_equal(o->sss_samples, 9);
+    assert_int_equal(o->atlas_size, 64);
+    assert_int_equal(o->culled, 0);
+    assert_int_equal(o->depth_sized, 1);
+    assert_int_equal(o->clipped, 0);
+    assert_float_equal(o->texels_per_pixel, 16.0f, 0.0f);
+    sam_scene_destroy(&s);
+
+    if (parse("{\"sam\": \"head.sam\", \"screen_space\": {\"samples\": 33},"
+              " \"texture_space\": {\"atlas_size\": 4096, \"texels_per_pixel\": 0.001}}",
+              &s, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_int_equal(o->sss_kernel, SAM_SSS_KERNEL_FIT2D);
+    assert_int_equal(o->sss_samples, 33);
+    assert_int_equal(o->atlas_size, 4096);
+    assert_int_equal(o->culled, 0);
+    assert_int_equal(o->depth_sized, 0);
+    assert_int_equal(o->clipped, 1);
+    assert_float_equal(o->texels_per_pixel, 0.001f, 0.0f);
+    sam_scene_destroy(&s);
+
+    /* Empty objects are all defaults; an atlas side need not be a power of 2. */
+    if (parse("{\"sam\": \"head.sam\", \"screen_space\": {}, \"texture_space\": {}}", &s,
+              &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_default_options(o);
+    sam_scene_destroy(&s);
+    if (parse("{\"sam\": \"head.sam\", \"texture_space\": {\"atlas_size\": 1000}}", &s, &err) !=
+        SAM_OK)
+        fail_msg("%s", err.message);
+    assert_int_equal(o->atlas_size, 1000);
+    sam_scene_destroy(&s);
+
+    /* Every odd sample count in range loads; every even one is refused. */
+    for (int n = 9; n <= 33; ++n) {
+        char json[128];
+        snprintf(json, sizeof json, "{\"sam\": \"head.sam\", \"screen_space\": {\"samples\": %d}}",
+                 n);
+        sam_status st = parse(json, &s, &err);
+        if (n % 2) {
+            if (st != SAM_OK)
+                fail_msg("%d samples: %s", n, err.message);
+            assert_int_equal(o->sss_samples, (uint32_t)n);
+            sam_scene_destroy(&s);
+        } else {
+            assert_int_equal(st, SAM_ERR_FORMAT);
+            char want[128];
+            snprintf(want, sizeof want,
+                     "scene.json: screen_space.samples: expected an odd integer in [9, 33], "
+                     "found %d", n);
+            assert_string_equal(err.message, want);
+        }
+    }
 }
 
 static void assert_same_floats(const float *a, const float *b, size_t n, const char *what)
@@ -266,6 +372,7 @@ static void assert_scenes_equal(const sam_scene *a, const sam_scene *b)
     assert_int_equal(a->scale_kind, b->scale_kind);
     assert_same_floats(&a->scale_value, &b->scale_value, 1, "scale");
     assert_same_floats(a->albedo, b->albedo, 3, "albedo");
+    assert_same_string(a->albedo_map, b->albedo_map);
     assert_int_equal(a->light_count, b->light_count);
     for (size_t i = 0; i < a->light_count; ++i) {
         const sam_light *x = &a->lights[i], *y = &b->lights[i];
@@ -307,6 +414,14 @@ static void assert_scenes_equal(const sam_scene *a, const sam_scene *b)
     assert_int_equal(a->height, b->height);
     assert_int_equal(a->technique, b->technique);
     assert_int_equal(a->diffusion, b->diffusion);
+    const sam_diffusion_options *x = &a->diffusion_options, *y = &b->diffusion_options;
+    assert_int_equal(x->sss_kernel, y->sss_kernel);
+    assert_int_equal(x->sss_samples, y->sss_samples);
+    assert_int_equal(x->atlas_size, y->atlas_size);
+    assert_int_equal(x->culled, y->culled);
+    assert_int_equal(x->depth_sized, y->depth_sized);
+    assert_int_equal(x->clipped, y->clipped);
+    assert_same_floats(&x->texels_per_pixel, &y->texels_per_pixel, 1, "texels per pixel");
     assert_int_equal(a->tonemap, b->tonemap);
     assert_same_floats(&a->exposure, &b->exposure, 1, "exposure");
 }
@@ -345,6 +460,7 @@ static void test_round_trip(void **state)
     a.lights[0].position[0] = 3.4e38f;
     a.lights[0].position[1] = -1.17549435e-38f;
     a.camera.fov_deg = 179.99998f;
+    a.diffusion_options.texels_per_pixel = nextafterf(0.3f, 1.0f);
     assert_int_equal(sam_scene_write(out, &a, &err), SAM_OK);
     assert_int_equal(sam_scene_load(out, &b, &err), SAM_OK);
     assert_scenes_equal(&a, &b);
@@ -387,8 +503,81 @@ static void test_write_hand_built_scene(void **state)
     assert_scenes_equal(&a, &b);
     sam_scene_destroy(&b);
 
+    /* Default diffusion settings are written out too, so a change of the
+     * defaults cannot change what a recorded scene renders. */
+    uint8_t *text;
+    size_t size;
+    assert_int_equal(sam_read_file(out, &text, &size, &err), SAM_OK);
+    /* Without the layout's whitespace, which is cJSON's to choose. */
+    char *written = malloc(size + 1);
+    assert_non_null(written);
+    size_t len = 0;
+    for (size_t i = 0; i < size; ++i) {
+        if (!strchr(" \t\r\n", text[i]))
+            written[len++] = (char)text[i];
+    }
+    written[len] = 0;
+    free(text);
+    const char *const keys[] = {"\"screen_space\":{", "\"kernel\":\"fit2d\"", "\"samples\":17",
+                                "\"texture_space\":{", "\"atlas_size\":1024", "\"culled\":false",
+                                "\"depth_sized\":false", "\"clipped\":true",
+                                "\"texels_per_pixel\":1"};
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
+        if (!strstr(written, keys[i]))
+            fail_msg("%s not written in:\n%s", keys[i], written);
+    }
+    assert_null(strstr(written, "albedo_map")); /* none set */
+    free(written);
+
+    /* An albedo map and non-default settings survive the trip. */
+    char map[640];
+    dir_file(map, sizeof map, "skin.png");
+    a.albedo_map = strdup(map);
+    a.diffusion_options.sss_kernel = SAM_SSS_KERNEL_EQ1;
+    a.diffusion_options.sss_samples = 31;
+    a.diffusion_options.atlas_size = 512;
+    a.diffusion_options.culled = 1;
+    a.diffusion_options.depth_sized = 1;
+    a.diffusion_options.clipped = 0;
+    a.diffusion_options.texels_per_pixel = 2.5f;
+    if (sam_scene_write(out, &a, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    if (sam_scene_load(out, &b, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_scenes_equal(&a, &b);
+    sam_scene_destroy(&b);
+
     /* An invalid scene is refused with the loader's message, and no file. */
     remove(out);
+    a.diffusion_options.sss_samples = 18;
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "hand.json: screen_space.samples: expected an odd integer "
+                                        "in [9, 33], found 18"));
+    a.diffusion_options.sss_samples = 17;
+    a.diffusion_options.sss_kernel = (sam_sss_kernel)7;
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "hand.json: screen_space.kernel: unknown kernel "
+                                        "\"unknown\""));
+    a.diffusion_options.sss_kernel = SAM_SSS_KERNEL_FIT2D;
+    a.diffusion_options.atlas_size = 8192;
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "hand.json: texture_space.atlas_size: expected an integer "
+                                        "in [64, 4096], found 8192"));
+    a.diffusion_options.atlas_size = 1024;
+    a.diffusion_options.texels_per_pixel = 0.0f;
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "hand.json: texture_space.texels_per_pixel: expected a "
+                                        "number in (0, 16], found 0"));
+    a.diffusion_options.texels_per_pixel = 1.0f;
+    free(a.albedo_map);
+    dir_file(map, sizeof map, "gone.png");
+    a.albedo_map = strdup(map);
+    assert_int_equal(sam_scene_write(out, &a, &err), SAM_ERR_IO);
+    assert_non_null(strstr(err.message, "hand.json: albedo_map: file not found: "));
+    assert_non_null(strstr(err.message, map));
+    assert_false(sam_test_file_exists(out));
+    free(a.albedo_map);
+    a.albedo_map = NULL;
     a.has_camera = 1;
     a.camera.position[2] = 3.0f;
     a.camera.fov_deg = 200.0f;
@@ -446,6 +635,14 @@ static const error_case error_cases[] = {
     {"{\"sam\": \"profiles\"}", SAM_ERR_IO, "scene.json: sam: not a regular file: @/profiles"},
     {"{\"sam\": \"head.sam\", \"environment\": {\"map\": \"night.exr\"}}", SAM_ERR_IO,
      "scene.json: environment.map: file not found: @/night.exr"},
+    {"{\"sam\": \"head.sam\", \"albedo_map\": \"maps/missing.png\"}", SAM_ERR_IO,
+     "scene.json: albedo_map: file not found: @/maps/missing.png"},
+    {"{\"sam\": \"head.sam\", \"albedo_map\": \"profiles\"}", SAM_ERR_IO,
+     "scene.json: albedo_map: not a regular file: @/profiles"},
+    {"{\"sam\": \"head.sam\", \"albedo_map\": 3}", SAM_ERR_FORMAT,
+     "scene.json: albedo_map: expected a non-empty string, found 3"},
+    {"{\"sam\": \"head.sam\", \"albedo_map\": \"\"}", SAM_ERR_FORMAT,
+     "scene.json: albedo_map: expected a non-empty string, found \"\""},
     {"{\n  \"sam\": \"head.sam\",\n  \"albedo\": [0.5, 0.5,, 0.5]\n}", SAM_ERR_FORMAT,
      "scene.json: line 3, column 23: JSON syntax error at \", 0.5]\""},
     {"{\"sam\": \"head.sam\",\n\"exposure\": 1} trailing", SAM_ERR_FORMAT,
@@ -597,6 +794,53 @@ static const error_case error_cases[] = {
      "scene.json: tonemap: expected a non-empty string, found null"},
     {"{\"sam\": \"head.sam\", \"exposure\": 40}", SAM_ERR_FORMAT,
      "scene.json: exposure: expected a number in [-32, 32], found 40"},
+    /* diffusion settings (after a valid albedo map, which must be freed) */
+    {"{\"sam\": \"head.sam\", \"albedo_map\": \"skin.png\", \"screen_space\": {\"samples\": 18}}",
+     SAM_ERR_FORMAT,
+     "scene.json: screen_space.samples: expected an odd integer in [9, 33], found 18"},
+    {"{\"sam\": \"head.sam\", \"screen_space\": {\"samples\": 7}}", SAM_ERR_FORMAT,
+     "scene.json: screen_space.samples: expected an odd integer in [9, 33], found 7"},
+    {"{\"sam\": \"head.sam\", \"screen_space\": {\"samples\": 35}}", SAM_ERR_FORMAT,
+     "scene.json: screen_space.samples: expected an odd integer in [9, 33], found 35"},
+    {"{\"sam\": \"head.sam\", \"screen_space\": {\"samples\": 17.5}}", SAM_ERR_FORMAT,
+     "scene.json: screen_space.samples: expected an odd integer in [9, 33], found 17.5"},
+    {"{\"sam\": \"head.sam\", \"screen_space\": {\"samples\": \"17\"}}", SAM_ERR_FORMAT,
+     "scene.json: screen_space.samples: expected an odd integer in [9, 33], found \"17\""},
+    {"{\"sam\": \"head.sam\", \"screen_space\": {\"kernel\": \"gauss\"}}", SAM_ERR_FORMAT,
+     "scene.json: screen_space.kernel: unknown kernel \"gauss\" (expected fit2d, marginal, eq1)"},
+    {"{\"sam\": \"head.sam\", \"screen_space\": {\"kernel\": 2}}", SAM_ERR_FORMAT,
+     "scene.json: screen_space.kernel: expected a non-empty string, found 2"},
+    {"{\"sam\": \"head.sam\", \"screen_space\": {\"taps\": 17}}", SAM_ERR_FORMAT,
+     "scene.json: screen_space.taps: unknown key (expected one of: kernel, samples)"},
+    {"{\"sam\": \"head.sam\", \"screen_space\": {\"samples\": 9, \"samples\": 11}}",
+     SAM_ERR_FORMAT, "scene.json: screen_space.samples: duplicate key"},
+    {"{\"sam\": \"head.sam\", \"screen_space\": 17}", SAM_ERR_FORMAT,
+     "scene.json: screen_space: expected an object, found 17"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": [1024]}", SAM_ERR_FORMAT,
+     "scene.json: texture_space: expected an object, found an array of 1 elements"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"size\": 1024}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.size: unknown key (expected one of: atlas_size, culled, "
+     "depth_sized, clipped, texels_per_pixel)"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"atlas_size\": 63}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.atlas_size: expected an integer in [64, 4096], found 63"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"atlas_size\": 4097}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.atlas_size: expected an integer in [64, 4096], found 4097"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"atlas_size\": 512.5}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.atlas_size: expected an integer in [64, 4096], found 512.5"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"culled\": 1}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.culled: expected true or false, found 1"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"depth_sized\": \"yes\"}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.depth_sized: expected true or false, found \"yes\""},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"clipped\": null}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.clipped: expected true or false, found null"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"texels_per_pixel\": 0}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.texels_per_pixel: expected a number in (0, 16], found 0"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"texels_per_pixel\": 16.5}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.texels_per_pixel: expected a number in (0, 16], found 16.5"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"texels_per_pixel\": -1}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.texels_per_pixel: expected a number in (0, 16], found -1"},
+    {"{\"sam\": \"head.sam\", \"texture_space\": {\"texels_per_pixel\": 1e999}}", SAM_ERR_FORMAT,
+     "scene.json: texture_space.texels_per_pixel: expected a number in (0, 16], found inf"},
 };
 
 static void test_errors(void **state)
@@ -623,6 +867,7 @@ static void test_errors(void **state)
         assert_null(s.sam_path);
         assert_null(s.material);
         assert_null(s.environment.map);
+        assert_null(s.albedo_map);
     }
 }
 
@@ -687,6 +932,7 @@ static void test_load_errors_and_relative_paths(void **state)
     char path[640], want[640];
     dir_file(path, sizeof path, "sub/up.json");
     sam_test_write_text(path, "{\"sam\": \"../head.sam\", \"material\": \"../profiles/custom.json\","
+                              " \"albedo_map\": \"../skin.png\","
                               " \"environment\": {\"map\": \"../sky.exr\"}}");
     if (sam_scene_load(path, &s, &err) != SAM_OK)
         fail_msg("%s", err.message);
@@ -694,6 +940,8 @@ static void test_load_errors_and_relative_paths(void **state)
     assert_string_equal(s.sam_path, want);
     dir_file(want, sizeof want, "sub/../profiles/custom.json");
     assert_string_equal(s.material, want);
+    dir_file(want, sizeof want, "sub/../skin.png");
+    assert_string_equal(s.albedo_map, want);
     assert_int_equal(s.profile.kind, SAM_PROFILE_DIPOLE);
     sam_scene_destroy(&s);
 
@@ -742,6 +990,10 @@ static void test_names(void **state)
     assert_string_equal(sam_diffusion_name(SAM_DIFFUSION_PREINTEGRATED), "preintegrated");
     assert_string_equal(sam_tonemap_name(SAM_TONEMAP_REINHARD), "reinhard");
     assert_string_equal(sam_tonemap_name((sam_tonemap)-1), "unknown");
+    assert_string_equal(sam_sss_kernel_name(SAM_SSS_KERNEL_FIT2D), "fit2d");
+    assert_string_equal(sam_sss_kernel_name(SAM_SSS_KERNEL_MARGINAL), "marginal");
+    assert_string_equal(sam_sss_kernel_name(SAM_SSS_KERNEL_EQ1), "eq1");
+    assert_string_equal(sam_sss_kernel_name((sam_sss_kernel)3), "unknown");
 }
 
 int main(void)
@@ -749,6 +1001,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_full_scene_loads),
         cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_diffusion_options),
         cmocka_unit_test(test_round_trip),
         cmocka_unit_test(test_write_hand_built_scene),
         cmocka_unit_test(test_errors),

@@ -22,6 +22,7 @@ static const char *const light_type_names[] = {"point", "spot", "directional", "
 static const char *const technique_names[] = {"sam", "none", "tsm", "transmittance"};
 static const char *const diffusion_names[] = {"screen", "texture", "preintegrated"};
 static const char *const tonemap_names[] = {"aces", "reinhard"};
+static const char *const sss_kernel_names[] = {"fit2d", "marginal", "eq1"};
 #define COUNT_OF(a) (sizeof(a) / sizeof((a)[0]))
 
 static const char *name_at(const char *const *names, size_t count, int value)
@@ -49,8 +50,26 @@ const char *sam_tonemap_name(sam_tonemap tonemap)
     return name_at(tonemap_names, COUNT_OF(tonemap_names), (int)tonemap);
 }
 
+const char *sam_sss_kernel_name(sam_sss_kernel kernel)
+{
+    return name_at(sss_kernel_names, COUNT_OF(sss_kernel_names), (int)kernel);
+}
+
 /* ------------------------------------------------------------------------ */
 /* Scene lifetime                                                            */
+
+void sam_diffusion_options_default(sam_diffusion_options *options)
+{
+    if (!options)
+        return;
+    options->sss_kernel = SAM_SSS_KERNEL_FIT2D;
+    options->sss_samples = 17;
+    options->atlas_size = 1024;
+    options->culled = 0;
+    options->depth_sized = 0;
+    options->clipped = 1;
+    options->texels_per_pixel = 1.0f;
+}
 
 void sam_scene_init(sam_scene *scene)
 {
@@ -67,6 +86,7 @@ void sam_scene_init(sam_scene *scene)
     scene->height = 720;
     scene->technique = SAM_TECHNIQUE_SAM;
     scene->diffusion = SAM_DIFFUSION_SCREEN;
+    sam_diffusion_options_default(&scene->diffusion_options);
     scene->tonemap = SAM_TONEMAP_ACES;
 }
 
@@ -77,6 +97,7 @@ void sam_scene_destroy(sam_scene *scene)
     free(scene->mesh_path);
     free(scene->sam_path);
     free(scene->material);
+    free(scene->albedo_map);
     free(scene->lights);
     free(scene->environment.map);
     sam_scene_init(scene);
@@ -282,6 +303,19 @@ static sam_status get_non_negative(const parser *p, const cJSON *item, const cha
 static sam_status get_positive(const parser *p, const cJSON *item, const char *path, float *out)
 {
     return get_float(p, item, path, 0.0, 1, INFINITY, 0, "> 0 (finite)", out);
+}
+
+/* An integer in [lo, hi]; with `odd`, an odd one. */
+static sam_status get_uint(const parser *p, const cJSON *item, const char *path, uint32_t lo,
+                           uint32_t hi, int odd, uint32_t *out)
+{
+    double v = cJSON_IsNumber(item) ? item->valuedouble : NAN;
+    if (v >= lo && v <= hi && v == floor(v) && (!odd || fmod(v, 2.0) == 1.0)) {
+        *out = (uint32_t)v;
+        return SAM_OK;
+    }
+    return fail_at(p, SAM_ERR_FORMAT, path, "expected %s integer in [%u, %u], found %s",
+                   odd ? "an odd" : "an", lo, hi, DESCRIBE(item));
 }
 
 static sam_status get_bool(const parser *p, const cJSON *item, const char *path, int *out)
@@ -779,24 +813,78 @@ static sam_status parse_resolution(const parser *p, const cJSON *item, sam_scene
     uint32_t *out[2] = {&scene->width, &scene->height};
     int i = 0;
     for (const cJSON *e = item->child; e; e = e->next, ++i) {
-        double v = cJSON_IsNumber(e) ? e->valuedouble : NAN;
-        if (!(v >= 1 && v <= SAM_SCENE_MAX_RESOLUTION && v == floor(v))) {
-            char at[32];
-            snprintf(at, sizeof at, "resolution[%d]", i);
-            return fail_at(p, SAM_ERR_FORMAT, at, "expected an integer in [1, %d], found %s",
-                           SAM_SCENE_MAX_RESOLUTION, DESCRIBE(e));
-        }
-        *out[i] = (uint32_t)v;
+        char at[32];
+        snprintf(at, sizeof at, "resolution[%d]", i);
+        sam_status st = get_uint(p, e, at, 1, SAM_SCENE_MAX_RESOLUTION, 0, out[i]);
+        if (st != SAM_OK)
+            return st;
     }
+    return SAM_OK;
+}
+
+static sam_status parse_screen_space(const parser *p, const cJSON *item,
+                                     sam_diffusion_options *options)
+{
+    static const char *const keys[] = {"kernel", "samples"};
+    if (!cJSON_IsObject(item))
+        return fail_at(p, SAM_ERR_FORMAT, "screen_space", "expected an object, found %s",
+                       DESCRIBE(item));
+    sam_status st = check_keys(p, item, "screen_space", keys, COUNT_OF(keys));
+    if (st != SAM_OK)
+        return st;
+    const cJSON *v;
+    if ((v = cJSON_GetObjectItemCaseSensitive(item, "kernel"))) {
+        int e;
+        if ((st = get_enum(p, v, "screen_space.kernel", "kernel", sss_kernel_names,
+                           COUNT_OF(sss_kernel_names), &e)) != SAM_OK)
+            return st;
+        options->sss_kernel = (sam_sss_kernel)e;
+    }
+    /* Odd: the kernel has a centre tap and as many on each side. */
+    if ((v = cJSON_GetObjectItemCaseSensitive(item, "samples")) &&
+        (st = get_uint(p, v, "screen_space.samples", 9, 33, 1, &options->sss_samples)) != SAM_OK)
+        return st;
+    return SAM_OK;
+}
+
+static sam_status parse_texture_space(const parser *p, const cJSON *item,
+                                      sam_diffusion_options *options)
+{
+    static const char *const keys[] = {"atlas_size", "culled", "depth_sized", "clipped",
+                                       "texels_per_pixel"};
+    if (!cJSON_IsObject(item))
+        return fail_at(p, SAM_ERR_FORMAT, "texture_space", "expected an object, found %s",
+                       DESCRIBE(item));
+    sam_status st = check_keys(p, item, "texture_space", keys, COUNT_OF(keys));
+    if (st != SAM_OK)
+        return st;
+    const cJSON *v;
+    if ((v = cJSON_GetObjectItemCaseSensitive(item, "atlas_size")) &&
+        (st = get_uint(p, v, "texture_space.atlas_size", 64, 4096, 0, &options->atlas_size)) !=
+            SAM_OK)
+        return st;
+    if ((v = cJSON_GetObjectItemCaseSensitive(item, "culled")) &&
+        (st = get_bool(p, v, "texture_space.culled", &options->culled)) != SAM_OK)
+        return st;
+    if ((v = cJSON_GetObjectItemCaseSensitive(item, "depth_sized")) &&
+        (st = get_bool(p, v, "texture_space.depth_sized", &options->depth_sized)) != SAM_OK)
+        return st;
+    if ((v = cJSON_GetObjectItemCaseSensitive(item, "clipped")) &&
+        (st = get_bool(p, v, "texture_space.clipped", &options->clipped)) != SAM_OK)
+        return st;
+    if ((v = cJSON_GetObjectItemCaseSensitive(item, "texels_per_pixel")) &&
+        (st = get_float(p, v, "texture_space.texels_per_pixel", 0.0, 1, 16.0, 0, "in (0, 16]",
+                        &options->texels_per_pixel)) != SAM_OK)
+        return st;
     return SAM_OK;
 }
 
 static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scene)
 {
-    static const char *const keys[] = {"mesh",   "sam",         "material", "scale",
-                                       "albedo", "lights",      "environment", "camera",
-                                       "resolution", "technique", "diffusion", "tonemap",
-                                       "exposure"};
+    static const char *const keys[] = {"mesh",         "sam",        "material",  "scale",
+                                       "albedo",       "albedo_map", "lights",    "environment",
+                                       "camera",       "resolution", "technique", "diffusion",
+                                       "screen_space", "texture_space", "tonemap", "exposure"};
     if (!cJSON_IsObject(root))
         return sam_fail(p->err, SAM_ERR_FORMAT, "%s: expected a JSON object, found %s", p->name,
                         DESCRIBE(root));
@@ -837,6 +925,9 @@ static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scen
                                "albedo[%d] = %g", k, scene->albedo[k]);
         }
     }
+    if ((v = cJSON_GetObjectItemCaseSensitive(root, "albedo_map")) &&
+        (st = get_file(p, v, "albedo_map", &scene->albedo_map)) != SAM_OK)
+        return st;
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "lights")) &&
         (st = parse_lights(p, v, scene)) != SAM_OK)
         return st;
@@ -862,6 +953,12 @@ static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scen
             return st;
         scene->diffusion = (sam_diffusion)e;
     }
+    if ((v = cJSON_GetObjectItemCaseSensitive(root, "screen_space")) &&
+        (st = parse_screen_space(p, v, &scene->diffusion_options)) != SAM_OK)
+        return st;
+    if ((v = cJSON_GetObjectItemCaseSensitive(root, "texture_space")) &&
+        (st = parse_texture_space(p, v, &scene->diffusion_options)) != SAM_OK)
+        return st;
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "tonemap"))) {
         if ((st = get_enum(p, v, "tonemap", "tonemap", tonemap_names, COUNT_OF(tonemap_names),
                            &e)) != SAM_OK)
@@ -1109,6 +1206,8 @@ static cJSON *scene_item(builder *b, const sam_scene *s)
         add(b, root, "scale", scale);
     }
     add(b, root, "albedo", vec3_item(b, s->albedo));
+    if (s->albedo_map)
+        add_path(b, root, "albedo_map", s->albedo_map);
     cJSON *lights = cJSON_CreateArray();
     for (size_t i = 0; i < s->light_count; ++i)
         append(b, lights, light_item(b, &s->lights[i]));
@@ -1140,6 +1239,18 @@ static cJSON *scene_item(builder *b, const sam_scene *s)
     add(b, root, "resolution", res);
     add(b, root, "technique", cJSON_CreateString(sam_technique_name(s->technique)));
     add(b, root, "diffusion", cJSON_CreateString(sam_diffusion_name(s->diffusion)));
+    const sam_diffusion_options *o = &s->diffusion_options;
+    cJSON *screen = cJSON_CreateObject();
+    add(b, screen, "kernel", cJSON_CreateString(sam_sss_kernel_name(o->sss_kernel)));
+    add(b, screen, "samples", cJSON_CreateNumber(o->sss_samples));
+    add(b, root, "screen_space", screen);
+    cJSON *texture = cJSON_CreateObject();
+    add(b, texture, "atlas_size", cJSON_CreateNumber(o->atlas_size));
+    add(b, texture, "culled", cJSON_CreateBool(o->culled));
+    add(b, texture, "depth_sized", cJSON_CreateBool(o->depth_sized));
+    add(b, texture, "clipped", cJSON_CreateBool(o->clipped));
+    add(b, texture, "texels_per_pixel", number_item(o->texels_per_pixel));
+    add(b, root, "texture_space", texture);
     add(b, root, "tonemap", cJSON_CreateString(sam_tonemap_name(s->tonemap)));
     add(b, root, "exposure", number_item(s->exposure));
     return root;

@@ -8,6 +8,10 @@
  * they are sRGB-encoded (decoded to / encoded from linear here) or stored as
  * given (sam_png_encoding). Alpha is never sRGB-encoded.
  *
+ * For display and for judging renders, an HDR image is tonemapped to display
+ * values (sam_image_tonemap), and two display images are compared the way
+ * they would look as 8-bit sRGB PNGs (sam_image_compare_srgb8).
+ *
  * Images larger than SAM_IMAGE_MAX_PIXELS are refused: such a size in a file
  * is far more likely corruption than a real environment map or render.
  *
@@ -106,6 +110,55 @@ sam_status sam_image_read_png(const char *path, sam_image *image, sam_png_encodi
  * [0, 1] follow the same formulas (negative inputs of the linear segment). */
 float sam_srgb_to_linear(float encoded);
 float sam_linear_to_srgb(float linear);
+
+/* Tone curves from linear HDR x >= 0 to a display value in [0, 1]. */
+typedef enum sam_tonemap {
+    /* Narkowicz's ACES filmic fit x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14),
+     * clamped to 1 (reached at x ~= 7.25) */
+    SAM_TONEMAP_ACES = 0,
+    SAM_TONEMAP_REINHARD = 1 /* x / (1 + x) */
+} sam_tonemap;
+
+/* Display values from the linear HDR image `hdr` (3 or 4 channels): each
+ * colour channel is multiplied by 2^exposure_ev and put through `curve`;
+ * negative and NaN values give 0, +inf gives 1. With 4 channels (straight,
+ * not premultiplied, alpha) the result is composited over `backdrop`
+ * (3 linear display values, each in [0, 1]; NULL = black) as
+ * alpha * curve + (1 - alpha) * backdrop, alpha clamped to [0, 1] (NaN: 0).
+ * `out` receives a new image of the same size with 3 channels, linear
+ * (not yet sRGB-encoded: sam_image_write_png with SAM_PNG_SRGB encodes it),
+ * every value in [0, 1]; previous contents are overwritten, not freed; the
+ * caller frees it with sam_image_destroy. On failure `out` is zeroed.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL hdr/out, an invalid image, an
+ * unknown curve, a non-finite exposure, a backdrop value outside [0, 1]:
+ * the message gives the value), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_image_tonemap(const sam_image *hdr, sam_tonemap curve, float exposure_ev,
+                             const float backdrop[3], sam_image *out, sam_error *err);
+
+/* How far apart two display images are as 8-bit sRGB. Errors are in 8-bit
+ * levels (0..255) over the 3 colour channels; PSNR = 20 log10(255 / rmse). */
+typedef struct sam_image_comparison {
+    uint64_t pixels;           /* pixels compared (those the mask selects) */
+    uint64_t differing_pixels; /* of those, pixels where any 8-bit channel differs */
+    double rmse;               /* over pixels x 3 channels */
+    double psnr_db;            /* INFINITY when rmse == 0 */
+    double rmse_differing;     /* over differing_pixels x 3 channels; 0 when none differ */
+    double psnr_differing_db;  /* from rmse_differing; INFINITY when none differ */
+} sam_image_comparison;
+
+/* Compares display images `a` and `b` (values in [0, 1], linear; the same
+ * width and height; 3 or 4 channels, of which the first 3 are compared)
+ * after encoding each value to an 8-bit sRGB sample exactly as
+ * sam_image_write_png with SAM_PNG_SRGB does (clamped, NaN as 0). `mask`
+ * (same width and height, or NULL for every pixel) selects the pixels whose
+ * last channel is > 0 (alpha for RGBA, blue for RGB): the object's pixels
+ * of a render. The figures over the differing pixels only keep a local
+ * error from being diluted by the many pixels that match exactly. On
+ * success `out` holds the result; on failure it is zeroed.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL a/b/out, an invalid image, sizes
+ * differ: the message names both, a mask that selects no pixel). */
+sam_status sam_image_compare_srgb8(const sam_image *a, const sam_image *b, const sam_image *mask,
+                                   sam_image_comparison *out, sam_error *err);
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,8 @@
  *        exactly one key, value > 0. Required with "mesh"; optional with
  *        "sam" (absent: the scale the .sam records applies).
  *   "albedo": [r, g, b]            each in [0, 1]; default [0.8, 0.8, 0.8]
+ *   "albedo_map": "skin.png"       optional sRGB PNG at the mesh's UVs; the
+ *        albedo multiplies it (d'Eon Sec. 5.3: sqrt before and after scattering)
  *   "lights": [light, ...]         default none; at most SAM_SCENE_MAX_LIGHTS
  *   "environment": {"map": "sky.exr", "intensity": 1.0, "rotation_deg": 0.0}
  *        optional; "map" required inside it (a latitude-longitude EXR),
@@ -33,6 +35,11 @@
  *   "resolution": [width, height]  integers in 1..16384; default [1280, 720]
  *   "technique": "sam" | "none" | "tsm" | "transmittance"   default "sam"
  *   "diffusion": "screen" | "texture" | "preintegrated"     default "screen"
+ *   "screen_space": {"kernel": "fit2d" | "marginal" | "eq1", "samples": 17}
+ *        optional; samples odd in 9..33 (sam_diffusion_options)
+ *   "texture_space": {"atlas_size": 1024, "culled": false, "depth_sized": false,
+ *                     "clipped": true, "texels_per_pixel": 1.0}
+ *        optional; atlas_size in 64..4096, texels_per_pixel in (0, 16]
  *   "tonemap": "aces" | "reinhard"                           default "aces"
  *   "exposure": EV, finite, in [-32, 32]                     default 0
  *
@@ -59,9 +66,9 @@
  *   light irradiance color * intensity, an area light radiance
  *   color * intensity.
  *
- * Relative paths (mesh, sam, environment map, profile file) resolve against
- * the scene file's directory; the scene stores absolute paths, and each
- * referenced file must exist when the scene is loaded.
+ * Relative paths (mesh, sam, albedo map, environment map, profile file)
+ * resolve against the scene file's directory; the scene stores absolute
+ * paths, and each referenced file must exist when the scene is loaded.
  *
  * Every error names the scene file and the key's path with the value found,
  * e.g. "scene.json: lights[0].intensity: expected a finite number >= 0,
@@ -74,6 +81,7 @@
 #define SAM_SCENE_H
 
 #include "sam/sam_common.h"
+#include "sam/sam_image.h" /* sam_tonemap */
 #include "sam/sam_profile.h"
 
 #ifdef __cplusplus
@@ -128,10 +136,33 @@ typedef enum sam_diffusion {
     SAM_DIFFUSION_PREINTEGRATED = 2 /* Penner's pre-integrated lookup */
 } sam_diffusion;
 
-typedef enum sam_tonemap {
-    SAM_TONEMAP_ACES = 0,
-    SAM_TONEMAP_REINHARD = 1
-} sam_tonemap;
+/* The screen-space kernel's fit to the profile (sam_profile.h): the
+ * energy-conserving separable fit of the 2D kernel (Jimenez eq. 2), each
+ * channel's own 1D marginal (exact on straight edges), or eq. 1's width,
+ * strength and falloff. */
+typedef enum sam_sss_kernel {
+    SAM_SSS_KERNEL_FIT2D = 0,
+    SAM_SSS_KERNEL_MARGINAL = 1,
+    SAM_SSS_KERNEL_EQ1 = 2
+} sam_sss_kernel;
+
+/* Settings of the surface-diffusion techniques. */
+typedef struct sam_diffusion_options {
+    sam_sss_kernel sss_kernel; /* screen space */
+    uint32_t sss_samples;      /* screen space: taps per pass, odd, 9..33 */
+    uint32_t atlas_size;       /* texture space: the atlas's (largest) side, 64..4096 */
+    int culled;                /* texture space: skip texels facing away past the silhouette by more than
+                                * max(15 degrees, 4 widest-Gaussian sigmas of surface at the vertex's curvature) */
+    int depth_sized;           /* texture space: atlas side from the object's distance */
+    int clipped;               /* texture space: skip texels outside the view frustum */
+    float texels_per_pixel;    /* depth-sized: atlas texels per screen pixel at the nearest point, > 0 */
+} sam_diffusion_options;
+
+/* The defaults: fit2d, 17 samples, a 1024 atlas, clipped on, culled and
+ * depth-sized off (they change the picture: culling loses light diffusing
+ * around a back-lit silhouette, a depth-sized atlas resamples it), 1 texel
+ * per pixel. */
+void sam_diffusion_options_default(sam_diffusion_options *options);
 
 typedef struct sam_environment {
     char *map;          /* absolute path of the EXR, NULL when the scene has no environment */
@@ -159,6 +190,7 @@ typedef struct sam_scene {
     float scale_value; /* > 0 unless scale_kind == SAM_SCALE_FROM_SAM */
 
     float albedo[3]; /* each in [0, 1] */
+    char *albedo_map; /* absolute path of an sRGB PNG read at the mesh's UVs (times albedo), or NULL */
 
     sam_light *lights; /* light_count entries */
     size_t light_count;
@@ -171,6 +203,7 @@ typedef struct sam_scene {
     uint32_t width, height; /* 1..SAM_SCENE_MAX_RESOLUTION */
     sam_technique technique;
     sam_diffusion diffusion;
+    sam_diffusion_options diffusion_options;
     sam_tonemap tonemap;
     float exposure; /* EV */
 } sam_scene;
@@ -220,6 +253,7 @@ const char *sam_light_type_name(sam_light_type type);
 const char *sam_technique_name(sam_technique technique);
 const char *sam_diffusion_name(sam_diffusion diffusion);
 const char *sam_tonemap_name(sam_tonemap tonemap);
+const char *sam_sss_kernel_name(sam_sss_kernel kernel);
 
 #ifdef __cplusplus
 }
