@@ -1,0 +1,99 @@
+/*
+ * sam_uv: checks that a mesh's UV atlas can carry texture-space diffusion.
+ *
+ * Texture-space subsurface diffusion (d'Eon et al. 2007) rasterises the
+ * irradiance of the surface into its UV atlas and blurs it there, so every
+ * texel must stand for one place on the surface: UVs must lie in [0,1]^2
+ * and no two triangles may share texture space. A mirrored or stacked UV
+ * island (common in game assets, where both halves of a face share one
+ * texture) would add the light of two surface places into one texel. A mesh
+ * that fails falls back to screen-space diffusion, and sam_uv_usable gives
+ * the one-line reason to print.
+ *
+ * The check rasterises each triangle's UV footprint on a grid of texel
+ * centres, counting per texel how many triangles cover its centre. The
+ * rasteriser is watertight: UVs are snapped to fixed point (1/256 texel)
+ * and the edge functions are evaluated exactly in integers with a top-left
+ * tie rule, so a texel centre lying exactly on an edge or a vertex shared by
+ * neighbouring triangles is counted once, never twice and never zero times.
+ * Any overlap it reports is therefore real, not an artefact of shared
+ * edges. Winding does not matter: a mirrored island is legitimate on its
+ * own; only coverage counts.
+ *
+ * Stateless; every function is thread-safe.
+ */
+#ifndef SAM_UV_H
+#define SAM_UV_H
+
+#include "sam/sam_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Largest coverage grid side sam_uv_check accepts (a 64 MiB counter grid). */
+#define SAM_UV_MAX_RESOLUTION 8192u
+
+/* Largest overlap_fraction sam_uv_usable accepts. Shared edges and vertices
+ * never count as overlap (see the overview), so this tolerance only absorbs
+ * float noise: islands that abut along a line without sharing vertices, or
+ * T-junctions, whose edges may differ by an ulp and then cover a texel
+ * centre on that line twice. That is at most about one texel row along
+ * such seams; 0.1% of the covered texels allows roughly 1000 such texels on
+ * a 1024^2 atlas, while a real mirrored or stacked island covers at least
+ * several percent. */
+#define SAM_UV_MAX_OVERLAP 0.001f
+
+/* UVs farther than this from the origin are not rasterised (see
+ * sam_uv_check); it keeps the fixed-point edge functions inside int64. */
+#define SAM_UV_RASTER_LIMIT 256.0f
+
+typedef struct sam_uv_report {
+    uint32_t resolution;             /* the coverage grid's side, texels */
+    uint64_t covered_texels;         /* texel centres inside at least one triangle */
+    uint64_t overlap_texels;         /* texel centres inside two or more triangles */
+    float overlap_fraction;          /* overlap_texels / covered_texels, 0 when nothing is covered */
+    uint32_t outside_triangles;      /* triangles with a UV outside [0,1]^2 */
+    uint32_t first_outside_triangle; /* index of the first of them, UINT32_MAX when none */
+    uint32_t degenerate_triangles;   /* zero UV area (not an error by itself) */
+} sam_uv_report;
+
+/* Measures the coverage of the UV atlas of `triangle_count` triangles
+ * (`triangles`: 3 * triangle_count indices < vertex_count) over `uvs`
+ * (2 * vertex_count floats, (u, v) per vertex) on a resolution x resolution
+ * grid whose texel (i, j) has its centre at ((i + 0.5) / resolution,
+ * (j + 0.5) / resolution), and fills `report`.
+ *
+ * A triangle is degenerate when its area is zero at the grid's fixed-point
+ * precision (1/256 texel); it covers nothing. A triangle with a UV outside
+ * [0,1]^2 is counted in outside_triangles and still rasterised where it
+ * overlaps the grid, unless one of its UVs lies beyond
+ * +-SAM_UV_RASTER_LIMIT: it then covers nothing (the atlas is unusable
+ * anyway). Every vertex's UV must be finite, referenced or not.
+ *
+ * `uvs` may be NULL when vertex_count is 0, `triangles` when triangle_count
+ * is 0; `report` must not be NULL and is zeroed on failure. Allocates
+ * resolution^2 bytes, freed before returning.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL array with a non-zero count, NULL
+ * report, resolution 0 or above SAM_UV_MAX_RESOLUTION), SAM_ERR_FORMAT (an
+ * index >= vertex_count: the message names the triangle and the index; a
+ * non-finite UV: the message names the vertex), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_uv_check(const float *uvs, uint32_t vertex_count, const uint32_t *triangles,
+                        uint32_t triangle_count, uint32_t resolution, sam_uv_report *report,
+                        sam_error *err);
+
+/* Returns 1 when the atlas `report` describes can carry texture-space
+ * diffusion: no triangle outside [0,1]^2, overlap_fraction <=
+ * SAM_UV_MAX_OVERLAP and at least one texel covered. Otherwise returns 0 and
+ * writes one line (no newline) naming every failed condition into `reason`
+ * (size n, always NUL-terminated, truncated if too small), e.g. "12.5% of
+ * the covered atlas texels are covered by more than one triangle (mirrored
+ * or stacked UV islands)". `reason` may be NULL or n 0; on success it gets
+ * an empty string. A NULL report is unusable. */
+int sam_uv_usable(const sam_uv_report *report, char *reason, size_t n);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
