@@ -1,6 +1,8 @@
 #version 430 core
 // Diffuse radiance leaving the surface (Maisch and Ropinski eq. 5 with the
-// front/back split of eq. 6-7): rho_dt(N.V) / pi * (R_front + T) * albedo,
+// front/back split of eq. 6-7): rho_dt(N.V) / pi * (R_front + T) * albedo
+// (with a blur, sqrt(albedo) on the way in and sqrt(albedo) on the way out,
+// d'Eon Sec. 5.3),
 // where R_front = L_d times the profile's total diffuse reflectance stands
 // for the front-side integral until a surface-diffusion pass blurs it, and
 // T is the SAM translucency. Plus the Kelemen/Szirmay-Kalos specular lobe
@@ -9,6 +11,7 @@
 #include "lights.glsl"
 #include "shadows.glsl"
 #include "surface.glsl"
+#include "albedo.glsl"
 
 in vec3 v_position;
 in vec3 v_normal;
@@ -22,7 +25,6 @@ uniform uint u_light_count;       // 0 for translucency only
 uniform float u_roughness;        // Beckmann m
 uniform float u_f0;               // Schlick F0
 
-uniform vec3 u_albedo;
 uniform vec3 u_total_reflectance;
 uniform int u_front;               // 0: translucency only
 
@@ -30,7 +32,7 @@ uniform int u_split;               // 1: write the parts surface diffusion needs
 
 // u_split == 0: o_color is the final linear radiance.
 // u_split == 1: o_color = (light entering the surface, linear view depth),
-// o_factor = rho_dt(N.V) / pi * albedo (applied after the blur),
+// o_factor = rho_dt(N.V) / pi * sqrt(albedo) (applied after the blur),
 // o_specular = the specular radiance (not blurred).
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_factor;
@@ -40,9 +42,12 @@ in float v_depth;
 in float v_curvature;
 in vec2 v_uv;
 
-// Texture-space diffusion: the blurred entering light, read at the UV.
+// Texture-space diffusion: the blurred entering light, read at the UV in
+// the atlas's used corner (u_atlas_scale = used side / texture side).
 uniform int u_texture_space;
 uniform sampler2D u_atlas;
+uniform float u_atlas_scale;
+uniform float u_atlas_texel;  // 1 / texture side
 
 // Pre-integrated skin (Penner): tables of sam_preint, RGB, 64 x 64.
 layout(std430, binding = 12) readonly buffer PreDiffuse { float pre_diffuse[]; };
@@ -156,12 +161,24 @@ void main()
     vec3 n = normalize(v_normal), v = normalize(v_to_eye);
     if (!gl_FrontFacing)
         n = -n;
+    vec3 albedo = surface_albedo(v_uv);
+    bool blurred = u_split != 0 || u_texture_space != 0;
     vec3 entering = v_translucency;
     if (u_front != 0)
         entering += (u_preintegrated != 0 ? preintegrated_front(n, v_position) : v_irradiance) * u_total_reflectance;
-    if (u_texture_space != 0)
-        entering = texture(u_atlas, v_uv).rgb;
-    vec3 factor = rho_dt(dot(n, v)) / PI * u_albedo;
+    if (u_split != 0)
+        entering *= sqrt(albedo);
+    // Clamped half a texel inside the used corner: bilinear taps past it
+    // would read texels another (larger) atlas left behind. Divided by the
+    // interpolated coverage, so taps on empty texels beside a chart's edge
+    // (or culled, clipped ones) do not darken it: at a small depth-sized
+    // atlas those seams would cover much of the surface.
+    if (u_texture_space != 0) {
+        vec4 s = texture(u_atlas, clamp(v_uv * u_atlas_scale, vec2(0.5 * u_atlas_texel),
+                                        vec2(u_atlas_scale - 0.5 * u_atlas_texel)));
+        entering = s.a > 0.0 ? s.rgb / s.a : s.rgb;
+    }
+    vec3 factor = rho_dt(dot(n, v)) / PI * (blurred ? sqrt(albedo) : albedo);
     vec3 specular = vec3(0.0);
     for (uint i = 0u; i < u_light_count; ++i) {
         float n_dot_l;

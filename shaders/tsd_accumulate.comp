@@ -9,11 +9,12 @@ layout(rgba32f, binding = 1) uniform image2D u_sum;
 
 uniform vec3 u_weight;
 uniform int u_first;
+uniform ivec2 u_size;
 
 void main()
 {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= imageSize(u_sum).x || p.y >= imageSize(u_sum).y)
+    if (p.x >= u_size.x || p.y >= u_size.y)
         return;
     vec4 level = imageLoad(u_level, p);
     vec3 prev = u_first != 0 ? vec3(0.0) : imageLoad(u_sum, p).rgb;

@@ -1,71 +1,17 @@
-/* A .sam as GPU buffers, and the translucency pass. */
-#include "sam/sam_runtime.h"
-
+/* A .sam as GPU buffers, the SAM passes, and shading. */
 #include <math.h>
-
-#include "sam/sam_brdf.h"
-#include "sam/sam_mesh.h"
-#include "sam/sam_preint.h"
-#include "sam_mat4.h"
 #include <stdlib.h>
 #include <string.h>
 
-enum { B_POSITIONS, B_NORMALS, B_SAMPLES, B_FAN_AREAS, B_IRRADIANCE, B_TRANSLUCENCY, B_ADJ_OFFSETS, B_ADJACENCY,
-       B_LIGHTS, B_RHO_DT, B_TRIANGLES, B_CURVATURE, B_PRE_DIFFUSE, B_PRE_PENUMBRA, B_UVS, B_COUNT };
-
-#define ATLAS_SIZE 1024
-
-/* Pre-integrated skin tables: 64 x 64, curvature up to 2 / mm (a 0.5 mm
- * radius), penumbra width up to 20 mm. */
-#define PRE_SIZE 64
-#define PRE_MAX_CURVATURE 2.0f
-#define PRE_MAX_PENUMBRA_MM 20.0f
-
-#define MAX_CUBE_SHADOWS 4
-#define MAX_FLAT_SHADOWS 4
-#define CUBE_SHADOW_SIZE 512
-#define FLAT_SHADOW_SIZE 1024
+#include "sam/sam_mesh.h"
+#include "sam/sam_preint.h"
+#include "sam/sam_uv.h"
+#include "sam_runtime_internal.h"
 
 /* std430 image of lights.glsl's Light. */
 typedef struct gpu_light {
     float color_type[4], position[4], direction[4], params[4], normal[4], vertices[8][4];
 } gpu_light;
-
-#define RHO_SIZE SAM_BRDF_RHO_DT_TABLE_SIZE
-#define SKIN_F0 0.028f
-
-struct sam_runtime {
-    uint32_t vertex_count, stride;
-    float mm_per_unit;
-    sam_profile profile;
-    GLuint buffer[B_COUNT];
-    GLuint translucency_program, irradiance_program;
-    GLuint query[SAM_PASS_COUNT];
-    int query_used[SAM_PASS_COUNT];
-    uint32_t light_count;
-    int has_environment;
-    float sh[9][3];
-    float roughness, rho_s, environment_rho_dt;
-    float rho_table[RHO_SIZE * RHO_SIZE];
-
-    /* Shadow maps. */
-    uint32_t triangle_count;
-    float centre[3], radius; /* bounding sphere of the positions, model units */
-    GLuint vao, fbo, shadow_program, shade_program, blur_program, compose_program;
-    sam_separable_kernel kernel;
-    int preint_ready;
-    float min_penumbra_mm;  /* the penumbra table's floor: the profile's 99% radius */
-    int has_uvs;
-    sam_gaussian_fit fit;
-    GLuint tsd_program, tsd_blur_program, tsd_accumulate_program;
-    float total_reflectance[3];
-    GLuint cube_tex[MAX_CUBE_SHADOWS], flat_tex[MAX_FLAT_SHADOWS];
-    uint32_t cube_count, flat_count;
-    float cube_origin[MAX_CUBE_SHADOWS][3], cube_far[MAX_CUBE_SHADOWS];
-    sam_mat4 flat_matrix[MAX_FLAT_SHADOWS];
-    float flat_origin[MAX_FLAT_SHADOWS][3], flat_far[MAX_FLAT_SHADOWS]; /* far = 0: projected depth */
-    sam_light *lights;
-};
 
 float sam_runtime_smoothing_alpha(float dt)
 {
@@ -121,6 +67,51 @@ static void set_profile_uniforms(GLuint program, const sam_profile *p)
         glUniform1i(glGetUniformLocation(program, "u_gaussian_count"), (GLint)p->gaussian_count);
         glUniform4fv(glGetUniformLocation(program, "u_gaussians"), (GLsizei)p->gaussian_count, &g[0][0]);
     }
+}
+
+static void release_view_targets(sam_runtime *rt)
+{
+    if (rt->view_fbo) {
+        glDeleteFramebuffers(1, &rt->view_fbo);
+        glDeleteTextures(5, rt->view_tex);
+        glDeleteRenderbuffers(1, &rt->view_depth);
+    }
+    rt->view_fbo = rt->view_depth = 0;
+    memset(rt->view_tex, 0, sizeof rt->view_tex);
+    rt->view_width = rt->view_height = 0;
+}
+
+/* The view-sized targets of sam_runtime_render, kept between renders of
+ * one size: 0 colour (or entering light + depth), 1 factor, 2 specular,
+ * 3 and 4 the blur's ping-pong and the composed result; and depth. */
+static sam_status ensure_view_targets(sam_runtime *rt, uint32_t width, uint32_t height, sam_error *err)
+{
+    if (rt->view_fbo && rt->view_width == width && rt->view_height == height)
+        return SAM_OK;
+    release_view_targets(rt);
+    glGenFramebuffers(1, &rt->view_fbo);
+    glGenTextures(5, rt->view_tex);
+    glGenRenderbuffers(1, &rt->view_depth);
+    for (int i = 0; i < 5; ++i) {
+        glBindTexture(GL_TEXTURE_2D, rt->view_tex[i]);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, (GLsizei)width, (GLsizei)height);
+    }
+    glBindRenderbuffer(GL_RENDERBUFFER, rt->view_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, (GLsizei)width, (GLsizei)height);
+    glBindFramebuffer(GL_FRAMEBUFFER, rt->view_fbo);
+    for (int i = 0; i < 3; ++i)
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, rt->view_tex[i], 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, rt->view_depth);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        release_view_targets(rt);
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "render: framebuffer incomplete (0x%04x) at %ux%u", status, width,
+                        height);
+    }
+    rt->view_width = width;
+    rt->view_height = height;
+    return SAM_OK;
 }
 
 sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
@@ -194,6 +185,23 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
             r2 += 0.25 * ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
         }
         rt->radius = (float)sqrt(r2);
+        memcpy(rt->box_lo, lo, sizeof lo);
+        memcpy(rt->box_hi, hi, sizeof hi);
+        double area = 0;
+        for (size_t t = 0; t < sam->triangle_count; ++t) {
+            const float *a = sam->positions + 3 * (size_t)sam->triangles[3 * t],
+                        *b = sam->positions + 3 * (size_t)sam->triangles[3 * t + 1],
+                        *c = sam->positions + 3 * (size_t)sam->triangles[3 * t + 2];
+            double e1[3], e2[3];
+            for (int k = 0; k < 3; ++k) {
+                e1[k] = (double)b[k] - a[k];
+                e2[k] = (double)c[k] - a[k];
+            }
+            double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
+                   z = e1[0] * e2[1] - e1[1] * e2[0];
+            area += 0.5 * sqrt(x * x + y * y + z * z);
+        }
+        rt->surface_area = (float)area;
     }
     glGenVertexArrays(1, &rt->vao);
     glBindVertexArray(rt->vao);
@@ -205,12 +213,23 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
     glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), NULL);
     if (sam->uvs) {
         rt->has_uvs = 1;
+        /* Texture-space diffusion needs charts inside [0, 1]^2 that do not
+         * overlap: mirrored islands would sum two places' light in one texel. */
+        sam_uv_report report;
+        if ((st = sam_uv_check(sam->uvs, sam->vertex_count, sam->triangles, sam->triangle_count, 1024, &report,
+                               err)) != SAM_OK)
+            goto done;
+        rt->uv_usable = sam_uv_usable(&report, rt->uv_reason, sizeof rt->uv_reason);
+        rt->uv_coverage = report.resolution ? (float)((double)report.covered_texels /
+                                                      ((double)report.resolution * report.resolution))
+                                            : 0.0f;
         if ((st = upload(rt, B_UVS, sam->uvs, nv * 2 * sizeof(float), err)) != SAM_OK)
             goto done;
         glBindBuffer(GL_ARRAY_BUFFER, rt->buffer[B_UVS]);
         glEnableVertexAttribArray(2);
         glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), NULL);
     } else {
+        snprintf(rt->uv_reason, sizeof rt->uv_reason, "the mesh has no UVs");
         glVertexAttrib2f(2, 0.0f, 0.0f);
     }
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, rt->buffer[B_TRIANGLES]);
@@ -220,7 +239,6 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
         (st = sam_gl_render_program("shade.vert", "shade.frag", NULL, &rt->shade_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("sss_blur.comp", NULL, &rt->blur_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("sss_compose.comp", NULL, &rt->compose_program, err)) != SAM_OK ||
-        (st = sam_profile_separable_kernel_direct(profile, 17, &rt->kernel, err)) != SAM_OK ||
         (st = sam_gl_render_program("tsd_irradiance.vert", "tsd_irradiance.frag", NULL, &rt->tsd_program, err)) !=
             SAM_OK ||
         (st = sam_gl_compute_program("tsd_blur.comp", NULL, &rt->tsd_blur_program, err)) != SAM_OK ||
@@ -278,6 +296,12 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->tsd_accumulate_program);
     glDeleteVertexArrays(1, &rt->vao);
     glDeleteFramebuffers(1, &rt->fbo);
+    sam_runtime_texture_space_destroy(rt);
+    if (rt->tsd_fbo)
+        glDeleteFramebuffers(1, &rt->tsd_fbo);
+    if (rt->albedo_tex)
+        glDeleteTextures(1, &rt->albedo_tex);
+    release_view_targets(rt);
     glDeleteTextures(MAX_CUBE_SHADOWS, rt->cube_tex);
     glDeleteTextures(MAX_FLAT_SHADOWS, rt->flat_tex);
     free(rt->lights);
@@ -594,245 +618,245 @@ static sam_status ensure_preintegrated(sam_runtime *rt, sam_error *err)
     return st;
 }
 
-int sam_runtime_has_uvs(const sam_runtime *rt)
+/* The screen-space kernel of the given fit and taps, made on first use. */
+static sam_status ensure_kernel(sam_runtime *rt, sam_sss_kernel kind, uint32_t taps, sam_error *err)
 {
-    return rt->has_uvs;
+    if (rt->kernel.taps == taps && rt->kernel_kind == kind)
+        return SAM_OK;
+    sam_status st = kind == SAM_SSS_KERNEL_EQ1        ? sam_profile_separable_kernel(&rt->profile, taps, &rt->kernel, err)
+                    : kind == SAM_SSS_KERNEL_MARGINAL ? sam_profile_separable_kernel_direct(&rt->profile, taps,
+                                                                                            &rt->kernel, err)
+                                                      : sam_profile_separable_kernel_fit2d(&rt->profile, taps,
+                                                                                           &rt->kernel, err);
+    rt->kernel_kind = kind;
+    if (st != SAM_OK)
+        rt->kernel.taps = 0;
+    return st;
 }
 
-/* d'Eon's texture-space diffusion into `atlas` (ATLAS_SIZE^2 RGBA32F): the
- * entering light unwrapped into UV space with its stretch map, blurred into
- * one level per Gaussian of the fit, each level from the previous one, and
- * summed with the fit's weights over the total reflectance. */
-static void texture_space_diffusion(sam_runtime *rt, int front, GLuint atlas)
+int sam_runtime_uv_status(const sam_runtime *rt, char *reason, size_t n)
 {
-    GLuint fbo, tex[4]; /* 0: entering / level, 1: stretch, 2: blur temporary, 3: next level */
-    glGenFramebuffers(1, &fbo);
-    glGenTextures(4, tex);
-    for (int i = 0; i < 4; ++i) {
-        glBindTexture(GL_TEXTURE_2D, tex[i]);
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, ATLAS_SIZE, ATLAS_SIZE);
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[0], 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[1], 0);
-    static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glDrawBuffers(2, two);
-    glViewport(0, 0, ATLAS_SIZE, ATLAS_SIZE);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    GLuint p = rt->tsd_program;
-    glUseProgram(p);
-    glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
-    glUniform1i(glGetUniformLocation(p, "u_front"), front);
-    glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
-    for (int b = 0; b < B_COUNT; ++b)
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
-    glBindVertexArray(rt->vao);
-    glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
-    glBindVertexArray(0);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    if (reason && n)
+        snprintf(reason, n, "%s", rt->uv_usable ? "" : rt->uv_reason);
+    return rt->uv_usable;
+}
 
-    GLuint groups = (ATLAS_SIZE + 7) / 8, level = tex[0], next = tex[3];
-    float previous_variance = 0.0f;
-    for (uint32_t g = 0; g < rt->fit.count; ++g) {
-        float sigma = sqrtf(fmaxf(rt->fit.variance[g] - previous_variance, 0.0f));
-        previous_variance = rt->fit.variance[g];
-        GLuint b = rt->tsd_blur_program;
-        glUseProgram(b);
-        glUniform1f(glGetUniformLocation(b, "u_sigma_mm"), sigma);
-        glBindImageTexture(2, tex[1], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-        for (int pass = 0; pass < 2; ++pass) {
-            glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
-            glBindImageTexture(0, pass == 0 ? level : tex[2], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-            glBindImageTexture(1, pass == 0 ? tex[2] : next, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            glDispatchCompute(groups, groups, 1);
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        }
-        GLuint a = rt->tsd_accumulate_program;
-        glUseProgram(a);
-        float w[3];
-        for (int c = 0; c < 3; ++c)
-            w[c] = rt->total_reflectance[c] > 0 ? rt->fit.weight[g][c] / rt->total_reflectance[c] : 0.0f;
-        glUniform3fv(glGetUniformLocation(a, "u_weight"), 1, w);
-        glUniform1i(glGetUniformLocation(a, "u_first"), g == 0);
-        glBindImageTexture(0, next, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-        glBindImageTexture(1, atlas, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-        glDispatchCompute(groups, groups, 1);
-        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-        GLuint t = level;
-        level = next;
-        next = t;
+sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam_error *err)
+{
+    if (map && !rt->has_uvs)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "runtime: an albedo map needs UVs and this mesh has none");
+    GLint limit = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &limit);
+    if (map && (map->channels < 3 || !map->width || !map->height || map->width > (uint32_t)limit ||
+                map->height > (uint32_t)limit))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "runtime: albedo map %ux%u with %u channels; need 3 or 4 channels and at most %d texels a side",
+                        map->width, map->height, map->channels, limit);
+    if (rt->albedo_tex)
+        glDeleteTextures(1, &rt->albedo_tex);
+    rt->albedo_tex = 0;
+    if (!map)
+        return SAM_OK;
+    glGenTextures(1, &rt->albedo_tex);
+    glBindTexture(GL_TEXTURE_2D, rt->albedo_tex);
+    GLsizei levels = 1;
+    for (uint32_t side = map->width > map->height ? map->width : map->height; side > 1; side /= 2)
+        levels++;
+    glTexStorage2D(GL_TEXTURE_2D, levels, GL_RGBA32F, (GLsizei)map->width, (GLsizei)map->height);
+    /* Image rows run top-down and UV's v up: upload them bottom row first. */
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    GLenum format = map->channels == 4 ? GL_RGBA : GL_RGB;
+    for (uint32_t y = 0; y < map->height; ++y)
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, (GLint)(map->height - 1 - y), (GLsizei)map->width, 1, format, GL_FLOAT,
+                        map->pixels + (size_t)y * map->width * map->channels);
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return glGetError() == GL_NO_ERROR
+               ? SAM_OK
+               : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not store a %ux%u albedo map",
+                          map->width, map->height);
+}
+
+void sam_runtime_bind_albedo(const sam_runtime *rt, GLuint p)
+{
+    glActiveTexture(GL_TEXTURE0 + UNIT_ALBEDO);
+    glBindTexture(GL_TEXTURE_2D, rt->albedo_tex);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(glGetUniformLocation(p, "u_albedo_map"), UNIT_ALBEDO);
+    glUniform1i(glGetUniformLocation(p, "u_has_albedo_map"), rt->albedo_tex != 0);
+}
+
+static sam_status check_view(const sam_runtime *rt, const sam_render_view *view, sam_error *err)
+{
+    const sam_diffusion_options *o = &view->options;
+    if (!view->width || !view->height || view->width > 16384 || view->height > 16384 ||
+        !(view->fov_deg > 0 && view->fov_deg < 180))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: size %ux%u or field of view %g out of range",
+                        view->width, view->height, view->fov_deg);
+    if (view->diffusion < 0 || view->diffusion > 3)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: diffusion %d is not 0..3", view->diffusion);
+    if (o->sss_samples && (o->sss_samples < 9 || o->sss_samples > 33 || o->sss_samples % 2 == 0))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: %u screen-space samples; need an odd count in 9..33",
+                        o->sss_samples);
+    if ((unsigned)o->sss_kernel > SAM_SSS_KERNEL_EQ1)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: unknown screen-space kernel %d", (int)o->sss_kernel);
+    if (!(o->texels_per_pixel >= 0 && o->texels_per_pixel <= 16))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: %g texels per pixel outside (0, 16]",
+                        o->texels_per_pixel);
+    if (view->diffusion == 3 && !rt->uv_usable)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "render: texture-space diffusion cannot run: %s", rt->uv_reason);
+    return SAM_OK;
+}
+
+/* Two 1D passes of the separable kernel over the entering light (target
+ * 0), then the composition with the factor and specular; into target 3. */
+static void screen_space_diffusion(sam_runtime *rt, const sam_render_view *view)
+{
+    const GLuint *tex = rt->view_tex;
+    GLuint gx = (view->width + 7) / 8, gy = (view->height + 7) / 8;
+    GLuint b = rt->blur_program;
+    glUseProgram(b);
+    float offsets[SAM_KERNEL_MAX_TAPS];
+    for (uint32_t k = 0; k < rt->kernel.taps; ++k)
+        offsets[k] = rt->kernel.offset_mm[k];
+    glUniform1i(glGetUniformLocation(b, "u_taps"), (GLint)rt->kernel.taps);
+    glUniform1fv(glGetUniformLocation(b, "u_offset_mm"), (GLsizei)rt->kernel.taps, offsets);
+    glUniform3fv(glGetUniformLocation(b, "u_weight"), (GLsizei)rt->kernel.taps, &rt->kernel.weight[0][0]);
+    glUniform1f(glGetUniformLocation(b, "u_mm_per_unit"), rt->mm_per_unit);
+    glUniform1f(glGetUniformLocation(b, "u_pixels_per_unit_at_depth_one"),
+                (float)view->height / (2.0f * tanf(0.5f * view->fov_deg * 3.14159265f / 180.0f)));
+    glUniform1f(glGetUniformLocation(b, "u_depth_jump"), rt->kernel.width_mm / rt->mm_per_unit);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    for (int pass = 0; pass < 2; ++pass) {
+        glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
+        glBindImageTexture(0, pass == 0 ? tex[0] : tex[3], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(1, pass == 0 ? tex[3] : tex[4], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glDispatchCompute(gx, gy, 1);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
-    glDeleteFramebuffers(1, &fbo);
-    glDeleteTextures(4, tex);
+    glUseProgram(rt->compose_program);
+    glBindImageTexture(0, tex[4], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, tex[1], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, tex[2], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(3, tex[3], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glDispatchCompute(gx, gy, 1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err)
 {
     memset(out, 0, sizeof *out);
-    if (view->diffusion == 3 && !rt->has_uvs)
-        return sam_fail(err, SAM_ERR_UNSUPPORTED, "render: texture-space diffusion needs UVs and this mesh has none");
-    GLuint atlas = 0;
-    if (view->diffusion == 3) {
-        glGenTextures(1, &atlas);
-        glBindTexture(GL_TEXTURE_2D, atlas);
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, ATLAS_SIZE, ATLAS_SIZE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        texture_space_diffusion(rt, view->front, atlas);
-    }
-    if (view->diffusion == 2) {
-        sam_status pst = ensure_preintegrated(rt, err);
-        if (pst != SAM_OK)
-            return pst;
-    }
-    if (!view->width || !view->height || view->width > 16384 || view->height > 16384 ||
-        !(view->fov_deg > 0 && view->fov_deg < 180))
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: size %ux%u or field of view %g out of range",
-                        view->width, view->height, view->fov_deg);
-    sam_status st = sam_image_create(out, view->width, view->height, 4, err);
+    sam_status st = check_view(rt, view, err);
+    if (st == SAM_OK && view->diffusion == 2)
+        st = ensure_preintegrated(rt, err);
+    if (st == SAM_OK && view->diffusion == 1)
+        st = ensure_kernel(rt, view->options.sss_kernel, view->options.sss_samples ? view->options.sss_samples : 17,
+                           err);
+    if (st == SAM_OK)
+        st = ensure_view_targets(rt, view->width, view->height, err);
     if (st != SAM_OK)
         return st;
-    /* 0: colour (or entering light + depth), 1: factor, 2: specular,
-     * 3, 4: blur ping-pong and the composed result. */
-    GLuint fbo, tex[5], depth;
-    glGenFramebuffers(1, &fbo);
-    glGenTextures(5, tex);
-    glGenRenderbuffers(1, &depth);
-    for (int i = 0; i < 5; ++i) {
-        glBindTexture(GL_TEXTURE_2D, tex[i]);
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, (GLsizei)view->width, (GLsizei)view->height);
-    }
-    glBindRenderbuffer(GL_RENDERBUFFER, depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, (GLsizei)view->width, (GLsizei)view->height);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    for (int i = 0; i < 3; ++i)
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, tex[i], 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    static const GLenum attachments[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glDrawBuffers(3, attachments);
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        st = sam_fail(err, SAM_ERR_UNSUPPORTED, "render: framebuffer incomplete (0x%04x) at %ux%u", status,
-                      view->width, view->height);
-    } else {
-        float dist = sqrtf((view->eye[0] - rt->centre[0]) * (view->eye[0] - rt->centre[0]) +
-                           (view->eye[1] - rt->centre[1]) * (view->eye[1] - rt->centre[1]) +
-                           (view->eye[2] - rt->centre[2]) * (view->eye[2] - rt->centre[2]));
-        float far_plane = view->far_plane > 0 ? view->far_plane : dist + 2.0f * rt->radius;
-        float near_plane = view->near_plane > 0 ? view->near_plane : fmaxf(1e-4f * far_plane, dist - 2.0f * rt->radius);
-        sam_mat4 vp = sam_mat4_mul(sam_mat4_perspective(view->fov_deg * 3.14159265f / 180.0f,
-                                                        (float)view->width / (float)view->height, near_plane,
-                                                        far_plane),
-                                   sam_mat4_look_at(view->eye, view->target, view->up));
-        glViewport(0, 0, (GLsizei)view->width, (GLsizei)view->height);
-        glClearColor(0, 0, 0, 0);
-        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        glEnable(GL_DEPTH_TEST);
-        glDisable(GL_CULL_FACE);
-        GLuint p = rt->shade_program;
-        glUseProgram(p);
-        glUniformMatrix4fv(glGetUniformLocation(p, "u_view_proj"), 1, GL_FALSE, vp.m);
-        glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, view->eye);
-        glUniform3fv(glGetUniformLocation(p, "u_albedo"), 1, view->albedo);
-        glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
-        glUniform1i(glGetUniformLocation(p, "u_front"), view->front);
-        glUniform1f(glGetUniformLocation(p, "u_roughness"), rt->roughness);
-        glUniform1f(glGetUniformLocation(p, "u_f0"), SKIN_F0);
-        glUniform1ui(glGetUniformLocation(p, "u_light_count"), view->front ? rt->light_count : 0);
-        glUniform1i(glGetUniformLocation(p, "u_split"), view->diffusion == 1);
-        glUniform1i(glGetUniformLocation(p, "u_preintegrated"), view->diffusion == 2);
-        glUniform1i(glGetUniformLocation(p, "u_texture_space"), view->diffusion == 3);
-        /* The atlas takes the unit after the shadow maps. */
-        glActiveTexture(GL_TEXTURE0 + MAX_CUBE_SHADOWS + MAX_FLAT_SHADOWS);
-        glBindTexture(GL_TEXTURE_2D, atlas);
-        glActiveTexture(GL_TEXTURE0);
-        glUniform1i(glGetUniformLocation(p, "u_atlas"), MAX_CUBE_SHADOWS + MAX_FLAT_SHADOWS);
-        glUniform1i(glGetUniformLocation(p, "u_pre_size"), PRE_SIZE);
-        glUniform1f(glGetUniformLocation(p, "u_pre_max_curvature"), PRE_MAX_CURVATURE);
-        glUniform1f(glGetUniformLocation(p, "u_pre_max_penumbra"), PRE_MAX_PENUMBRA_MM);
-        glUniform1f(glGetUniformLocation(p, "u_min_penumbra"), rt->min_penumbra_mm);
-        glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
-        float forward[3] = {view->target[0] - view->eye[0], view->target[1] - view->eye[1],
-                            view->target[2] - view->eye[2]};
-        float fl = sqrtf(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
-        for (int c = 0; c < 3; ++c)
-            forward[c] /= fl;
-        glUniform3fv(glGetUniformLocation(p, "u_forward"), 1, forward);
-        set_surface_uniforms(rt, p);
-        bind_shadows(rt, p);
-        for (int b = 0; b < B_COUNT; ++b)
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
-        glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_SHADE]);
-        glBindVertexArray(rt->vao);
-        glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
-        glBindVertexArray(0);
+
+    float dist = sqrtf((view->eye[0] - rt->centre[0]) * (view->eye[0] - rt->centre[0]) +
+                       (view->eye[1] - rt->centre[1]) * (view->eye[1] - rt->centre[1]) +
+                       (view->eye[2] - rt->centre[2]) * (view->eye[2] - rt->centre[2]));
+    float far_plane = view->far_plane > 0 ? view->far_plane : dist + 2.0f * rt->radius;
+    float near_plane = view->near_plane > 0 ? view->near_plane : fmaxf(1e-4f * far_plane, dist - 2.0f * rt->radius);
+    sam_mat4 proj = sam_mat4_perspective(view->fov_deg * 3.14159265f / 180.0f,
+                                         (float)view->width / (float)view->height, near_plane, far_plane);
+    sam_mat4 vp = sam_mat4_mul(proj, sam_mat4_look_at(view->eye, view->target, view->up));
+    if (view->diffusion == 3) {
+        glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_DIFFUSION]);
+        st = sam_runtime_texture_space(rt, view, &vp, &proj, err);
         glEndQuery(GL_TIME_ELAPSED);
-        rt->query_used[SAM_PASS_SHADE] = 1;
-        GLuint result = tex[0];
-        if (view->diffusion == 1) {
-            GLuint gx = (view->width + 7) / 8, gy = (view->height + 7) / 8;
-            GLuint b = rt->blur_program;
-            glUseProgram(b);
-            float offsets[SAM_KERNEL_MAX_TAPS];
-            for (uint32_t k = 0; k < rt->kernel.taps; ++k)
-                offsets[k] = rt->kernel.offset_mm[k];
-            glUniform1i(glGetUniformLocation(b, "u_taps"), (GLint)rt->kernel.taps);
-            glUniform1fv(glGetUniformLocation(b, "u_offset_mm"), (GLsizei)rt->kernel.taps, offsets);
-            glUniform3fv(glGetUniformLocation(b, "u_weight"), (GLsizei)rt->kernel.taps, &rt->kernel.weight[0][0]);
-            glUniform1f(glGetUniformLocation(b, "u_mm_per_unit"), rt->mm_per_unit);
-            glUniform1f(glGetUniformLocation(b, "u_pixels_per_unit_at_depth_one"),
-                        (float)view->height / (2.0f * tanf(0.5f * view->fov_deg * 3.14159265f / 180.0f)));
-            glUniform1f(glGetUniformLocation(b, "u_depth_jump"), rt->kernel.width_mm / rt->mm_per_unit);
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-            for (int pass = 0; pass < 2; ++pass) {
-                glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
-                glBindImageTexture(0, pass == 0 ? tex[0] : tex[3], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-                glBindImageTexture(1, pass == 0 ? tex[3] : tex[4], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-                glDispatchCompute(gx, gy, 1);
-                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            }
-            glUseProgram(rt->compose_program);
-            glBindImageTexture(0, tex[4], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-            glBindImageTexture(1, tex[1], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-            glBindImageTexture(2, tex[2], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-            glBindImageTexture(3, tex[3], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            glDispatchCompute(gx, gy, 1);
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-            result = tex[3];
-        }
-        /* GL's rows run bottom-up; images top-down. */
-        size_t row = (size_t)view->width * 4;
-        glBindTexture(GL_TEXTURE_2D, result);
-        glPixelStorei(GL_PACK_ALIGNMENT, 4);
-        glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out->pixels);
-        float *tmp = malloc(row * sizeof *tmp);
-        if (!tmp) {
-            st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: out of memory");
-        } else {
-            for (uint32_t y = 0; y < view->height / 2; ++y) {
-                float *a = out->pixels + y * row, *b = out->pixels + (view->height - 1 - y) * row;
-                memcpy(tmp, a, row * sizeof *tmp);
-                memcpy(a, b, row * sizeof *tmp);
-                memcpy(b, tmp, row * sizeof *tmp);
-            }
-            free(tmp);
-        }
+        rt->query_used[SAM_PASS_DIFFUSION] = 1;
+        if (st != SAM_OK)
+            return st;
     }
+    if ((st = sam_image_create(out, view->width, view->height, 4, err)) != SAM_OK)
+        return st;
+
+    static const GLenum attachments[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glBindFramebuffer(GL_FRAMEBUFFER, rt->view_fbo);
+    glDrawBuffers(3, attachments);
+    glViewport(0, 0, (GLsizei)view->width, (GLsizei)view->height);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    GLuint p = rt->shade_program;
+    glUseProgram(p);
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_view_proj"), 1, GL_FALSE, vp.m);
+    glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, view->eye);
+    glUniform3fv(glGetUniformLocation(p, "u_albedo"), 1, view->albedo);
+    glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
+    glUniform1i(glGetUniformLocation(p, "u_front"), view->front);
+    glUniform1f(glGetUniformLocation(p, "u_roughness"), rt->roughness);
+    glUniform1f(glGetUniformLocation(p, "u_f0"), SKIN_F0);
+    glUniform1ui(glGetUniformLocation(p, "u_light_count"), view->front ? rt->light_count : 0);
+    glUniform1i(glGetUniformLocation(p, "u_split"), view->diffusion == 1);
+    glUniform1i(glGetUniformLocation(p, "u_preintegrated"), view->diffusion == 2);
+    glUniform1i(glGetUniformLocation(p, "u_texture_space"), view->diffusion == 3);
+    glActiveTexture(GL_TEXTURE0 + UNIT_ATLAS);
+    glBindTexture(GL_TEXTURE_2D, view->diffusion == 3 ? rt->atlas_tex[ATLAS_SUM] : 0);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(glGetUniformLocation(p, "u_atlas"), UNIT_ATLAS);
+    if (view->diffusion == 3) {
+        glUniform1f(glGetUniformLocation(p, "u_atlas_scale"), (float)rt->atlas_used / (float)rt->atlas_allocated);
+        glUniform1f(glGetUniformLocation(p, "u_atlas_texel"), 1.0f / (float)rt->atlas_allocated);
+    }
+    sam_runtime_bind_albedo(rt, p);
+    glUniform1i(glGetUniformLocation(p, "u_pre_size"), PRE_SIZE);
+    glUniform1f(glGetUniformLocation(p, "u_pre_max_curvature"), PRE_MAX_CURVATURE);
+    glUniform1f(glGetUniformLocation(p, "u_pre_max_penumbra"), PRE_MAX_PENUMBRA_MM);
+    glUniform1f(glGetUniformLocation(p, "u_min_penumbra"), rt->min_penumbra_mm);
+    glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+    float forward[3] = {view->target[0] - view->eye[0], view->target[1] - view->eye[1],
+                        view->target[2] - view->eye[2]};
+    float fl = sqrtf(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
+    for (int c = 0; c < 3; ++c)
+        forward[c] /= fl;
+    glUniform3fv(glGetUniformLocation(p, "u_forward"), 1, forward);
+    set_surface_uniforms(rt, p);
+    bind_shadows(rt, p);
+    for (int b = 0; b < B_COUNT; ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+    glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_SHADE]);
+    glBindVertexArray(rt->vao);
+    glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
+    glBindVertexArray(0);
+    glEndQuery(GL_TIME_ELAPSED);
+    rt->query_used[SAM_PASS_SHADE] = 1;
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glDeleteFramebuffers(1, &fbo);
-    glDeleteTextures(5, tex);
-    glDeleteRenderbuffers(1, &depth);
-    if (atlas)
-        glDeleteTextures(1, &atlas);
-    if (st != SAM_OK)
+    GLuint result = rt->view_tex[0];
+    if (view->diffusion == 1) {
+        glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_DIFFUSION]);
+        screen_space_diffusion(rt, view);
+        glEndQuery(GL_TIME_ELAPSED);
+        rt->query_used[SAM_PASS_DIFFUSION] = 1;
+        result = rt->view_tex[3];
+    }
+    /* GL's rows run bottom-up; images top-down. */
+    size_t row = (size_t)view->width * 4;
+    glBindTexture(GL_TEXTURE_2D, result);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out->pixels);
+    float *tmp = malloc(row * sizeof *tmp);
+    if (!tmp) {
         sam_image_destroy(out);
-    return st;
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: out of memory");
+    }
+    for (uint32_t y = 0; y < view->height / 2; ++y) {
+        float *a = out->pixels + y * row, *b = out->pixels + (view->height - 1 - y) * row;
+        memcpy(tmp, a, row * sizeof *tmp);
+        memcpy(a, b, row * sizeof *tmp);
+        memcpy(b, tmp, row * sizeof *tmp);
+    }
+    free(tmp);
+    return SAM_OK;
 }
 
 sam_status sam_runtime_set_irradiance(sam_runtime *rt, const float *rgb, sam_error *err)

@@ -22,32 +22,64 @@ static void usage(FILE *out)
             "Renders the scene headless (no window, no display) at its resolution and writes the\n"
             "linear HDR image (RGBA float EXR, written atomically).\n"
             "  --png OUT.png          also write a tonemapped sRGB preview (the scene's tonemap/exposure)\n"
+            "  --tonemap aces|reinhard, --exposure EV\n"
+            "                         the PNG's tone curve and exposure (default: the scene's)\n"
             "  --frames N             frames to run the SAM passes before the picture (default 1)\n"
             "  --dt S                 frame time in seconds for temporal smoothing (default 1/60)\n"
             "  --technique sam|none   translucency technique (default: the scene's)\n"
             "  --translucency-only    the translucency alone, without front lighting\n"
             "  --diffusion none|screen|texture|preintegrated\n"
             "                         surface diffusion (default: the scene's): screen-space separable\n"
-            "                         SSS, texture-space sum of Gaussians (meshes without UVs fall back\n"
-            "                         to screen space with a warning), or pre-integrated skin\n"
+            "                         SSS, texture-space sum of Gaussians (meshes without UVs, or whose\n"
+            "                         UVs overlap or leave [0,1], fall back to screen space with a\n"
+            "                         warning), or pre-integrated skin\n"
+            "  --sss-kernel fit2d|marginal|eq1\n"
+            "                         screen-space kernel: the separable fit of the 2D profile (default),\n"
+            "                         each channel's 1D marginal, or Jimenez's eq. 1\n"
+            "  --sss-samples N        screen-space taps per pass, odd, 9..33 (default 17)\n"
+            "  --atlas-size N         texture-space atlas side, 64..4096 (default 1024)\n"
+            "  --optimize LIST        texture-space optimisations, comma-separated from culled, clipped,\n"
+            "                         depth-sized, or none (default: the scene's, else clipped)\n"
+            "  --texels-per-pixel X   depth-sized atlas density at the nearest point (default 1)\n"
             "  --dump-vertices FILE   write per-vertex L_d and T as CSV\n"
             "A scene naming a mesh builds its .sam first (N = 3, the scene's material and scale).\n"
             "Per-pass GPU times are printed to stderr.\n");
+}
+
+/* "culled,clipped,depth-sized" or "none" into the three switches; 0 on a bad name. */
+static int parse_optimizations(const char *list, sam_diffusion_options *o)
+{
+    o->culled = o->clipped = o->depth_sized = 0;
+    if (!strcmp(list, "none"))
+        return 1;
+    const char *p = list;
+    while (*p) {
+        size_t n = strcspn(p, ",");
+        if (n == 6 && !strncmp(p, "culled", n))
+            o->culled = 1;
+        else if (n == 7 && !strncmp(p, "clipped", n))
+            o->clipped = 1;
+        else if (n == 11 && !strncmp(p, "depth-sized", n))
+            o->depth_sized = 1;
+        else
+            return 0;
+        p += n + (p[n] == ',');
+    }
+    return 1;
+}
+
+/* A whole-string unsigned integer in [lo, hi], else -1. */
+static long parse_count(const char *text, long lo, long hi)
+{
+    char *end;
+    long v = strtol(text, &end, 10);
+    return *end || end == text || v < lo || v > hi ? -1 : v;
 }
 
 static int fail(const char *message)
 {
     fprintf(stderr, "sam_render: %s\n", message);
     return 1;
-}
-
-/* ACES filmic curve (Narkowicz's fit) or Reinhard, on linear values. */
-static float tonemap(float x, sam_tonemap kind)
-{
-    if (kind == SAM_TONEMAP_REINHARD)
-        return x / (1.0f + x);
-    float y = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
-    return y < 0 ? 0 : y > 1 ? 1 : y;
 }
 
 /* The .sam of the scene: read, or built from its mesh. Fills the profile
@@ -124,7 +156,11 @@ static sam_status write_vertices(const char *path, const float *ld, const float 
 
 int main(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out = NULL, *png = NULL, *dump = NULL, *technique = NULL, *diffusion = NULL;
+    const char *scene_path = NULL, *out = NULL, *png = NULL, *dump = NULL, *technique = NULL, *diffusion = NULL,
+               *kernel = NULL, *optimize = NULL, *tonemap = NULL;
+    float exposure = NAN;
+    long sss_samples = 0, atlas_size = 0;
+    float texels_per_pixel = 0;
     long frames = 1;
     float dt = 1.0f / 60.0f;
     int translucency_only = 0;
@@ -153,6 +189,55 @@ int main(int argc, char **argv)
                 fprintf(stderr,
                         "sam_render: --diffusion must be none, screen, texture or preintegrated, got \"%s\"\n",
                         diffusion);
+                return 2;
+            }
+        } else if (!strcmp(a, "--tonemap")) {
+            tonemap = argv[++i];
+            if (strcmp(tonemap, "aces") && strcmp(tonemap, "reinhard")) {
+                fprintf(stderr, "sam_render: --tonemap must be aces or reinhard, got \"%s\"\n", tonemap);
+                return 2;
+            }
+        } else if (!strcmp(a, "--exposure")) {
+            char *end;
+            exposure = strtof(argv[++i], &end);
+            if (*end || !(exposure >= -32 && exposure <= 32)) {
+                fprintf(stderr, "sam_render: --exposure must be a number of EV in [-32, 32], got \"%s\"\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--sss-kernel")) {
+            kernel = argv[++i];
+            if (strcmp(kernel, "fit2d") && strcmp(kernel, "marginal") && strcmp(kernel, "eq1")) {
+                fprintf(stderr, "sam_render: --sss-kernel must be fit2d, marginal or eq1, got \"%s\"\n", kernel);
+                return 2;
+            }
+        } else if (!strcmp(a, "--sss-samples")) {
+            sss_samples = parse_count(argv[++i], 9, 33);
+            if (sss_samples < 0 || sss_samples % 2 == 0) {
+                fprintf(stderr, "sam_render: --sss-samples must be an odd integer in 9..33, got \"%s\"\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--atlas-size")) {
+            atlas_size = parse_count(argv[++i], 64, 4096);
+            if (atlas_size < 0) {
+                fprintf(stderr, "sam_render: --atlas-size must be an integer in 64..4096, got \"%s\"\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--optimize")) {
+            optimize = argv[++i];
+            sam_diffusion_options probe;
+            if (!parse_optimizations(optimize, &probe)) {
+                fprintf(stderr,
+                        "sam_render: --optimize takes culled, clipped, depth-sized (comma-separated) or none, "
+                        "got \"%s\"\n",
+                        optimize);
+                return 2;
+            }
+        } else if (!strcmp(a, "--texels-per-pixel")) {
+            char *end;
+            texels_per_pixel = strtof(argv[++i], &end);
+            if (*end || !(texels_per_pixel > 0 && texels_per_pixel <= 16)) {
+                fprintf(stderr, "sam_render: --texels-per-pixel must be a number in (0, 16], got \"%s\"\n",
+                        argv[i]);
                 return 2;
             }
         } else if (!strcmp(a, "--frames")) {
@@ -249,9 +334,34 @@ int main(int argc, char **argv)
     view.height = scene.height;
     memcpy(view.albedo, scene.albedo, sizeof view.albedo);
     view.front = !translucency_only;
-    if (use_diffusion == 3 && !sam_runtime_has_uvs(rt)) {
-        fprintf(stderr, "sam_render: warning: the mesh has no UVs; texture-space diffusion falls back to screen space\n");
+    view.options = scene.diffusion_options;
+    if (kernel)
+        view.options.sss_kernel = !strcmp(kernel, "eq1")        ? SAM_SSS_KERNEL_EQ1
+                                  : !strcmp(kernel, "marginal") ? SAM_SSS_KERNEL_MARGINAL
+                                                                : SAM_SSS_KERNEL_FIT2D;
+    if (sss_samples)
+        view.options.sss_samples = (uint32_t)sss_samples;
+    if (atlas_size)
+        view.options.atlas_size = (uint32_t)atlas_size;
+    if (optimize)
+        parse_optimizations(optimize, &view.options);
+    if (texels_per_pixel > 0)
+        view.options.texels_per_pixel = texels_per_pixel;
+    char reason[160];
+    if (use_diffusion == 3 && !sam_runtime_uv_status(rt, reason, sizeof reason)) {
+        fprintf(stderr, "sam_render: warning: texture-space diffusion falls back to screen space: %s\n", reason);
         use_diffusion = 1;
+    }
+    if (scene.albedo_map) {
+        sam_image map;
+        if (sam_image_read_png(scene.albedo_map, &map, SAM_PNG_SRGB, &err) != SAM_OK)
+            goto done;
+        sam_status st = sam_runtime_set_albedo_map(rt, &map, &err);
+        sam_image_destroy(&map);
+        if (st == SAM_ERR_UNSUPPORTED)
+            fprintf(stderr, "sam_render: warning: albedo map %s ignored: the mesh has no UVs\n", scene.albedo_map);
+        else if (st != SAM_OK)
+            goto done;
     }
     view.diffusion = use_diffusion;
     if (scene.has_camera) {
@@ -278,17 +388,13 @@ int main(int argc, char **argv)
         goto done;
     if (png) {
         /* Tonemapped, over a dark grey backdrop (the EXR keeps alpha). */
+        static const float backdrop[3] = {0.02f, 0.02f, 0.02f};
         sam_image preview;
-        if (sam_image_create(&preview, img.width, img.height, 3, &err) != SAM_OK)
+        sam_tonemap curve = tonemap ? (!strcmp(tonemap, "reinhard") ? SAM_TONEMAP_REINHARD : SAM_TONEMAP_ACES)
+                                    : scene.tonemap;
+        if (sam_image_tonemap(&img, curve, isnan(exposure) ? scene.exposure : exposure, backdrop, &preview, &err) !=
+            SAM_OK)
             goto done;
-        float exposure = exp2f(scene.exposure);
-        size_t n = (size_t)img.width * img.height;
-        for (size_t i = 0; i < n; ++i) {
-            float a = img.pixels[4 * i + 3];
-            for (int c = 0; c < 3; ++c)
-                preview.pixels[3 * i + c] =
-                    a * tonemap(img.pixels[4 * i + c] * exposure, scene.tonemap) + (1 - a) * 0.02f;
-        }
         sam_status st = sam_image_write_png(png, &preview, SAM_PNG_SRGB, &err);
         sam_image_destroy(&preview);
         if (st != SAM_OK)
@@ -305,11 +411,13 @@ int main(int argc, char **argv)
             write_vertices(dump, ld, t, sam.vertex_count, &err) != SAM_OK)
             goto done;
     }
+    double diffusion_ms = sam_runtime_pass_ms(rt, SAM_PASS_DIFFUSION);
     fprintf(stderr, "sam_render: %s: %ux%u, %u vertices, %ld frame%s; GPU ms: irradiance %.3f, translucency %.3f, "
-                    "shade %.3f (%s)\n",
+                    "shade %.3f, diffusion %.3f (%s)\n",
             out, scene.width, scene.height, sam.vertex_count, frames, frames == 1 ? "" : "s",
             sam_runtime_pass_ms(rt, SAM_PASS_IRRADIANCE), use_sam ? sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY) : 0.0,
-            sam_runtime_pass_ms(rt, SAM_PASS_SHADE), sam_gl_context_info(gl)->renderer);
+            sam_runtime_pass_ms(rt, SAM_PASS_SHADE), diffusion_ms > 0 ? diffusion_ms : 0.0,
+            sam_gl_context_info(gl)->renderer);
     code = 0;
 done:
     if (code)

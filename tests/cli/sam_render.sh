@@ -37,7 +37,23 @@ cmp -s "$tmp/tx.exr" "$tmp/nd.exr" && fail "texture-space diffusion changed noth
 printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > "$tmp/tet.off"
 printf '{"mesh": "tet.off", "material": "skin", "scale": {"mm_per_unit": 10}, "diffusion": "texture", "lights": [{"type": "directional", "direction": [0, -1, 0]}], "resolution": [32, 32]}' > "$tmp/tet.json"
 "$bin/sam_render" "$tmp/tet.json" -o "$tmp/tet.exr" 2> "$tmp/tet.txt" || fail "no-UV texture fallback: $(cat "$tmp/tet.txt")"
-[ "$(grep -c 'warning: the mesh has no UVs' "$tmp/tet.txt")" -eq 1 ] || fail "expected one fallback warning: $(cat "$tmp/tet.txt")"
+[ "$(grep -c 'warning: texture-space diffusion falls back to screen space: the mesh has no UVs' "$tmp/tet.txt")" -eq 1 ] \
+  || fail "expected one fallback warning: $(cat "$tmp/tet.txt")"
+# Two triangles stacked on the same UVs: overlapping charts fall back too.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0.1 0.1\nvt 0.9 0.1\nvt 0.1 0.9\nf 1/1 3/3 2/2\nf 1/1 2/2 4/3\n' > "$tmp/stack.obj"
+printf '{"mesh": "stack.obj", "material": "skin", "scale": {"mm_per_unit": 10}, "diffusion": "texture", "lights": [{"type": "directional", "direction": [0, -1, 0]}], "resolution": [32, 32]}' > "$tmp/stack.json"
+"$bin/sam_render" "$tmp/stack.json" -o "$tmp/stack.exr" 2> "$tmp/stack.txt" || fail "overlap fallback: $(cat "$tmp/stack.txt")"
+[ "$(grep -c 'falls back to screen space: .*more than one triangle' "$tmp/stack.txt")" -eq 1 ] \
+  || fail "expected one overlap warning: $(cat "$tmp/stack.txt")"
+# The diffusion settings: each kernel and optimisation renders, and changes the picture where it should.
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/eq1.exr" --sss-kernel eq1 --sss-samples 9 --frames 3 2>/dev/null || fail "--sss-kernel eq1"
+cmp -s "$tmp/eq1.exr" "$tmp/a.exr" && fail "the eq.-1 kernel gave the fit2d picture"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/opt.exr" --diffusion texture --optimize culled,clipped,depth-sized \
+  --texels-per-pixel 2 --atlas-size 512 --frames 3 2>/dev/null || fail "--optimize"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tm.exr" --png "$tmp/r.png" --tonemap reinhard --exposure 1 --frames 3 2>/dev/null \
+  || fail "--tonemap"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tm.exr" --png "$tmp/aces.png" --frames 3 2>/dev/null || fail "aces png"
+cmp -s "$tmp/r.png" "$tmp/aces.png" && fail "--tonemap reinhard --exposure 1 gave the default PNG"
 
 expect_error() { # status label args...
   local want=$1 label=$2; shift 2
@@ -56,6 +72,11 @@ head -c 200 "$tmp/a.exr" > /dev/null
 "$bin/sam_build" "$tmp/ear.obj" -o "$tmp/ear.sam" --material skin --mm-per-unit 60 --quiet 2>/dev/null || fail "build"
 head -c 300 "$tmp/ear.sam" > "$tmp/broken.sam"
 printf '{"sam": "broken.sam"}' > "$tmp/broken.json"
+expect_error 2 "bad kernel" "$tmp/scene.json" --sss-kernel gauss
+expect_error 2 "even samples" "$tmp/scene.json" --sss-samples 18
+expect_error 2 "bad optimisation" "$tmp/scene.json" --optimize culled,fast
+expect_error 2 "atlas too small" "$tmp/scene.json" --atlas-size 32
+expect_error 2 "bad tonemap" "$tmp/scene.json" --tonemap filmic
 expect_error 1 "missing key" "$tmp/nomesh.json"
 expect_error 1 "wrong type" "$tmp/type.json"
 expect_error 1 "missing mesh" "$tmp/missing.json"

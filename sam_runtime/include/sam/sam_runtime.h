@@ -43,6 +43,7 @@ typedef enum sam_pass {
     SAM_PASS_IRRADIANCE = 0, /* shadow maps + L_d at every vertex */
     SAM_PASS_TRANSLUCENCY,   /* eq. 12 + smoothing */
     SAM_PASS_SHADE,          /* the forward shading pass */
+    SAM_PASS_DIFFUSION,      /* screen or texture-space diffusion (atlas, blurs, sum; compose) */
     SAM_PASS_COUNT
 } sam_pass;
 
@@ -91,41 +92,85 @@ sam_status sam_runtime_set_irradiance(sam_runtime *rt, const float *rgb, sam_err
  * Errors: SAM_ERR_INVALID_ARGUMENT (dt < 0 or not finite). */
 sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt, int reset, sam_error *err);
 
-/* A view of the object for sam_runtime_render. */
+/* A view of the object for sam_runtime_render. Zero-initialise it and set
+ * what you need: zero fields take their defaults. */
 typedef struct sam_render_view {
     uint32_t width, height;  /* pixels */
     float eye[3], target[3], up[3];
     float fov_deg;           /* vertical */
     float near_plane, far_plane; /* 0: from the object's bounds */
-    float albedo[3];
+    float albedo[3];         /* times the albedo map, if one is set */
     int front;               /* 1: front lighting + translucency; 0: translucency only */
     int diffusion;           /* 0: none; 1: screen-space separable SSS of the entering light;
                               * 2: pre-integrated skin (local, no blur);
-                              * 3: texture-space sum of Gaussians (needs UVs) */
+                              * 3: texture-space sum of Gaussians (needs usable UVs) */
+    /* Screen and texture space settings. Zero fields mean: fit2d kernel,
+     * 17 samples, a 1024 atlas, no optimisation, 1 texel per pixel. */
+    sam_diffusion_options options;
 } sam_render_view;
 
 /* Renders the object with its current L_d and T into a linear HDR RGBA
  * image (caller destroys it with sam_image_destroy): per pixel
  * rho_dt(N.V) / pi * (R_total L_d [if front] + T) * albedo plus specular,
- * alpha 1 on the object and 0 on the background. With screen diffusion the
- * entering light R_total L_d + T is blurred first by two 1D passes of the
- * profile's 17-tap separable kernel (sam_profile_separable_kernel_direct),
+ * alpha 1 on the object and 0 on the background.
+ *
+ * Albedo follows d'Eon Sec. 5.3: with a blur, the light entering the
+ * surface is multiplied by sqrt(albedo) before it and the result by
+ * sqrt(albedo) after it; without one, by the albedo.
+ *
+ * Screen diffusion blurs the entering light R_total L_d + T by two 1D passes
+ * of the profile's separable kernel (options.sss_kernel, sss_samples taps),
  * its millimetre offsets scaled to pixels by each pixel's depth, taps across
- * depth jumps or off the object replaced by the centre. Pre-integrated
- * shading (Penner) instead computes the front light per pixel: point, spot
- * and directional lights through the diffuse-falloff table at the vertex's
- * mean curvature (from the .sam's rings) and N.L, their shadow through the
- * penumbra table; area lights and the environment as in L_d. Texture-space
- * diffusion (d'Eon) unwraps the entering light into a 1024^2 UV atlas with
- * a stretch map, blurs it hierarchically with 7-tap Gaussians, one level
- * per Gaussian of the profile's 8-Gaussian fit, and sums the levels with
- * the fit's weights; the mesh then reads it at its UVs.
- * Errors also: SAM_ERR_UNSUPPORTED for texture space without UVs. Errors: SAM_ERR_INVALID_ARGUMENT (size),
- * SAM_ERR_UNSUPPORTED (incomplete framebuffer), SAM_ERR_OUT_OF_MEMORY. */
+ * depth jumps or off the object replaced by the centre.
+ *
+ * Pre-integrated shading (Penner) computes the front light per pixel:
+ * point, spot and directional lights through the diffuse-falloff table at
+ * the vertex's mean curvature (from the .sam's rings) and N.L, their shadow
+ * through the penumbra table; area lights and the environment as in L_d.
+ *
+ * Texture-space diffusion (d'Eon) unwraps the entering light into a UV
+ * atlas (options.atlas_size square) with a stretch map, blurs it
+ * hierarchically with 7-tap Gaussians, one level per Gaussian of the
+ * profile's 8-Gaussian fit, and sums the levels with the fit's weights; the
+ * mesh then reads it at its UVs. Jimenez and Gutierrez's optimisations,
+ * each a switch in `options`: `culled` leaves texels facing away from the
+ * eye out of the atlas and the blur, past the silhouette by more than the
+ * paper's 15 degrees or, where larger, the angle that spans four standard
+ * deviations of the widest Gaussian at the vertex's curvature;
+ * `clipped` leaves out texels outside the view frustum, widened by three
+ * standard deviations of the widest Gaussian so light scattering in from
+ * just off screen is kept; `depth_sized` shrinks the atlas to
+ * T = min(1, d_ref / d) atlas_size, d the distance to the nearest point of
+ * the object's bounding box and d_ref the distance at which a texel spans
+ * 1 / texels_per_pixel of a pixel there (from the resolution, field of view,
+ * surface area and atlas coverage, instead of the paper's hand-set d_ref).
+ *
+ * Errors: SAM_ERR_INVALID_ARGUMENT (size, field of view, options out of
+ * range), SAM_ERR_UNSUPPORTED (texture space without usable UVs: see
+ * sam_runtime_uv_status; an incomplete framebuffer), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err);
 
-/* 1 when the .sam has UVs (texture-space diffusion needs them). */
-int sam_runtime_has_uvs(const sam_runtime *rt);
+/* Sets the albedo map (linear RGB or RGBA, read at the mesh's UVs; copied
+ * to the GPU), or clears it with NULL. Errors: SAM_ERR_UNSUPPORTED (the
+ * mesh has no UVs), SAM_ERR_INVALID_ARGUMENT (fewer than 3 channels, or
+ * larger than the GL's texture limit). */
+sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam_error *err);
+
+/* 1 when texture-space diffusion can run: the .sam has UVs, they lie in
+ * [0, 1]^2 and do not overlap (sam_uv_check at 1024^2). Otherwise 0, and
+ * `reason` (size n, may be NULL) gets one line saying why. */
+int sam_runtime_uv_status(const sam_runtime *rt, char *reason, size_t n);
+
+/* The texture-space maps of the last texture-space render, T x T RGBA
+ * floats (T the atlas side it used; caller destroys `out`). */
+typedef enum sam_atlas_map {
+    SAM_ATLAS_IRRADIANCE = 0, /* entering light; alpha 1 on texels the blur used */
+    SAM_ATLAS_STRETCH = 1,    /* mm of surface per texel along u (r) and v (g) */
+    SAM_ATLAS_DIFFUSED = 2    /* the weighted sum of the levels */
+} sam_atlas_map;
+/* Errors: SAM_ERR_INVALID_ARGUMENT (no texture-space render yet, or an
+ * unknown map), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_read_atlas(sam_runtime *rt, sam_atlas_map map, sam_image *out, sam_error *err);
 
 /* The object's bounding sphere in model units. */
 void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius);

@@ -1,0 +1,205 @@
+/*
+ * Texture-space diffusion (d'Eon et al. 2007, Sec. 5.1) with the three
+ * optimisations of Jimenez and Gutierrez ("Faster rendering of human
+ * skin"): culled, clipped and depth-sized irradiance maps.
+ *
+ * The maps stay allocated at the largest side asked for; a depth-sized
+ * atlas uses the T x T corner of them (the paper's glViewport(0, 0, T, T)),
+ * so shrinking it costs no allocation. Culled and clipped texels are never
+ * written: their alpha stays 0 from the clear, and the blur passes skip
+ * them and use the centre texel in place of their value.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "sam_runtime_internal.h"
+
+#define DEFAULT_ATLAS 1024
+#define MIN_ATLAS 64
+#define CULL_MIN 0.2617993877991494f /* 15 degrees past the silhouette: the paper's 105 */
+#define CULL_REACH 4.0f               /* standard deviations of the widest Gaussian */
+
+static sam_status ensure_atlas(sam_runtime *rt, uint32_t side, sam_error *err)
+{
+    if (rt->atlas_allocated == side)
+        return SAM_OK;
+    sam_runtime_texture_space_destroy(rt);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    glGenTextures(ATLAS_COUNT, rt->atlas_tex);
+    for (int i = 0; i < ATLAS_COUNT; ++i) {
+        glBindTexture(GL_TEXTURE_2D, rt->atlas_tex[i]);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, (GLsizei)side, (GLsizei)side);
+        /* Read bilinearly: the sum by the mesh at its UVs, the levels by the
+         * blur's taps between texels. */
+        GLint filter = i == ATLAS_STRETCH ? GL_NEAREST : GL_LINEAR;
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    if (glGetError() != GL_NO_ERROR) {
+        sam_runtime_texture_space_destroy(rt);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: the GL could not allocate %d texture-space maps of %u^2",
+                        ATLAS_COUNT, side);
+    }
+    if (!rt->tsd_fbo)
+        glGenFramebuffers(1, &rt->tsd_fbo);
+    rt->atlas_allocated = side;
+    return SAM_OK;
+}
+
+void sam_runtime_texture_space_destroy(sam_runtime *rt)
+{
+    if (rt->atlas_allocated)
+        glDeleteTextures(ATLAS_COUNT, rt->atlas_tex);
+    memset(rt->atlas_tex, 0, sizeof rt->atlas_tex);
+    rt->atlas_allocated = rt->atlas_used = 0;
+}
+
+/* Eq. 3-4: T = min(1, d_ref / d) T_max. A texel spans about
+ * sqrt(area / coverage) / T model units and a pixel d / f at distance d
+ * (f: the focal length in pixels), so texels_per_pixel texels per pixel at
+ * the nearest point need T = texels_per_pixel f sqrt(area / coverage) / d. */
+static uint32_t atlas_side(const sam_runtime *rt, const sam_render_view *view, uint32_t max_side)
+{
+    if (!view->options.depth_sized)
+        return max_side;
+    double d2 = 0;
+    for (int c = 0; c < 3; ++c) {
+        double e = view->eye[c], q = e < rt->box_lo[c] ? rt->box_lo[c] - e : e > rt->box_hi[c] ? e - rt->box_hi[c] : 0;
+        d2 += q * q;
+    }
+    double f = view->height / (2.0 * tan(0.5 * view->fov_deg * 3.14159265358979323846 / 180.0));
+    double tpp = view->options.texels_per_pixel > 0 ? view->options.texels_per_pixel : 1.0;
+    double need = tpp * f * sqrt(rt->surface_area / fmax(rt->uv_coverage, 1e-3)) / fmax(sqrt(d2), 1e-30);
+    if (!(need < max_side))
+        return max_side;
+    return need < MIN_ATLAS ? MIN_ATLAS : (uint32_t)ceil(need);
+}
+
+sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
+                                     const sam_mat4 *proj, sam_error *err)
+{
+    uint32_t max_side = view->options.atlas_size ? view->options.atlas_size : DEFAULT_ATLAS;
+    if (max_side < MIN_ATLAS || max_side > 4096)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: atlas size %u outside %d..4096", max_side, MIN_ATLAS);
+    sam_status st = ensure_atlas(rt, max_side, err);
+    if (st != SAM_OK)
+        return st;
+    uint32_t side = atlas_side(rt, view, max_side);
+    const GLuint *tex = rt->atlas_tex;
+
+    glBindFramebuffer(GL_FRAMEBUFFER, rt->tsd_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[ATLAS_IRRADIANCE], 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[ATLAS_STRETCH], 0);
+    static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, two);
+    glViewport(0, 0, (GLsizei)side, (GLsizei)side);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, (GLsizei)side, (GLsizei)side);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    GLuint p = rt->tsd_program;
+    glUseProgram(p);
+    glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
+    glUniform1i(glGetUniformLocation(p, "u_front"), view->front);
+    glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+    glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, view->eye);
+    glUniform1i(glGetUniformLocation(p, "u_culled"), view->options.culled);
+    float widest = sqrtf(rt->fit.count ? rt->fit.variance[rt->fit.count - 1] : 0.0f);
+    glUniform1f(glGetUniformLocation(p, "u_cull_reach"), CULL_REACH * widest);
+    glUniform1f(glGetUniformLocation(p, "u_cull_min"), CULL_MIN);
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_view_proj"), 1, GL_FALSE, view_proj->m);
+    /* The frustum's side planes moved out by three standard deviations of
+     * the widest Gaussian: clip.x shifts by P[0][0] per model unit sideways. */
+    float margin = 3.0f * widest / rt->mm_per_unit;
+    float clip_margin[2] = {proj->m[0] * margin, proj->m[5] * margin};
+    glUniform2fv(glGetUniformLocation(p, "u_clip_margin"), 1, clip_margin);
+    glUniform1i(glGetUniformLocation(p, "u_clipped"), view->options.clipped);
+    glUniform3fv(glGetUniformLocation(p, "u_albedo"), 1, view->albedo);
+    sam_runtime_bind_albedo(rt, p);
+    for (int b = 0; b < B_COUNT; ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+    if (view->options.clipped)
+        for (int i = 0; i < 4; ++i)
+            glEnable(GL_CLIP_DISTANCE0 + (GLenum)i);
+    glBindVertexArray(rt->vao);
+    glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
+    glBindVertexArray(0);
+    for (int i = 0; i < 4; ++i)
+        glDisable(GL_CLIP_DISTANCE0 + (GLenum)i);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+
+    /* One level per Gaussian, each the previous blurred by the variance it
+     * lacks, ping-ponging between two maps so the irradiance map survives. */
+    GLuint groups = (side + 7) / 8, level = tex[ATLAS_IRRADIANCE];
+    GLint size[2] = {(GLint)side, (GLint)side};
+    float previous_variance = 0.0f;
+    for (uint32_t g = 0; g < rt->fit.count; ++g) {
+        GLuint next = g % 2 ? tex[ATLAS_LEVEL_B] : tex[ATLAS_LEVEL_A];
+        float sigma = sqrtf(fmaxf(rt->fit.variance[g] - previous_variance, 0.0f));
+        previous_variance = rt->fit.variance[g];
+        GLuint b = rt->tsd_blur_program;
+        glUseProgram(b);
+        glUniform1f(glGetUniformLocation(b, "u_sigma_mm"), sigma);
+        glUniform2iv(glGetUniformLocation(b, "u_size"), 1, size);
+        glBindImageTexture(2, tex[ATLAS_STRETCH], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        for (int pass = 0; pass < 2; ++pass) {
+            glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
+            glActiveTexture(GL_TEXTURE0);
+            glBindTexture(GL_TEXTURE_2D, pass == 0 ? level : tex[ATLAS_TEMP]);
+            glUniform1i(glGetUniformLocation(b, "u_source"), 0);
+            glBindImageTexture(1, pass == 0 ? tex[ATLAS_TEMP] : next, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glDispatchCompute(groups, groups, 1);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        }
+        GLuint a = rt->tsd_accumulate_program;
+        glUseProgram(a);
+        float w[3];
+        for (int c = 0; c < 3; ++c)
+            w[c] = rt->total_reflectance[c] > 0 ? rt->fit.weight[g][c] / rt->total_reflectance[c] : 0.0f;
+        glUniform3fv(glGetUniformLocation(a, "u_weight"), 1, w);
+        glUniform1i(glGetUniformLocation(a, "u_first"), g == 0);
+        glUniform2iv(glGetUniformLocation(a, "u_size"), 1, size);
+        glBindImageTexture(0, next, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(1, tex[ATLAS_SUM], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glDispatchCompute(groups, groups, 1);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        level = next;
+    }
+    rt->atlas_used = side;
+    return SAM_OK;
+}
+
+sam_status sam_runtime_read_atlas(sam_runtime *rt, sam_atlas_map map, sam_image *out, sam_error *err)
+{
+    memset(out, 0, sizeof *out);
+    static const int which[3] = {ATLAS_IRRADIANCE, ATLAS_STRETCH, ATLAS_SUM};
+    if (!rt->atlas_used || (unsigned)map > SAM_ATLAS_DIFFUSED)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        rt->atlas_used ? "read_atlas: unknown map %d" : "read_atlas: no texture-space render yet (map %d)",
+                        (int)map);
+    uint32_t side = rt->atlas_used, full = rt->atlas_allocated;
+    sam_image whole;
+    sam_status st = sam_image_create(&whole, full, full, 4, err);
+    if (st != SAM_OK)
+        return st;
+    if ((st = sam_image_create(out, side, side, 4, err)) != SAM_OK) {
+        sam_image_destroy(&whole);
+        return st;
+    }
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glBindTexture(GL_TEXTURE_2D, rt->atlas_tex[which[map]]);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, whole.pixels);
+    /* Row v of the image is texel row v (v = 0 at the bottom of UV space). */
+    for (uint32_t y = 0; y < side; ++y)
+        memcpy(out->pixels + (size_t)y * side * 4, whole.pixels + (size_t)y * full * 4, (size_t)side * 4 * sizeof(float));
+    sam_image_destroy(&whole);
+    return SAM_OK;
+}

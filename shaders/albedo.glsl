@@ -1,0 +1,9 @@
+// The surface's albedo: the view's colour times the albedo map at the UV.
+uniform vec3 u_albedo;
+uniform int u_has_albedo_map;
+uniform sampler2D u_albedo_map;
+
+vec3 surface_albedo(vec2 uv)
+{
+    return u_has_albedo_map != 0 ? u_albedo * texture(u_albedo_map, uv).rgb : u_albedo;
+}
