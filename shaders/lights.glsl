@@ -95,3 +95,42 @@ vec3 light_irradiance(Light l, vec3 p, vec3 n, out float n_dot_l)
     }
     return e * l.color_type.rgb;
 }
+
+// Light arriving at p from a point, spot or directional light, before the
+// cosine (pre-integration and transmittance apply their own falloff over N.L).
+vec3 light_radiance(Light l, vec3 p)
+{
+    int type = int(l.color_type.w);
+    if (type == 2)
+        return l.color_type.rgb;
+    vec3 to = l.position.xyz - p;
+    float d2 = dot(to, to);
+    float f = 1.0;
+    if (type == 1)
+        f = spot_falloff(-dot(to, l.direction.xyz) / sqrt(d2), l.direction.w, l.params.x);
+    return l.color_type.rgb * f / d2;
+}
+
+// The unit direction from p towards the light (an area light's centroid).
+vec3 light_direction(Light l, vec3 p)
+{
+    int type = int(l.color_type.w);
+    if (type == 2)
+        return -l.direction.xyz;
+    if (type == 3) {
+        vec3 c = vec3(0.0);
+        int count = int(l.position.w);
+        for (int i = 0; i < count; ++i)
+            c += l.vertices[i].xyz;
+        return normalize(c / float(count) - p);
+    }
+    return normalize(l.position.xyz - p);
+}
+
+// How far p lies from the light along its rays, in model units: the
+// distance from a point or spot light, the depth along a directional one
+// (up to a constant, which cancels in differences).
+float light_distance(Light l, vec3 p)
+{
+    return int(l.color_type.w) == 2 ? dot(p, l.direction.xyz) : distance(p, l.position.xyz);
+}

@@ -5,11 +5,11 @@
 // d'Eon Sec. 5.3),
 // where R_front = L_d times the profile's total diffuse reflectance stands
 // for the front-side integral until a surface-diffusion pass blurs it, and
-// T is the SAM translucency. Plus the Kelemen/Szirmay-Kalos specular lobe
+// T is the technique's translucency (technique.glsl; with texture-space
+// diffusion it is in the atlas, and a TSM adds its own after the blur). Plus the Kelemen/Szirmay-Kalos specular lobe
 // (d'Eon Sec. 6; the lobe rho_dt removed from the diffuse light) for every
 // light, shadowed like L_d. Linear HDR out; tonemapping happens on output.
-#include "lights.glsl"
-#include "shadows.glsl"
+#include "technique.glsl"
 #include "surface.glsl"
 #include "albedo.glsl"
 
@@ -18,8 +18,6 @@ in vec3 v_normal;
 in vec3 v_to_eye;
 in vec3 v_irradiance;
 in vec3 v_translucency;
-
-layout(std430, binding = 8) readonly buffer Lights { Light lights[]; };
 
 uniform uint u_light_count;       // 0 for translucency only
 uniform float u_roughness;        // Beckmann m
@@ -48,6 +46,13 @@ uniform int u_texture_space;
 uniform sampler2D u_atlas;
 uniform float u_atlas_scale;
 uniform float u_atlas_texel;  // 1 / texture side
+uniform int u_read_atlas;     // 0: the atlas holds light this view does not show (a TSM's front light)
+uniform int u_tsm;            // 1: add the translucent shadow maps' light
+#include "tsm_read.glsl"
+
+// 1: write the G-buffer instead (sam_runtime_gbuffer): o_color = position,
+// o_factor = the normal as shading uses it, alpha 1.
+uniform int u_gbuffer;
 
 // Pre-integrated skin (Penner): tables of sam_preint, RGB, 64 x 64.
 layout(std430, binding = 12) readonly buffer PreDiffuse { float pre_diffuse[]; };
@@ -57,7 +62,6 @@ uniform int u_pre_size;
 uniform float u_pre_max_curvature;  // 1/mm
 uniform float u_pre_max_penumbra;   // mm
 uniform float u_min_penumbra;       // mm: the profile's 99% radius
-uniform float u_mm_per_unit;
 
 // Bilinear lookup in a pre-integrated table (texel-centred), x and y in [0, 1].
 vec3 table_rgb(int which, float x, float y)
@@ -74,21 +78,6 @@ vec3 table_rgb(int which, float x, float y)
                           : vec3(pre_penumbra[k], pre_penumbra[k + 1], pre_penumbra[k + 2]);
     }
     return mix(mix(t[0], t[1], ax), mix(t[2], t[3], ax), ay);
-}
-
-// Light arriving at p from a point, spot or directional light, before the
-// cosine: pre-integration applies its own falloff over N.L.
-vec3 light_radiance(Light l, vec3 p)
-{
-    int type = int(l.color_type.w);
-    if (type == 2)
-        return l.color_type.rgb;
-    vec3 to = l.position.xyz - p;
-    float d2 = dot(to, to);
-    float f = 1.0;
-    if (type == 1)
-        f = spot_falloff(-dot(to, l.direction.xyz) / sqrt(d2), l.direction.w, l.params.x);
-    return l.color_type.rgb * f / d2;
 }
 
 // The shadow filter's penumbra across the surface in mm: the 4-texel PCF
@@ -141,42 +130,40 @@ float ks_specular(vec3 n, vec3 l, vec3 v)
     return d * f / dot(h, h);
 }
 
-vec3 light_direction(Light l, vec3 p)
-{
-    int type = int(l.color_type.w);
-    if (type == 2)
-        return -l.direction.xyz;
-    if (type == 3) {
-        vec3 c = vec3(0.0);
-        int count = int(l.position.w);
-        for (int i = 0; i < count; ++i)
-            c += l.vertices[i].xyz;
-        return normalize(c / float(count) - p);
-    }
-    return normalize(l.position.xyz - p);
-}
-
 void main()
 {
     vec3 n = normalize(v_normal), v = normalize(v_to_eye);
     if (!gl_FrontFacing)
         n = -n;
+    if (u_gbuffer != 0) {
+        o_color = vec4(v_position, 1.0);
+        o_factor = vec4(n, 1.0);
+        o_specular = vec4(0.0);
+        return;
+    }
     vec3 albedo = surface_albedo(v_uv);
     bool blurred = u_split != 0 || u_texture_space != 0;
-    vec3 entering = v_translucency;
-    if (u_front != 0)
-        entering += (u_preintegrated != 0 ? preintegrated_front(n, v_position) : v_irradiance) * u_total_reflectance;
-    if (u_split != 0)
-        entering *= sqrt(albedo);
-    // Clamped half a texel inside the used corner: bilinear taps past it
-    // would read texels another (larger) atlas left behind. Divided by the
-    // interpolated coverage, so taps on empty texels beside a chart's edge
-    // (or culled, clipped ones) do not darken it: at a small depth-sized
-    // atlas those seams would cover much of the surface.
+    vec3 entering = vec3(0.0);
     if (u_texture_space != 0) {
-        vec4 s = texture(u_atlas, clamp(v_uv * u_atlas_scale, vec2(0.5 * u_atlas_texel),
-                                        vec2(u_atlas_scale - 0.5 * u_atlas_texel)));
-        entering = s.a > 0.0 ? s.rgb / s.a : s.rgb;
+        // Clamped half a texel inside the used corner: bilinear taps past it
+        // would read texels another (larger) atlas left behind. Divided by the
+        // interpolated coverage, so taps on empty texels beside a chart's edge
+        // (or culled, clipped ones) do not darken it: at a small depth-sized
+        // atlas those seams would cover much of the surface.
+        if (u_read_atlas != 0) {
+            vec4 s = texture(u_atlas, clamp(v_uv * u_atlas_scale, vec2(0.5 * u_atlas_texel),
+                                            vec2(u_atlas_scale - 0.5 * u_atlas_texel)));
+            entering = s.a > 0.0 ? s.rgb / s.a : s.rgb;
+        }
+        if (u_tsm != 0)
+            entering += tsm_translucency(v_position, n, v_uv, u_total_reflectance);
+    } else {
+        entering = technique_translucency(v_translucency, v_position, n);
+        if (u_front != 0)
+            entering += (u_preintegrated != 0 ? preintegrated_front(n, v_position) : v_irradiance) *
+                        u_total_reflectance;
+        if (u_split != 0)
+            entering *= sqrt(albedo);
     }
     vec3 factor = rho_dt(dot(n, v)) / PI * (blurred ? sqrt(albedo) : albedo);
     vec3 specular = vec3(0.0);

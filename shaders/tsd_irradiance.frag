@@ -2,16 +2,22 @@
 // The light entering the surface per texel (times sqrt(albedo), d'Eon
 // Sec. 5.3), and the stretch map: the millimetres of surface one texel spans
 // along u and v (d'Eon Sec. 5.1), from the derivatives of the world position.
+// The technique's translucency is evaluated per texel (technique.glsl); an
+// override image is read at this texel.
+#include "technique.glsl"
 #include "albedo.glsl"
 
 in vec3 v_world;
-in vec3 v_entering;
+in vec3 v_normal;
+in vec3 v_front;
+in vec3 v_translucency;
 in vec2 v_uv;
 in float v_facing;
 in float v_cull_cos;
 
-uniform float u_mm_per_unit;
 uniform int u_culled;
+// 1: write the G-buffer instead (sam_runtime_gbuffer): position and normal.
+uniform int u_gbuffer;
 
 layout(location = 0) out vec4 o_entering;  // rgb, a = 1 where the blur uses the texel
 layout(location = 1) out vec4 o_stretch;   // mm per texel along u, v
@@ -24,6 +30,13 @@ void main()
     // listing 2), so the blur passes skip them.
     if (u_culled != 0 && v_facing < v_cull_cos)
         discard;
-    o_entering = vec4(v_entering * sqrt(surface_albedo(v_uv)), 1.0);
+    vec3 n = normalize(v_normal);
+    if (u_gbuffer != 0) {
+        o_entering = vec4(v_world, 1.0);
+        o_stretch = vec4(n, 1.0);
+        return;
+    }
+    vec3 entering = v_front + technique_translucency(v_translucency, v_world, n);
+    o_entering = vec4(entering * sqrt(surface_albedo(v_uv)), 1.0);
     o_stretch = vec4(stretch, 0.0, 1.0);
 }

@@ -18,7 +18,9 @@ uniform float u_cull_reach;  // mm of surface past the silhouette the blur may d
 uniform float u_cull_min;    // the least angle past the silhouette kept, radians
 
 out vec3 v_world;
-out vec3 v_entering;
+out vec3 v_normal;
+out vec3 v_front;            // R_total L_d where the view shows front light
+out vec3 v_translucency;     // the per-vertex T
 out vec2 v_uv;
 out float v_facing;          // cosine between the normal and the direction to the eye
 out float v_cull_cos;        // texels facing the eye less than this are culled
@@ -27,9 +29,9 @@ out float gl_ClipDistance[4];
 void main()
 {
     v_world = a_position.xyz;
-    v_entering = translucency[gl_VertexID].rgb;
-    if (u_front != 0)
-        v_entering += irradiance[gl_VertexID].rgb * u_total_reflectance;
+    v_normal = a_normal.xyz;
+    v_translucency = translucency[gl_VertexID].rgb;
+    v_front = u_front != 0 ? irradiance[gl_VertexID].rgb * u_total_reflectance : vec3(0.0);
     v_uv = a_uv;
     v_facing = dot(normalize(a_normal.xyz), normalize(u_eye - a_position.xyz));
     // On a surface of curvature k, a texel an angle a past the silhouette

@@ -243,9 +243,17 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
             SAM_OK ||
         (st = sam_gl_compute_program("tsd_blur.comp", NULL, &rt->tsd_blur_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("tsd_accumulate.comp", NULL, &rt->tsd_accumulate_program, err)) != SAM_OK ||
+        (st = sam_gl_render_program("tsm.vert", "tsm.frag", NULL, &rt->tsm_program, err)) != SAM_OK ||
         (st = sam_profile_fit_gaussians(profile, &rt->fit, err)) != SAM_OK)
         goto done;
     sam_profile_total_reflectance(profile, rt->total_reflectance);
+    glGenSamplers(1, &rt->distance_sampler);
+    glSamplerParameteri(rt->distance_sampler, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glSamplerParameteri(rt->distance_sampler, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glSamplerParameteri(rt->distance_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(rt->distance_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(rt->distance_sampler, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(rt->distance_sampler, GL_TEXTURE_COMPARE_MODE, GL_NONE);
     if ((st = sam_brdf_rho_dt_table(RHO_SIZE, RHO_SIZE, SKIN_F0, SAM_BRDF_ROUGHNESS_MAX, rt->rho_table, err)) !=
             SAM_OK ||
         (st = upload(rt, B_RHO_DT, rt->rho_table, sizeof rt->rho_table, err)) != SAM_OK ||
@@ -294,6 +302,11 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->tsd_blur_program);
     if (rt->tsd_accumulate_program)
         glDeleteProgram(rt->tsd_accumulate_program);
+    if (rt->tsm_program)
+        glDeleteProgram(rt->tsm_program);
+    sam_runtime_tsm_destroy(rt);
+    if (rt->distance_sampler)
+        glDeleteSamplers(1, &rt->distance_sampler);
     glDeleteVertexArrays(1, &rt->vao);
     glDeleteFramebuffers(1, &rt->fbo);
     sam_runtime_texture_space_destroy(rt);
@@ -449,6 +462,15 @@ static void draw_depth(sam_runtime *rt, GLenum attach_target, GLuint tex, GLsize
     glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
 }
 
+sam_mat4 sam_runtime_cube_face(const float origin[3], float far_plane, int face)
+{
+    static const float face_dir[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const float face_up[6][3] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    float target[3] = {origin[0] + face_dir[face][0], origin[1] + face_dir[face][1], origin[2] + face_dir[face][2]};
+    return sam_mat4_mul(sam_mat4_perspective(3.14159265f / 2, 1.0f, 1e-4f * far_plane, far_plane),
+                        sam_mat4_look_at(origin, target, face_up[face]));
+}
+
 /* Renders every shadowed light's map from the current positions. */
 static void render_shadows(sam_runtime *rt)
 {
@@ -461,8 +483,6 @@ static void render_shadows(sam_runtime *rt)
     glDisable(GL_CULL_FACE);
     glBindVertexArray(rt->vao);
     glUseProgram(rt->shadow_program);
-    static const float face_dir[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    static const float face_up[6][3] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
     uint32_t cube = 0, flat = 0;
     for (uint32_t i = 0; i < rt->light_count; ++i) {
         const sam_light *l = &rt->lights[i];
@@ -480,16 +500,12 @@ static void render_shadows(sam_runtime *rt)
             float dc = sqrtf((o[0] - rt->centre[0]) * (o[0] - rt->centre[0]) +
                              (o[1] - rt->centre[1]) * (o[1] - rt->centre[1]) +
                              (o[2] - rt->centre[2]) * (o[2] - rt->centre[2]));
-            float far_plane = 1.01f * (dc + rt->radius), near_plane = 1e-4f * far_plane;
+            float far_plane = 1.01f * (dc + rt->radius);
             if (!rt->cube_tex[cube])
                 rt->cube_tex[cube] = shadow_texture(GL_TEXTURE_CUBE_MAP, CUBE_SHADOW_SIZE);
-            sam_mat4 proj = sam_mat4_perspective(3.14159265f / 2, 1.0f, near_plane, far_plane);
-            for (int f = 0; f < 6; ++f) {
-                float target[3] = {o[0] + face_dir[f][0], o[1] + face_dir[f][1], o[2] + face_dir[f][2]};
-                sam_mat4 vp = sam_mat4_mul(proj, sam_mat4_look_at(o, target, face_up[f]));
-                draw_depth(rt, GL_TEXTURE_CUBE_MAP_POSITIVE_X + (GLenum)f, rt->cube_tex[cube], CUBE_SHADOW_SIZE, vp,
-                           1, o, far_plane);
-            }
+            for (int f = 0; f < 6; ++f)
+                draw_depth(rt, GL_TEXTURE_CUBE_MAP_POSITIVE_X + (GLenum)f, rt->cube_tex[cube], CUBE_SHADOW_SIZE,
+                           sam_runtime_cube_face(o, far_plane, f), 1, o, far_plane);
             memcpy(rt->cube_origin[cube], o, sizeof o);
             rt->cube_far[cube] = far_plane;
             cube++;
@@ -514,6 +530,7 @@ static void render_shadows(sam_runtime *rt)
                 float eye[3] = {rt->centre[0] - d[0] * 2 * r, rt->centre[1] - d[1] * 2 * r,
                                 rt->centre[2] - d[2] * 2 * r};
                 vp = sam_mat4_mul(sam_mat4_ortho(-r, r, -r, r, 0.0f, 4 * r), sam_mat4_look_at(eye, rt->centre, up));
+                rt->flat_range[flat] = 4 * r;
             }
             if (!rt->flat_tex[flat])
                 rt->flat_tex[flat] = shadow_texture(GL_TEXTURE_2D, FLAT_SHADOW_SIZE);
@@ -531,8 +548,7 @@ static void render_shadows(sam_runtime *rt)
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-/* Binds the shadow maps and their uniforms (shadows.glsl) to program p. */
-static void bind_shadows(const sam_runtime *rt, GLuint p)
+void sam_runtime_bind_shadows(const sam_runtime *rt, GLuint p)
 {
     /* Every sampler gets a unit of its own type, used or not: GL rejects
      * two sampler types on one unit. */
@@ -580,7 +596,7 @@ sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
     glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
     glUniform1ui(glGetUniformLocation(p, "u_light_count"), rt->light_count);
     set_surface_uniforms(rt, p);
-    bind_shadows(rt, p);
+    sam_runtime_bind_shadows(rt, p);
     for (int b = 0; b < B_COUNT; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
     glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_IRRADIANCE]);
@@ -657,27 +673,63 @@ sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam
     rt->albedo_tex = 0;
     if (!map)
         return SAM_OK;
-    glGenTextures(1, &rt->albedo_tex);
-    glBindTexture(GL_TEXTURE_2D, rt->albedo_tex);
     GLsizei levels = 1;
     for (uint32_t side = map->width > map->height ? map->width : map->height; side > 1; side /= 2)
         levels++;
-    glTexStorage2D(GL_TEXTURE_2D, levels, GL_RGBA32F, (GLsizei)map->width, (GLsizei)map->height);
-    /* Image rows run top-down and UV's v up: upload them bottom row first. */
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    GLenum format = map->channels == 4 ? GL_RGBA : GL_RGB;
-    for (uint32_t y = 0; y < map->height; ++y)
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, (GLint)(map->height - 1 - y), (GLsizei)map->width, 1, format, GL_FLOAT,
-                        map->pixels + (size_t)y * map->width * map->channels);
+    /* Image rows run top-down and UV's v up. */
+    rt->albedo_tex = sam_runtime_image_texture(map, levels, 1);
+    if (!rt->albedo_tex)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not store a %ux%u albedo map",
+                        map->width, map->height);
     glGenerateMipmap(GL_TEXTURE_2D);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    return SAM_OK;
+}
+
+GLuint sam_runtime_image_texture(const sam_image *image, GLsizei levels, int flip)
+{
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexStorage2D(GL_TEXTURE_2D, levels, GL_RGBA32F, (GLsizei)image->width, (GLsizei)image->height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    GLenum format = image->channels == 4 ? GL_RGBA : GL_RGB;
+    for (uint32_t y = 0; y < image->height; ++y)
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, (GLint)(flip ? image->height - 1 - y : y), (GLsizei)image->width, 1,
+                        format, GL_FLOAT, image->pixels + (size_t)y * image->width * image->channels);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    return glGetError() == GL_NO_ERROR
-               ? SAM_OK
-               : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not store a %ux%u albedo map",
-                          map->width, map->height);
+    if (glGetError() != GL_NO_ERROR) {
+        glDeleteTextures(1, &tex);
+        return 0;
+    }
+    return tex;
+}
+
+sam_status sam_runtime_read_texture(GLuint tex, uint32_t full_width, uint32_t full_height, uint32_t w, uint32_t h,
+                                    int flip, sam_image *out, sam_error *err)
+{
+    sam_image whole;
+    sam_status st = sam_image_create(&whole, full_width, full_height, 4, err);
+    if (st != SAM_OK)
+        return st;
+    if ((st = sam_image_create(out, w, h, 4, err)) != SAM_OK) {
+        sam_image_destroy(&whole);
+        return st;
+    }
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, whole.pixels);
+    for (uint32_t y = 0; y < h; ++y)
+        memcpy(out->pixels + (size_t)(flip ? h - 1 - y : y) * w * 4, whole.pixels + (size_t)y * full_width * 4,
+               (size_t)w * 4 * sizeof(float));
+    sam_image_destroy(&whole);
+    return SAM_OK;
 }
 
 void sam_runtime_bind_albedo(const sam_runtime *rt, GLuint p)
@@ -706,8 +758,29 @@ static sam_status check_view(const sam_runtime *rt, const sam_render_view *view,
     if (!(o->texels_per_pixel >= 0 && o->texels_per_pixel <= 16))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: %g texels per pixel outside (0, 16]",
                         o->texels_per_pixel);
+    if ((unsigned)view->technique > SAM_TECHNIQUE_TRANSMITTANCE)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: unknown technique %d", (int)view->technique);
+    int tsm = view->technique == SAM_TECHNIQUE_TSM && !view->translucency;
+    if (tsm && view->diffusion != 3)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                        "render: the tsm technique needs texture-space diffusion (diffusion 3) and usable UVs; "
+                        "got diffusion %d",
+                        view->diffusion);
     if (view->diffusion == 3 && !rt->uv_usable)
-        return sam_fail(err, SAM_ERR_UNSUPPORTED, "render: texture-space diffusion cannot run: %s", rt->uv_reason);
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "render: texture-space diffusion%s cannot run: %s",
+                        tsm ? " (which tsm needs)" : "", rt->uv_reason);
+    const sam_image *t = view->translucency;
+    if (t && t->channels != 3 && t->channels != 4)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: translucency override with %u channels; need 3 or 4",
+                        t->channels);
+    if (t && view->diffusion == 3 && o->depth_sized)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "render: a translucency override needs a fixed atlas; turn depth_sized off");
+    uint32_t want_w = view->diffusion == 3 ? sam_runtime_atlas_size(view) : view->width,
+             want_h = view->diffusion == 3 ? want_w : view->height;
+    if (t && (t->width != want_w || t->height != want_h))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: translucency override is %ux%u; the %s is %ux%u",
+                        t->width, t->height, view->diffusion == 3 ? "atlas" : "view", want_w, want_h);
     return SAM_OK;
 }
 
@@ -746,6 +819,91 @@ static void screen_space_diffusion(sam_runtime *rt, const sam_render_view *view)
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
+/* The camera of `view`: near and far from the object's bounds where 0. */
+static void view_matrices(const sam_runtime *rt, const sam_render_view *view, sam_mat4 *proj, sam_mat4 *view_proj)
+{
+    float dist = sqrtf((view->eye[0] - rt->centre[0]) * (view->eye[0] - rt->centre[0]) +
+                       (view->eye[1] - rt->centre[1]) * (view->eye[1] - rt->centre[1]) +
+                       (view->eye[2] - rt->centre[2]) * (view->eye[2] - rt->centre[2]));
+    float far_plane = view->far_plane > 0 ? view->far_plane : dist + 2.0f * rt->radius;
+    float near_plane = view->near_plane > 0 ? view->near_plane : fmaxf(1e-4f * far_plane, dist - 2.0f * rt->radius);
+    *proj = sam_mat4_perspective(view->fov_deg * 3.14159265f / 180.0f, (float)view->width / (float)view->height,
+                                 near_plane, far_plane);
+    *view_proj = sam_mat4_mul(*proj, sam_mat4_look_at(view->eye, view->target, view->up));
+}
+
+/* The shading pass into the view targets (0 colour or entering light +
+ * depth, 1 factor, 2 specular), or with `gbuffer` positions into 0 and
+ * normals into 1 through the same rasterisation. */
+static void draw_view(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *vp, int mode, GLuint override_tex,
+                      int tsm, int gbuffer)
+{
+    static const GLenum attachments[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glBindFramebuffer(GL_FRAMEBUFFER, rt->view_fbo);
+    glDrawBuffers(3, attachments);
+    glViewport(0, 0, (GLsizei)view->width, (GLsizei)view->height);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    GLuint p = rt->shade_program;
+    int texture_space = view->diffusion == 3 && !gbuffer;
+    glUseProgram(p);
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_view_proj"), 1, GL_FALSE, vp->m);
+    glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, view->eye);
+    glUniform3fv(glGetUniformLocation(p, "u_albedo"), 1, view->albedo);
+    glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
+    glUniform1i(glGetUniformLocation(p, "u_front"), view->front);
+    glUniform1i(glGetUniformLocation(p, "u_gbuffer"), gbuffer);
+    glUniform1f(glGetUniformLocation(p, "u_roughness"), rt->roughness);
+    glUniform1f(glGetUniformLocation(p, "u_f0"), SKIN_F0);
+    glUniform1ui(glGetUniformLocation(p, "u_light_count"), view->front ? rt->light_count : 0);
+    glUniform1i(glGetUniformLocation(p, "u_split"), view->diffusion == 1);
+    glUniform1i(glGetUniformLocation(p, "u_preintegrated"), view->diffusion == 2);
+    glUniform1i(glGetUniformLocation(p, "u_texture_space"), texture_space);
+    /* A TSM's atlas holds the front light even when the view shows none. */
+    glUniform1i(glGetUniformLocation(p, "u_read_atlas"), !(tsm && !view->front));
+    glUniform1i(glGetUniformLocation(p, "u_tsm"), tsm);
+    glActiveTexture(GL_TEXTURE0 + UNIT_ATLAS);
+    glBindTexture(GL_TEXTURE_2D, texture_space ? rt->atlas_tex[ATLAS_SUM] : 0);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(glGetUniformLocation(p, "u_atlas"), UNIT_ATLAS);
+    if (texture_space) {
+        glUniform1f(glGetUniformLocation(p, "u_atlas_scale"), (float)rt->atlas_used / (float)rt->atlas_allocated);
+        glUniform1f(glGetUniformLocation(p, "u_atlas_texel"), 1.0f / (float)rt->atlas_allocated);
+    }
+    sam_runtime_bind_albedo(rt, p);
+    glUniform1i(glGetUniformLocation(p, "u_pre_size"), PRE_SIZE);
+    glUniform1f(glGetUniformLocation(p, "u_pre_max_curvature"), PRE_MAX_CURVATURE);
+    glUniform1f(glGetUniformLocation(p, "u_pre_max_penumbra"), PRE_MAX_PENUMBRA_MM);
+    glUniform1f(glGetUniformLocation(p, "u_min_penumbra"), rt->min_penumbra_mm);
+    float forward[3] = {view->target[0] - view->eye[0], view->target[1] - view->eye[1],
+                        view->target[2] - view->eye[2]};
+    float fl = sqrtf(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
+    for (int c = 0; c < 3; ++c)
+        forward[c] /= fl;
+    glUniform3fv(glGetUniformLocation(p, "u_forward"), 1, forward);
+    set_surface_uniforms(rt, p);
+    sam_runtime_bind_shadows(rt, p);
+    /* With texture space the atlas carries the translucency (the override
+     * there is atlas-sized): the pass itself adds none. */
+    sam_runtime_bind_technique(rt, p, texture_space ? TECHNIQUE_NONE : mode, texture_space ? 0 : override_tex);
+    sam_runtime_bind_tsm(rt, p);
+    for (int b = 0; b < B_COUNT; ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+    /* The G-buffer is no frame: it leaves the shading pass's time alone. */
+    if (!gbuffer)
+        glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_SHADE]);
+    glBindVertexArray(rt->vao);
+    glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
+    glBindVertexArray(0);
+    if (!gbuffer) {
+        glEndQuery(GL_TIME_ELAPSED);
+        rt->query_used[SAM_PASS_SHADE] = 1;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -759,78 +917,27 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         st = ensure_view_targets(rt, view->width, view->height, err);
     if (st != SAM_OK)
         return st;
-
-    float dist = sqrtf((view->eye[0] - rt->centre[0]) * (view->eye[0] - rt->centre[0]) +
-                       (view->eye[1] - rt->centre[1]) * (view->eye[1] - rt->centre[1]) +
-                       (view->eye[2] - rt->centre[2]) * (view->eye[2] - rt->centre[2]));
-    float far_plane = view->far_plane > 0 ? view->far_plane : dist + 2.0f * rt->radius;
-    float near_plane = view->near_plane > 0 ? view->near_plane : fmaxf(1e-4f * far_plane, dist - 2.0f * rt->radius);
-    sam_mat4 proj = sam_mat4_perspective(view->fov_deg * 3.14159265f / 180.0f,
-                                         (float)view->width / (float)view->height, near_plane, far_plane);
-    sam_mat4 vp = sam_mat4_mul(proj, sam_mat4_look_at(view->eye, view->target, view->up));
-    if (view->diffusion == 3) {
+    sam_mat4 proj, vp;
+    view_matrices(rt, view, &proj, &vp);
+    int mode = sam_runtime_technique_mode(view);
+    int tsm = view->technique == SAM_TECHNIQUE_TSM && !view->translucency;
+    GLuint override_tex = 0;
+    /* View-sized overrides run top-down like the images; atlas-sized ones
+     * in read_atlas's order, which is GL's. */
+    if (view->translucency && !(override_tex = sam_runtime_image_texture(view->translucency, 1, view->diffusion != 3)))
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: the GL could not store a %ux%u translucency override",
+                        view->translucency->width, view->translucency->height);
+    if (tsm)
+        st = sam_runtime_render_tsm(rt, err);
+    if (st == SAM_OK && view->diffusion == 3) {
         glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_DIFFUSION]);
-        st = sam_runtime_texture_space(rt, view, &vp, &proj, err);
+        st = sam_runtime_texture_space(rt, view, &vp, &proj, mode, override_tex, tsm, err);
         glEndQuery(GL_TIME_ELAPSED);
         rt->query_used[SAM_PASS_DIFFUSION] = 1;
-        if (st != SAM_OK)
-            return st;
     }
-    if ((st = sam_image_create(out, view->width, view->height, 4, err)) != SAM_OK)
-        return st;
-
-    static const GLenum attachments[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glBindFramebuffer(GL_FRAMEBUFFER, rt->view_fbo);
-    glDrawBuffers(3, attachments);
-    glViewport(0, 0, (GLsizei)view->width, (GLsizei)view->height);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    GLuint p = rt->shade_program;
-    glUseProgram(p);
-    glUniformMatrix4fv(glGetUniformLocation(p, "u_view_proj"), 1, GL_FALSE, vp.m);
-    glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, view->eye);
-    glUniform3fv(glGetUniformLocation(p, "u_albedo"), 1, view->albedo);
-    glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
-    glUniform1i(glGetUniformLocation(p, "u_front"), view->front);
-    glUniform1f(glGetUniformLocation(p, "u_roughness"), rt->roughness);
-    glUniform1f(glGetUniformLocation(p, "u_f0"), SKIN_F0);
-    glUniform1ui(glGetUniformLocation(p, "u_light_count"), view->front ? rt->light_count : 0);
-    glUniform1i(glGetUniformLocation(p, "u_split"), view->diffusion == 1);
-    glUniform1i(glGetUniformLocation(p, "u_preintegrated"), view->diffusion == 2);
-    glUniform1i(glGetUniformLocation(p, "u_texture_space"), view->diffusion == 3);
-    glActiveTexture(GL_TEXTURE0 + UNIT_ATLAS);
-    glBindTexture(GL_TEXTURE_2D, view->diffusion == 3 ? rt->atlas_tex[ATLAS_SUM] : 0);
-    glActiveTexture(GL_TEXTURE0);
-    glUniform1i(glGetUniformLocation(p, "u_atlas"), UNIT_ATLAS);
-    if (view->diffusion == 3) {
-        glUniform1f(glGetUniformLocation(p, "u_atlas_scale"), (float)rt->atlas_used / (float)rt->atlas_allocated);
-        glUniform1f(glGetUniformLocation(p, "u_atlas_texel"), 1.0f / (float)rt->atlas_allocated);
-    }
-    sam_runtime_bind_albedo(rt, p);
-    glUniform1i(glGetUniformLocation(p, "u_pre_size"), PRE_SIZE);
-    glUniform1f(glGetUniformLocation(p, "u_pre_max_curvature"), PRE_MAX_CURVATURE);
-    glUniform1f(glGetUniformLocation(p, "u_pre_max_penumbra"), PRE_MAX_PENUMBRA_MM);
-    glUniform1f(glGetUniformLocation(p, "u_min_penumbra"), rt->min_penumbra_mm);
-    glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
-    float forward[3] = {view->target[0] - view->eye[0], view->target[1] - view->eye[1],
-                        view->target[2] - view->eye[2]};
-    float fl = sqrtf(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
-    for (int c = 0; c < 3; ++c)
-        forward[c] /= fl;
-    glUniform3fv(glGetUniformLocation(p, "u_forward"), 1, forward);
-    set_surface_uniforms(rt, p);
-    bind_shadows(rt, p);
-    for (int b = 0; b < B_COUNT; ++b)
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
-    glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_SHADE]);
-    glBindVertexArray(rt->vao);
-    glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
-    glBindVertexArray(0);
-    glEndQuery(GL_TIME_ELAPSED);
-    rt->query_used[SAM_PASS_SHADE] = 1;
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (st != SAM_OK)
+        goto done;
+    draw_view(rt, view, &vp, mode, override_tex, tsm, 0);
     GLuint result = rt->view_tex[0];
     if (view->diffusion == 1) {
         glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_DIFFUSION]);
@@ -840,23 +947,75 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         result = rt->view_tex[3];
     }
     /* GL's rows run bottom-up; images top-down. */
-    size_t row = (size_t)view->width * 4;
-    glBindTexture(GL_TEXTURE_2D, result);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out->pixels);
-    float *tmp = malloc(row * sizeof *tmp);
-    if (!tmp) {
-        sam_image_destroy(out);
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: out of memory");
+    st = sam_runtime_read_texture(result, view->width, view->height, view->width, view->height, 1, out, err);
+done:
+    if (override_tex)
+        glDeleteTextures(1, &override_tex);
+    return st;
+}
+
+sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *view, sam_gbuffer_space space,
+                               sam_image *positions, sam_image *normals, sam_error *err)
+{
+    memset(positions, 0, sizeof *positions);
+    memset(normals, 0, sizeof *normals);
+    if ((unsigned)space > SAM_GBUFFER_ATLAS)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "gbuffer: unknown space %d", (int)space);
+    /* Only the geometry matters: no technique, override or TSM checks. */
+    sam_render_view geometry = *view;
+    geometry.technique = SAM_TECHNIQUE_SAM;
+    geometry.translucency = NULL;
+    geometry.diffusion = space == SAM_GBUFFER_ATLAS ? 3 : 0;
+    sam_status st = check_view(rt, &geometry, err);
+    if (st != SAM_OK)
+        return st;
+    uint32_t side = sam_runtime_atlas_size(view);
+    if (space == SAM_GBUFFER_ATLAS && (side < 64 || side > 4096 || view->options.depth_sized))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "gbuffer: the atlas needs a fixed side in 64..4096 (atlas size %u, depth_sized %d)", side,
+                        view->options.depth_sized);
+    sam_mat4 proj, vp;
+    view_matrices(rt, view, &proj, &vp);
+    GLuint tex[2] = {0, 0}, fbo = 0;
+    uint32_t w = view->width, h = view->height;
+    if (space == SAM_GBUFFER_SCREEN) {
+        if ((st = ensure_view_targets(rt, w, h, err)) != SAM_OK)
+            return st;
+        draw_view(rt, &geometry, &vp, TECHNIQUE_NONE, 0, 0, 1);
+        tex[0] = rt->view_tex[0];
+        tex[1] = rt->view_tex[1];
+    } else {
+        w = h = side;
+        while (glGetError() != GL_NO_ERROR) {
+        }
+        glGenTextures(2, tex);
+        for (int i = 0; i < 2; ++i) {
+            glBindTexture(GL_TEXTURE_2D, tex[i]);
+            glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, (GLsizei)side, (GLsizei)side);
+        }
+        glGenFramebuffers(1, &fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[0], 0);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[1], 0);
+        static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glDrawBuffers(2, two);
+        if (glGetError() != GL_NO_ERROR || glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "gbuffer: the GL could not make two %u^2 atlas maps", side);
+        else
+            sam_runtime_draw_atlas(rt, &geometry, &vp, &proj, side, TECHNIQUE_NONE, 0, 0, 1);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
-    for (uint32_t y = 0; y < view->height / 2; ++y) {
-        float *a = out->pixels + y * row, *b = out->pixels + (view->height - 1 - y) * row;
-        memcpy(tmp, a, row * sizeof *tmp);
-        memcpy(a, b, row * sizeof *tmp);
-        memcpy(b, tmp, row * sizeof *tmp);
+    /* Screen rows top-down like sam_runtime_render; atlas rows in
+     * read_atlas's order (row v = texel row v). */
+    int flip = space == SAM_GBUFFER_SCREEN;
+    if (st == SAM_OK && (st = sam_runtime_read_texture(tex[0], w, h, w, h, flip, positions, err)) == SAM_OK &&
+        (st = sam_runtime_read_texture(tex[1], w, h, w, h, flip, normals, err)) != SAM_OK)
+        sam_image_destroy(positions);
+    if (space == SAM_GBUFFER_ATLAS) {
+        glDeleteFramebuffers(1, &fbo);
+        glDeleteTextures(2, tex);
     }
-    free(tmp);
-    return SAM_OK;
+    return st;
 }
 
 sam_status sam_runtime_set_irradiance(sam_runtime *rt, const float *rgb, sam_error *err)

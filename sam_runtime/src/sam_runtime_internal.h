@@ -21,9 +21,23 @@ enum { B_POSITIONS, B_NORMALS, B_SAMPLES, B_FAN_AREAS, B_IRRADIANCE, B_TRANSLUCE
 #define MAX_FLAT_SHADOWS 4
 #define CUBE_SHADOW_SIZE 512
 #define FLAT_SHADOW_SIZE 1024
-/* Texture units: the shadow maps take 0..7, then these. */
+/* Texture units: the shadow maps take 0..7, then these (23 in all: GL 4.3
+ * promises 16 per stage, llvmpipe and desktop GPUs give 32). Every sampler
+ * of a program gets its own unit, used or not: GL rejects a draw with two
+ * sampler types on one unit. */
 #define UNIT_ATLAS (MAX_CUBE_SHADOWS + MAX_FLAT_SHADOWS)
 #define UNIT_ALBEDO (UNIT_ATLAS + 1)
+#define UNIT_CUBE_DISTANCE (UNIT_ALBEDO + 1)                    /* the cube maps read as distances */
+#define UNIT_FLAT_DISTANCE (UNIT_CUBE_DISTANCE + MAX_CUBE_SHADOWS) /* the 2D maps likewise */
+#define UNIT_OVERRIDE (UNIT_FLAT_DISTANCE + MAX_FLAT_SHADOWS)
+#define UNIT_TSM_FLAT (UNIT_OVERRIDE + 1)
+#define UNIT_TSM_CUBE (UNIT_TSM_FLAT + 1)
+#define UNIT_LEVELS (UNIT_TSM_CUBE + 1)
+#define UNIT_STRETCH (UNIT_LEVELS + 1)
+
+/* Where a pass's translucency comes from (technique.glsl's TECHNIQUE_*).
+ * TSM passes NONE here: its light is added after the texture-space blur. */
+enum { TECHNIQUE_VERTEX = 0, TECHNIQUE_NONE = 1, TECHNIQUE_TRANSMITTANCE = 2, TECHNIQUE_OVERRIDE = 3 };
 
 #define RHO_SIZE SAM_BRDF_RHO_DT_TABLE_SIZE
 #define SKIN_F0 0.028f
@@ -68,6 +82,10 @@ struct sam_runtime {
     GLuint tsd_program, tsd_blur_program, tsd_accumulate_program, tsd_fbo;
     GLuint atlas_tex[ATLAS_COUNT];
     uint32_t atlas_allocated, atlas_used; /* texture side, and the side of the last render */
+    /* Every convolved level, kept for translucent shadow maps (allocated on
+     * their first use): a 2D array, and a 2D view of each layer for the blur. */
+    GLuint level_array, level_view[SAM_PROFILE_FIT_GAUSSIANS];
+    uint32_t level_count;
     GLuint albedo_tex;
 
     /* View-sized targets of sam_runtime_render, re-created on resize. */
@@ -80,14 +98,68 @@ struct sam_runtime {
     float cube_origin[MAX_CUBE_SHADOWS][3], cube_far[MAX_CUBE_SHADOWS];
     sam_mat4 flat_matrix[MAX_FLAT_SHADOWS];
     float flat_origin[MAX_FLAT_SHADOWS][3], flat_far[MAX_FLAT_SHADOWS]; /* far = 0: projected depth */
+    float flat_range[MAX_FLAT_SHADOWS]; /* directional: model units from window depth 0 to 1 */
     sam_light *lights;
+    GLuint distance_sampler; /* nearest, no comparison: shadow maps read as distances */
+
+    /* Translucent shadow maps (allocated on first use): layers 2k and 2k + 1
+     * of shadow map k hold (u, v, distance, 1) and (normal, 1). */
+    GLuint tsm_program, tsm_fbo, tsm_depth, tsm_flat_tex, tsm_cube_tex;
+    uint32_t tsm_flat_count, tsm_cube_count; /* maps the textures have room for */
 };
+
+/* sam_runtime.c. The view-projection of face `face` of a cube map at
+ * `origin` reaching `far_plane` (the shadow maps' and the TSMs'). */
+sam_mat4 sam_runtime_cube_face(const float origin[3], float far_plane, int face);
+
+/* Binds the shadow maps and their uniforms (shadows.glsl) to program p. */
+void sam_runtime_bind_shadows(const sam_runtime *rt, GLuint p);
+
+/* sam_runtime_technique.c. The translucency source of `view`'s passes
+ * (TECHNIQUE_*). */
+int sam_runtime_technique_mode(const sam_render_view *view);
+
+/* Sets technique.glsl's uniforms for program p: `mode`, the fit, the
+ * shadow maps read as distances, and `override_tex` (0: none) on its unit. */
+void sam_runtime_bind_technique(const sam_runtime *rt, GLuint p, int mode, GLuint override_tex);
+
+/* Binds tsm_read.glsl's maps for program p (the shading program); the
+ * levels and stretch map come from the last texture-space render. */
+void sam_runtime_bind_tsm(const sam_runtime *rt, GLuint p);
+
+/* Renders a TSM for every shadowed point, spot and directional light, from
+ * the shadow maps' last positions. Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_render_tsm(sam_runtime *rt, sam_error *err);
+void sam_runtime_tsm_destroy(sam_runtime *rt);
+
+/* A new RGBA32F texture of `image` (3 or 4 channels; rows bottom-up when
+ * `flip`: image rows run top-down, GL's and UV's v up), with `levels` mip
+ * levels (the caller generates them); 0 when the GL could not store it. */
+GLuint sam_runtime_image_texture(const sam_image *image, GLsizei levels, int flip);
+
+/* Reads the w x h corner of texture `tex` (RGBA32F, `full` texels wide)
+ * into a new RGBA image, rows flipped to run top-down when `flip`.
+ * Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_read_texture(GLuint tex, uint32_t full_width, uint32_t full_height, uint32_t w, uint32_t h,
+                                    int flip, sam_image *out, sam_error *err);
 
 /* sam_runtime_tsd.c. Runs texture-space diffusion of the entering light
  * for `view` (view_proj its camera matrix, proj its projection) into
- * rt->atlas_tex[ATLAS_SUM]; sets rt->atlas_used. */
+ * rt->atlas_tex[ATLAS_SUM] with translucency `mode` (override_tex: the
+ * override's texture or 0); sets rt->atlas_used. `tsm`: front light goes
+ * in whatever view->front says, and every level is kept for the TSMs. */
 sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
-                                     const sam_mat4 *proj, sam_error *err);
+                                     const sam_mat4 *proj, int mode, GLuint override_tex, int tsm, sam_error *err);
+
+/* The atlas side `view` asks for (options.atlas_size or the default). */
+uint32_t sam_runtime_atlas_size(const sam_render_view *view);
+
+/* Draws the mesh unwrapped into the bound framebuffer's side x side corner
+ * with the texture-space program: the entering light and stretch map, or
+ * with `gbuffer` the position and normal (no culling or clipping). */
+void sam_runtime_draw_atlas(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
+                            const sam_mat4 *proj, uint32_t side, int mode, GLuint override_tex, int front,
+                            int gbuffer);
 void sam_runtime_texture_space_destroy(sam_runtime *rt);
 
 /* Binds the albedo map (or a white texel's absence: u_has_albedo_map = 0)

@@ -55,6 +55,52 @@ void sam_runtime_texture_space_destroy(sam_runtime *rt)
         glDeleteTextures(ATLAS_COUNT, rt->atlas_tex);
     memset(rt->atlas_tex, 0, sizeof rt->atlas_tex);
     rt->atlas_allocated = rt->atlas_used = 0;
+    if (rt->level_count) {
+        glDeleteTextures((GLsizei)rt->level_count, rt->level_view);
+        glDeleteTextures(1, &rt->level_array);
+    }
+    memset(rt->level_view, 0, sizeof rt->level_view);
+    rt->level_array = 0;
+    rt->level_count = 0;
+}
+
+/* One layer per Gaussian at the atlas's side, each also a 2D texture (a
+ * view of its layer) that the blur reads and writes like the other maps. */
+static sam_status ensure_levels(sam_runtime *rt, sam_error *err)
+{
+    if (rt->level_count == rt->fit.count)
+        return SAM_OK;
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    GLsizei side = (GLsizei)rt->atlas_allocated, count = (GLsizei)rt->fit.count;
+    glGenTextures(1, &rt->level_array);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, rt->level_array);
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F, side, side, count);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glGenTextures(count, rt->level_view);
+    rt->level_count = rt->fit.count;
+    for (GLsizei i = 0; i < count; ++i) {
+        glTextureView(rt->level_view[i], GL_TEXTURE_2D, rt->level_array, GL_RGBA32F, 0, 1, (GLuint)i, 1);
+        glBindTexture(GL_TEXTURE_2D, rt->level_view[i]);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    if (glGetError() != GL_NO_ERROR) {
+        sam_runtime_texture_space_destroy(rt);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY,
+                        "render: the GL could not allocate %d texture-space levels of %d^2 for the TSMs", count, side);
+    }
+    return SAM_OK;
+}
+
+uint32_t sam_runtime_atlas_size(const sam_render_view *view)
+{
+    return view->options.atlas_size ? view->options.atlas_size : DEFAULT_ATLAS;
 }
 
 /* Eq. 3-4: T = min(1, d_ref / d) T_max. A texel spans about
@@ -78,23 +124,11 @@ static uint32_t atlas_side(const sam_runtime *rt, const sam_render_view *view, u
     return need < MIN_ATLAS ? MIN_ATLAS : (uint32_t)ceil(need);
 }
 
-sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
-                                     const sam_mat4 *proj, sam_error *err)
+void sam_runtime_draw_atlas(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
+                            const sam_mat4 *proj, uint32_t side, int mode, GLuint override_tex, int front,
+                            int gbuffer)
 {
-    uint32_t max_side = view->options.atlas_size ? view->options.atlas_size : DEFAULT_ATLAS;
-    if (max_side < MIN_ATLAS || max_side > 4096)
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: atlas size %u outside %d..4096", max_side, MIN_ATLAS);
-    sam_status st = ensure_atlas(rt, max_side, err);
-    if (st != SAM_OK)
-        return st;
-    uint32_t side = atlas_side(rt, view, max_side);
-    const GLuint *tex = rt->atlas_tex;
-
-    glBindFramebuffer(GL_FRAMEBUFFER, rt->tsd_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[ATLAS_IRRADIANCE], 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[ATLAS_STRETCH], 0);
-    static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glDrawBuffers(2, two);
+    int culled = view->options.culled && !gbuffer, clipped = view->options.clipped && !gbuffer;
     glViewport(0, 0, (GLsizei)side, (GLsizei)side);
     glEnable(GL_SCISSOR_TEST);
     glScissor(0, 0, (GLsizei)side, (GLsizei)side);
@@ -106,10 +140,10 @@ sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *vie
     GLuint p = rt->tsd_program;
     glUseProgram(p);
     glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
-    glUniform1i(glGetUniformLocation(p, "u_front"), view->front);
-    glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+    glUniform1i(glGetUniformLocation(p, "u_front"), front);
+    glUniform1i(glGetUniformLocation(p, "u_gbuffer"), gbuffer);
     glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, view->eye);
-    glUniform1i(glGetUniformLocation(p, "u_culled"), view->options.culled);
+    glUniform1i(glGetUniformLocation(p, "u_culled"), culled);
     float widest = sqrtf(rt->fit.count ? rt->fit.variance[rt->fit.count - 1] : 0.0f);
     glUniform1f(glGetUniformLocation(p, "u_cull_reach"), CULL_REACH * widest);
     glUniform1f(glGetUniformLocation(p, "u_cull_min"), CULL_MIN);
@@ -119,12 +153,14 @@ sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *vie
     float margin = 3.0f * widest / rt->mm_per_unit;
     float clip_margin[2] = {proj->m[0] * margin, proj->m[5] * margin};
     glUniform2fv(glGetUniformLocation(p, "u_clip_margin"), 1, clip_margin);
-    glUniform1i(glGetUniformLocation(p, "u_clipped"), view->options.clipped);
+    glUniform1i(glGetUniformLocation(p, "u_clipped"), clipped);
     glUniform3fv(glGetUniformLocation(p, "u_albedo"), 1, view->albedo);
     sam_runtime_bind_albedo(rt, p);
+    sam_runtime_bind_shadows(rt, p);
+    sam_runtime_bind_technique(rt, p, mode, override_tex);
     for (int b = 0; b < B_COUNT; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
-    if (view->options.clipped)
+    if (clipped)
         for (int i = 0; i < 4; ++i)
             glEnable(GL_CLIP_DISTANCE0 + (GLenum)i);
     glBindVertexArray(rt->vao);
@@ -132,16 +168,45 @@ sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *vie
     glBindVertexArray(0);
     for (int i = 0; i < 4; ++i)
         glDisable(GL_CLIP_DISTANCE0 + (GLenum)i);
+}
+
+sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
+                                     const sam_mat4 *proj, int mode, GLuint override_tex, int tsm, sam_error *err)
+{
+    uint32_t max_side = sam_runtime_atlas_size(view);
+    if (max_side < MIN_ATLAS || max_side > 4096)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: atlas size %u outside %d..4096", max_side, MIN_ATLAS);
+    sam_status st = ensure_atlas(rt, max_side, err);
+    if (st == SAM_OK && tsm)
+        st = ensure_levels(rt, err);
+    if (st != SAM_OK)
+        return st;
+    uint32_t side = atlas_side(rt, view, max_side);
+    const GLuint *tex = rt->atlas_tex;
+
+    glBindFramebuffer(GL_FRAMEBUFFER, rt->tsd_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[ATLAS_IRRADIANCE], 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[ATLAS_STRETCH], 0);
+    static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, two);
+    /* A TSM transmits the light-facing side's front light, shown or not,
+     * and that side mostly faces away from the eye or lies off screen: no
+     * culling or clipping may drop it. */
+    sam_render_view whole = *view;
+    if (tsm)
+        whole.options.culled = whole.options.clipped = 0;
+    sam_runtime_draw_atlas(rt, &whole, view_proj, proj, side, mode, override_tex, view->front || tsm, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 
     /* One level per Gaussian, each the previous blurred by the variance it
-     * lacks, ping-ponging between two maps so the irradiance map survives. */
+     * lacks, ping-ponging between two maps so the irradiance map survives
+     * (or, for the TSMs, each in a layer of its own). */
     GLuint groups = (side + 7) / 8, level = tex[ATLAS_IRRADIANCE];
     GLint size[2] = {(GLint)side, (GLint)side};
     float previous_variance = 0.0f;
     for (uint32_t g = 0; g < rt->fit.count; ++g) {
-        GLuint next = g % 2 ? tex[ATLAS_LEVEL_B] : tex[ATLAS_LEVEL_A];
+        GLuint next = tsm ? rt->level_view[g] : g % 2 ? tex[ATLAS_LEVEL_B] : tex[ATLAS_LEVEL_A];
         float sigma = sqrtf(fmaxf(rt->fit.variance[g] - previous_variance, 0.0f));
         previous_variance = rt->fit.variance[g];
         GLuint b = rt->tsd_blur_program;
@@ -184,22 +249,7 @@ sam_status sam_runtime_read_atlas(sam_runtime *rt, sam_atlas_map map, sam_image 
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
                         rt->atlas_used ? "read_atlas: unknown map %d" : "read_atlas: no texture-space render yet (map %d)",
                         (int)map);
-    uint32_t side = rt->atlas_used, full = rt->atlas_allocated;
-    sam_image whole;
-    sam_status st = sam_image_create(&whole, full, full, 4, err);
-    if (st != SAM_OK)
-        return st;
-    if ((st = sam_image_create(out, side, side, 4, err)) != SAM_OK) {
-        sam_image_destroy(&whole);
-        return st;
-    }
-    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glBindTexture(GL_TEXTURE_2D, rt->atlas_tex[which[map]]);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, whole.pixels);
     /* Row v of the image is texel row v (v = 0 at the bottom of UV space). */
-    for (uint32_t y = 0; y < side; ++y)
-        memcpy(out->pixels + (size_t)y * side * 4, whole.pixels + (size_t)y * full * 4, (size_t)side * 4 * sizeof(float));
-    sam_image_destroy(&whole);
-    return SAM_OK;
+    return sam_runtime_read_texture(rt->atlas_tex[which[map]], rt->atlas_allocated, rt->atlas_allocated,
+                                     rt->atlas_used, rt->atlas_used, 0, out, err);
 }

@@ -26,7 +26,12 @@ static void usage(FILE *out)
             "                         the PNG's tone curve and exposure (default: the scene's)\n"
             "  --frames N             frames to run the SAM passes before the picture (default 1)\n"
             "  --dt S                 frame time in seconds for temporal smoothing (default 1/60)\n"
-            "  --technique sam|none   translucency technique (default: the scene's)\n"
+            "  --technique sam|none|tsm|transmittance\n"
+            "                         translucency technique (default: the scene's): spatial adjacency\n"
+            "                         maps, none, d'Eon's translucent shadow maps (needs --diffusion\n"
+            "                         texture and usable UVs), or Jimenez's shadow-map transmittance;\n"
+            "                         tsm and transmittance use the point, spot and directional lights\n"
+            "                         that cast shadows, never area lights or the environment\n"
             "  --translucency-only    the translucency alone, without front lighting\n"
             "  --diffusion none|screen|texture|preintegrated\n"
             "                         surface diffusion (default: the scene's): screen-space separable\n"
@@ -268,21 +273,22 @@ int main(int argc, char **argv)
         usage(stderr);
         return 2;
     }
-    if (technique && strcmp(technique, "sam") && strcmp(technique, "none")) {
-        fprintf(stderr, "sam_render: --technique must be sam or none (tsm and transmittance come with sam_compare), "
-                        "got \"%s\"\n",
-                technique);
+    static const char *const techniques[] = {"sam", "none", "tsm", "transmittance"};
+    int use_technique = -1;
+    for (int k = 0; technique && k < 4; ++k)
+        if (!strcmp(technique, techniques[k]))
+            use_technique = k;
+    if (technique && use_technique < 0) {
+        fprintf(stderr, "sam_render: --technique must be sam, none, tsm or transmittance, got \"%s\"\n", technique);
         return 2;
     }
     sam_error err;
     sam_scene scene;
     if (sam_scene_load(scene_path, &scene, &err) != SAM_OK)
         return fail(err.message);
-    int use_sam = technique ? !strcmp(technique, "sam") : scene.technique == SAM_TECHNIQUE_SAM;
-    if (!technique && scene.technique != SAM_TECHNIQUE_SAM && scene.technique != SAM_TECHNIQUE_NONE) {
-        sam_scene_destroy(&scene);
-        return fail("the scene's technique is not available in sam_render yet (sam or none)");
-    }
+    /* techniques[] follows sam_technique's order. */
+    sam_technique chosen = technique ? (sam_technique)use_technique : scene.technique;
+    int use_sam = chosen == SAM_TECHNIQUE_SAM;
     /* 0 none, 1 screen, 2 pre-integrated, 3 texture (sam_render_view.diffusion) */
     int use_diffusion = scene.diffusion == SAM_DIFFUSION_PREINTEGRATED ? 2
                         : scene.diffusion == SAM_DIFFUSION_TEXTURE    ? 3
@@ -292,6 +298,11 @@ int main(int argc, char **argv)
                         : !strcmp(diffusion, "preintegrated") ? 2
                         : !strcmp(diffusion, "texture")       ? 3
                                                               : 0;
+    if (chosen == SAM_TECHNIQUE_TSM && use_diffusion != 3) {
+        sam_scene_destroy(&scene);
+        return fail("the tsm technique needs texture-space diffusion (--diffusion texture or the scene's "
+                    "\"diffusion\": \"texture\")");
+    }
     samfile_data sam;
     sam_profile profile;
     float mm_per_unit;
@@ -349,6 +360,11 @@ int main(int argc, char **argv)
         view.options.texels_per_pixel = texels_per_pixel;
     char reason[160];
     if (use_diffusion == 3 && !sam_runtime_uv_status(rt, reason, sizeof reason)) {
+        if (chosen == SAM_TECHNIQUE_TSM) {
+            sam_fail(&err, SAM_ERR_UNSUPPORTED, "the tsm technique needs texture-space diffusion, which cannot run: %s",
+                     reason);
+            goto done;
+        }
         fprintf(stderr, "sam_render: warning: texture-space diffusion falls back to screen space: %s\n", reason);
         use_diffusion = 1;
     }
@@ -364,6 +380,7 @@ int main(int argc, char **argv)
             goto done;
     }
     view.diffusion = use_diffusion;
+    view.technique = chosen;
     if (scene.has_camera) {
         memcpy(view.eye, scene.camera.position, sizeof view.eye);
         memcpy(view.target, scene.camera.target, sizeof view.target);

@@ -25,6 +25,17 @@ cmp -s "$tmp/a.exr" "$tmp/b.exr" || fail "two renders of the same scene differ"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/none.exr" --technique none --frames 3 2>/dev/null || fail "technique none"
 cmp -s "$tmp/a.exr" "$tmp/none.exr" && fail "technique none looks the same as sam"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/t.exr" --translucency-only 2>/dev/null || fail "--translucency-only"
+# The comparison techniques: each gives translucency of its own through the ear.
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tn.exr" --technique none --translucency-only --diffusion texture 2>/dev/null \
+  || fail "technique none, translucency only"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tr.exr" --technique transmittance --translucency-only 2>/dev/null \
+  || fail "technique transmittance"
+cmp -s "$tmp/tr.exr" "$tmp/t.exr" && fail "transmittance looks the same as sam"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tsm.exr" --technique tsm --translucency-only --diffusion texture 2>/dev/null \
+  || fail "technique tsm"
+cmp -s "$tmp/tsm.exr" "$tmp/tn.exr" && fail "tsm gave no translucency"
+printf '{"mesh": "ear.obj", "material": "skin", "scale": {"mm_per_unit": 60}, "technique": "transmittance", "lights": [{"type": "point", "position": [0.1, 0.0, -1.2], "intensity": 6.0}], "resolution": [32, 32]}' > "$tmp/trscene.json"
+"$bin/sam_render" "$tmp/trscene.json" -o "$tmp/trs.exr" 2>/dev/null || fail "the scene's technique transmittance"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/nd.exr" --diffusion none --frames 3 2>/dev/null || fail "--diffusion none"
 cmp -s "$tmp/a.exr" "$tmp/nd.exr" && fail "screen diffusion changed nothing"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/pi.exr" --diffusion preintegrated --frames 3 2>/dev/null \
@@ -82,7 +93,13 @@ expect_error 1 "wrong type" "$tmp/type.json"
 expect_error 1 "missing mesh" "$tmp/missing.json"
 expect_error 1 "negative intensity" "$tmp/negative.json"
 expect_error 1 "corrupted .sam" "$tmp/broken.json"
-expect_error 2 "bad technique" "$tmp/scene.json" --technique tsm
+expect_error 2 "bad technique" "$tmp/scene.json" --technique dipole
+expect_error 1 "tsm without texture space" "$tmp/scene.json" --technique tsm --diffusion screen
+grep -q "tsm technique needs texture-space diffusion" "$tmp/err.txt" || fail "tsm message: $(cat "$tmp/err.txt")"
+"$bin/sam_render" "$tmp/tet.json" -o "$tmp/bad.exr" --technique tsm 2> "$tmp/err.txt" && fail "tsm without UVs rendered"
+grep -q "tsm technique needs texture-space diffusion, which cannot run: the mesh has no UVs" "$tmp/err.txt" \
+  || fail "tsm without UVs message: $(cat "$tmp/err.txt")"
+ls "$tmp"/bad.exr* > /dev/null 2>&1 && fail "tsm without UVs left output"
 expect_error 2 "bad frames" "$tmp/scene.json" --frames 0
 expect_error 2 "bad diffusion" "$tmp/scene.json" --diffusion blur
 # A prebuilt .sam renders too, with its recorded material and scale.

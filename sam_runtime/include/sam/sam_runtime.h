@@ -107,6 +107,18 @@ typedef struct sam_render_view {
     /* Screen and texture space settings. Zero fields mean: fit2d kernel,
      * 17 samples, a 1024 atlas, no optimisation, 1 texel per pixel. */
     sam_diffusion_options options;
+    /* Where the translucency comes from (zero: SAM_TECHNIQUE_SAM, the
+     * per-vertex T of sam_runtime_translucency). NONE adds none;
+     * TRANSMITTANCE and TSM are described at sam_runtime_render. */
+    sam_technique technique;
+    /* NULL, or the translucency itself, replacing the technique's: linear
+     * RGB or RGBA floats in T's units (light entering the surface, added to
+     * R_total L_d before any blur). Without texture space it is view-sized,
+     * row 0 at the top like the rendered image, one value per pixel; with
+     * texture space it is atlas-sized (options.atlas_size, or 1024, with
+     * depth_sized off), row v = texel row v like sam_runtime_read_atlas.
+     * The caller keeps it; it is read during the call only. */
+    const sam_image *translucency;
 } sam_render_view;
 
 /* Renders the object with its current L_d and T into a linear HDR RGBA
@@ -145,10 +157,55 @@ typedef struct sam_render_view {
  * 1 / texels_per_pixel of a pixel there (from the resolution, field of view,
  * surface area and atlas coverage, instead of the paper's hand-set d_ref).
  *
- * Errors: SAM_ERR_INVALID_ARGUMENT (size, field of view, options out of
- * range), SAM_ERR_UNSUPPORTED (texture space without usable UVs: see
- * sam_runtime_uv_status; an incomplete framebuffer), SAM_ERR_OUT_OF_MEMORY. */
+ * Techniques (view->technique; all give only their translucency with
+ * front = 0, and none for area lights or the environment):
+ * TRANSMITTANCE (Jimenez et al. 2010) evaluates, per pixel (per texel with
+ * texture space), for every point, spot and directional light with a
+ * shadow map: the thickness s in mm between the point and the surface the
+ * map saw (looked up at the point moved 1% of the object's radius inside),
+ * sum_i w_i exp(-s^2 / 2 v_i) over the profile's Gaussian fit, times the
+ * light's unshadowed irradiance as if facing it, times
+ * saturate(0.3 + N.(-L)); this is added where T would be.
+ * TSM (d'Eon et al. 2007, Sec. 5.2) needs texture-space diffusion: each such
+ * light also renders a translucent shadow map (the light-facing surface's
+ * UV, distance and normal), every level of the blur is kept, and a
+ * shadowed pixel adds sum_i w_i exp(-d^2 / 2 v_i) fadeOut_i level_i(uv_A),
+ * d the distance through the object corrected by d'Eon's cosine term,
+ * fadeOut_i rising from 0 at the pixel's own UV to 1 at 6 sqrt(v_i) mm
+ * away. A TSM costs 32 MiB (spot, directional) or 48 MiB (point) of maps,
+ * and the levels atlas_size^2 * 16 bytes each.
+ *
+ * Errors: SAM_ERR_INVALID_ARGUMENT (size, field of view, options or
+ * technique out of range; a translucency override of the wrong size or
+ * channel count, naming both sizes), SAM_ERR_UNSUPPORTED (texture space,
+ * or the tsm technique, without usable UVs: see sam_runtime_uv_status; tsm
+ * without texture-space diffusion; an incomplete framebuffer),
+ * SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err);
+
+/* Where sam_runtime_gbuffer samples the surface. */
+typedef enum sam_gbuffer_space {
+    SAM_GBUFFER_SCREEN = 0, /* the view's pixels */
+    SAM_GBUFFER_ATLAS = 1   /* the texture-space atlas's texels */
+} sam_gbuffer_space;
+
+/* The surface points a render evaluates translucency at, so a caller can
+ * compute its own and give it back as view->translucency. Two new RGBA
+ * float images (the caller destroys both): `positions` xyz the interpolated
+ * model-space position (model units), `normals` xyz the interpolated,
+ * re-normalised vertex normal as shading uses it (turned towards the eye on
+ * back faces in SCREEN), alpha 1 where the object covers the pixel or texel
+ * and 0 (xyz 0) elsewhere. SCREEN: view->width x view->height, row 0 at the
+ * top, the same rasterisation as sam_runtime_render (its alpha mask).
+ * ATLAS: atlas_size^2 (options.atlas_size or 1024; depth_sized must be off)
+ * in sam_runtime_read_atlas's row order, every texel a chart covers
+ * (culling and clipping do not apply). Only the view's camera, size and
+ * options matter. Leaves the maps sam_runtime_read_atlas returns alone.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (the view's size or field of view, an
+ * unknown space, a depth-sized atlas), SAM_ERR_UNSUPPORTED (ATLAS without
+ * usable UVs), SAM_ERR_OUT_OF_MEMORY; on error both images are empty. */
+sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *view, sam_gbuffer_space space,
+                               sam_image *positions, sam_image *normals, sam_error *err);
 
 /* Sets the albedo map (linear RGB or RGBA, read at the mesh's UVs; copied
  * to the GPU), or clears it with NULL. Errors: SAM_ERR_UNSUPPORTED (the

@@ -1,0 +1,192 @@
+/*
+ * The comparison techniques' GL side: the uniforms of technique.glsl
+ * (Jimenez et al.'s transmittance, the translucency override) and d'Eon et
+ * al.'s modified translucent shadow maps (Sec. 5.2), rendered from the
+ * shadow maps' own cameras so a TSM texel lines up with its shadow texel.
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "sam_runtime_internal.h"
+
+int sam_runtime_technique_mode(const sam_render_view *view)
+{
+    if (view->translucency)
+        return TECHNIQUE_OVERRIDE;
+    switch (view->technique) {
+    case SAM_TECHNIQUE_SAM:
+        return TECHNIQUE_VERTEX;
+    case SAM_TECHNIQUE_TRANSMITTANCE:
+        return TECHNIQUE_TRANSMITTANCE;
+    default:
+        return TECHNIQUE_NONE;
+    }
+}
+
+void sam_runtime_bind_technique(const sam_runtime *rt, GLuint p, int mode, GLuint override_tex)
+{
+    glUniform1i(glGetUniformLocation(p, "u_technique"), mode);
+    glUniform1ui(glGetUniformLocation(p, "u_all_light_count"), rt->light_count);
+    glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+    float fit[SAM_PROFILE_FIT_GAUSSIANS][4];
+    for (uint32_t i = 0; i < rt->fit.count; ++i) {
+        memcpy(fit[i], rt->fit.weight[i], 3 * sizeof(float));
+        fit[i][3] = rt->fit.variance[i];
+    }
+    glUniform1i(glGetUniformLocation(p, "u_fit_count"), (GLint)rt->fit.count);
+    if (rt->fit.count)
+        glUniform4fv(glGetUniformLocation(p, "u_fit"), (GLsizei)rt->fit.count, &fit[0][0]);
+    /* The same depth textures as the shadow units, through a sampler that
+     * does not compare: the stored distances themselves. */
+    for (int i = 0; i < MAX_CUBE_SHADOWS + MAX_FLAT_SHADOWS; ++i) {
+        int cube = i < MAX_CUBE_SHADOWS, k = cube ? i : i - MAX_CUBE_SHADOWS;
+        GLuint unit = (GLuint)(cube ? UNIT_CUBE_DISTANCE + k : UNIT_FLAT_DISTANCE + k);
+        char name[32];
+        glActiveTexture(GL_TEXTURE0 + unit);
+        glBindTexture(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, cube ? rt->cube_tex[k] : rt->flat_tex[k]);
+        glBindSampler(unit, rt->distance_sampler);
+        snprintf(name, sizeof name, cube ? "u_cube_distance[%d]" : "u_flat_distance[%d]", k);
+        glUniform1i(glGetUniformLocation(p, name), (GLint)unit);
+    }
+    glUniform1fv(glGetUniformLocation(p, "u_flat_range"), MAX_FLAT_SHADOWS, rt->flat_range);
+    glActiveTexture(GL_TEXTURE0 + UNIT_OVERRIDE);
+    glBindTexture(GL_TEXTURE_2D, override_tex);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(glGetUniformLocation(p, "u_override"), UNIT_OVERRIDE);
+}
+
+void sam_runtime_bind_tsm(const sam_runtime *rt, GLuint p)
+{
+    glActiveTexture(GL_TEXTURE0 + UNIT_TSM_FLAT);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, rt->tsm_flat_tex);
+    glActiveTexture(GL_TEXTURE0 + UNIT_TSM_CUBE);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, rt->tsm_cube_tex);
+    glActiveTexture(GL_TEXTURE0 + UNIT_LEVELS);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, rt->level_array);
+    glActiveTexture(GL_TEXTURE0 + UNIT_STRETCH);
+    glBindTexture(GL_TEXTURE_2D, rt->atlas_allocated ? rt->atlas_tex[ATLAS_STRETCH] : 0);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(glGetUniformLocation(p, "u_tsm_flat"), UNIT_TSM_FLAT);
+    glUniform1i(glGetUniformLocation(p, "u_tsm_cube"), UNIT_TSM_CUBE);
+    glUniform1i(glGetUniformLocation(p, "u_levels"), UNIT_LEVELS);
+    glUniform1i(glGetUniformLocation(p, "u_stretch"), UNIT_STRETCH);
+    glUniform1f(glGetUniformLocation(p, "u_atlas_used"), (float)rt->atlas_used);
+    sam_mat4 faces[6];
+    for (int f = 0; f < 6; ++f)
+        faces[f] = sam_runtime_cube_face((const float[3]){0, 0, 0}, 1.0f, f);
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_cube_face"), 6, GL_FALSE, faces[0].m);
+}
+
+void sam_runtime_tsm_destroy(sam_runtime *rt)
+{
+    if (rt->tsm_flat_tex)
+        glDeleteTextures(1, &rt->tsm_flat_tex);
+    if (rt->tsm_cube_tex)
+        glDeleteTextures(1, &rt->tsm_cube_tex);
+    if (rt->tsm_depth)
+        glDeleteRenderbuffers(1, &rt->tsm_depth);
+    if (rt->tsm_fbo)
+        glDeleteFramebuffers(1, &rt->tsm_fbo);
+    rt->tsm_flat_tex = rt->tsm_cube_tex = rt->tsm_depth = rt->tsm_fbo = 0;
+    rt->tsm_flat_count = rt->tsm_cube_count = 0;
+}
+
+/* Nearest filtering: UVs of neighbouring texels may lie on other charts,
+ * and their mean is nowhere on the surface. */
+static GLuint tsm_texture(GLenum target, GLsizei side, GLsizei layers)
+{
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(target, tex);
+    glTexStorage3D(target, 1, GL_RGBA32F, side, side, layers);
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return tex;
+}
+
+/* Room for every shadow map the lights have now; grown, never shrunk. */
+static sam_status ensure_tsm_maps(sam_runtime *rt, sam_error *err)
+{
+    if (rt->tsm_fbo && rt->tsm_flat_count >= rt->flat_count && rt->tsm_cube_count >= rt->cube_count)
+        return SAM_OK;
+    sam_runtime_tsm_destroy(rt);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    glGenFramebuffers(1, &rt->tsm_fbo);
+    glGenRenderbuffers(1, &rt->tsm_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, rt->tsm_depth);
+    /* One depth buffer for both sizes: a framebuffer renders to the
+     * intersection of its attachments. */
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, FLAT_SHADOW_SIZE, FLAT_SHADOW_SIZE);
+    if (rt->flat_count)
+        rt->tsm_flat_tex = tsm_texture(GL_TEXTURE_2D_ARRAY, FLAT_SHADOW_SIZE, (GLsizei)(2 * rt->flat_count));
+    if (rt->cube_count)
+        rt->tsm_cube_tex = tsm_texture(GL_TEXTURE_2D_ARRAY, CUBE_SHADOW_SIZE, (GLsizei)(12 * rt->cube_count));
+    if (glGetError() != GL_NO_ERROR) {
+        sam_runtime_tsm_destroy(rt);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY,
+                        "render: the GL could not allocate translucent shadow maps for %u spot/directional and %u "
+                        "point lights",
+                        rt->flat_count, rt->cube_count);
+    }
+    rt->tsm_flat_count = rt->flat_count;
+    rt->tsm_cube_count = rt->cube_count;
+    return SAM_OK;
+}
+
+/* One TSM image: layers `layer` and `layer + stride` of `tex` seen through
+ * `view_proj`. */
+static void draw_tsm(sam_runtime *rt, GLuint tex, GLint layer, GLint stride, GLsizei side, const sam_mat4 *view_proj,
+                     uint32_t light)
+{
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, tex, 0, layer);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, tex, 0, layer + stride);
+    glViewport(0, 0, side, side);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    GLuint p = rt->tsm_program;
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_view_proj"), 1, GL_FALSE, view_proj->m);
+    glUniform1ui(glGetUniformLocation(p, "u_light"), light);
+    glDrawElements(GL_TRIANGLES, (GLsizei)rt->triangle_count * 3, GL_UNSIGNED_INT, NULL);
+}
+
+sam_status sam_runtime_render_tsm(sam_runtime *rt, sam_error *err)
+{
+    sam_status st = ensure_tsm_maps(rt, err);
+    if (st != SAM_OK)
+        return st;
+    glBindFramebuffer(GL_FRAMEBUFFER, rt->tsm_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, rt->tsm_depth);
+    static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, two);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(rt->tsm_program);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_LIGHTS, rt->buffer[B_LIGHTS]);
+    glBindVertexArray(rt->vao);
+    /* Shadow maps are numbered in light order, area lights among the cubes
+     * (sam_runtime_set_lights); area lights get no TSM. */
+    uint32_t cube = 0, flat = 0;
+    for (uint32_t i = 0; i < rt->light_count; ++i) {
+        const sam_light *l = &rt->lights[i];
+        if (!l->shadow)
+            continue;
+        if (l->type == SAM_LIGHT_POINT || l->type == SAM_LIGHT_AREA) {
+            if (l->type == SAM_LIGHT_POINT)
+                for (int f = 0; f < 6; ++f) {
+                    sam_mat4 vp = sam_runtime_cube_face(rt->cube_origin[cube], rt->cube_far[cube], f);
+                    draw_tsm(rt, rt->tsm_cube_tex, (GLint)(12 * cube) + f, 6, CUBE_SHADOW_SIZE, &vp, i);
+                }
+            cube++;
+        } else {
+            draw_tsm(rt, rt->tsm_flat_tex, (GLint)(2 * flat), 1, FLAT_SHADOW_SIZE, &rt->flat_matrix[flat], i);
+            flat++;
+        }
+    }
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    return SAM_OK;
+}

@@ -1,0 +1,464 @@
+/*
+ * The comparison techniques and the ground truth's hooks on llvmpipe:
+ * Jimenez's transmittance and d'Eon's translucent shadow maps through a
+ * back-lit slab of known thickness against the analytic sum of Gaussians,
+ * what they leave out (area lights, the environment, the lit side), the
+ * per-pixel / per-texel translucency override, and the G-buffer read-back.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sam/sam_build.h"
+#include "sam/sam_runtime.h"
+#include "sam_test.h"
+
+#define PI 3.14159265358979323846
+#define SIZE 64                 /* render side, pixels */
+#define ATLAS 512
+#define SLAB_MM_PER_UNIT 40.0f  /* a 40 x 40 mm slab ... */
+#define SLAB_THICKNESS 0.05     /* ... 2 mm thick */
+
+static sam_gl_context *gl;
+
+static int setup(void **state)
+{
+    (void)state;
+    sam_error err;
+    if (sam_gl_context_create_headless(&gl, &err) != SAM_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return -1;
+    }
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    sam_gl_context_destroy(gl);
+    return 0;
+}
+
+/* A built-in skin shape on the GPU; the caller frees `d` and `rt`. */
+static sam_runtime *shape_runtime(const char *name, int resolution, double thickness, float mm, sam_profile *profile,
+                                  samfile_data *d)
+{
+    sam_mesh mesh;
+    sam_error err;
+    sam_test_shape_mesh(name, resolution, 1.0, thickness, 0, &mesh);
+    assert_int_equal(sam_profile_preset("skin", profile, NULL), SAM_OK);
+    if (sam_build_samfile(&mesh, profile, mm, NULL, NULL, NULL, NULL, d, NULL, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    sam_mesh_destroy(&mesh);
+    sam_runtime *rt;
+    if (sam_runtime_create(d, profile, mm, &rt, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    return rt;
+}
+
+/* The slab lit from above by a shadowed directional light of irradiance 1
+ * travelling down (-y), its irradiance and SAM translucency computed. */
+static sam_runtime *lit_slab(sam_profile *profile, samfile_data *d)
+{
+    sam_runtime *rt = shape_runtime("slab", 16, SLAB_THICKNESS, SLAB_MM_PER_UNIT, profile, d);
+    sam_light l;
+    memset(&l, 0, sizeof l);
+    l.type = SAM_LIGHT_DIRECTIONAL;
+    l.color[0] = l.color[1] = l.color[2] = 1.0f;
+    l.intensity = 1.0f;
+    l.direction[1] = -1.0f;
+    l.shadow = 1;
+    sam_error err;
+    assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+    assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+    assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
+    return rt;
+}
+
+/* Looking straight at the slab's unlit bottom face (below = 1) or its lit
+ * top, translucency only, white albedo. */
+static void slab_view(sam_render_view *view, int below, int diffusion, sam_technique technique)
+{
+    memset(view, 0, sizeof *view);
+    view->width = view->height = SIZE;
+    view->fov_deg = 30.0f;
+    view->eye[1] = below ? -3.0f : 3.0f;
+    view->up[2] = 1.0f;
+    view->albedo[0] = view->albedo[1] = view->albedo[2] = 1.0f;
+    view->diffusion = diffusion;
+    view->technique = technique;
+    view->options.atlas_size = ATLAS;
+}
+
+static void render(sam_runtime *rt, const sam_render_view *view, sam_image *out)
+{
+    sam_error err;
+    if (sam_runtime_render(rt, view, out, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+}
+
+static const float *centre_pixel(const sam_image *img)
+{
+    return img->pixels + 4 * ((size_t)(img->height / 2) * img->width + img->width / 2);
+}
+
+/* sum_i w_i exp(-d^2 / 2 v_i) of the runtime's fit for d mm. */
+static void slab_transmission(const sam_profile *profile, double d, double out[3])
+{
+    sam_gaussian_fit fit;
+    sam_error err;
+    assert_int_equal(sam_profile_fit_gaussians(profile, &fit, &err), SAM_OK);
+    out[0] = out[1] = out[2] = 0;
+    for (uint32_t i = 0; i < fit.count; ++i)
+        for (int c = 0; c < 3; ++c)
+            out[c] += fit.weight[i][c] * exp(-d * d / (2.0 * fit.variance[i]));
+}
+
+/* Largest value of any channel on the object. */
+static double image_max(const sam_image *img)
+{
+    double m = 0;
+    for (size_t i = 0; i < (size_t)img->width * img->height; ++i)
+        for (int c = 0; c < 3; ++c)
+            m = fmax(m, img->pixels[4 * i + c]);
+    return m;
+}
+
+/* Behind a 2 mm slab lit at irradiance E = 1 head-on, Jimenez's
+ * transmittance is E sum_i w_i exp(-d^2 / 2v_i) saturate(0.3 + 1) at the
+ * bottom's centre, which the camera sees at N.V = 1 through the shading
+ * factor rho_dt(1) / pi (albedo 1): the same in every diffusion mode, since
+ * every blur keeps a uniform region's value. Zero on the lit top. */
+static void test_transmittance_through_slab(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = lit_slab(&profile, &d);
+    double t[3];
+    slab_transmission(&profile, SLAB_THICKNESS * SLAB_MM_PER_UNIT, t);
+    double factor = sam_runtime_rho_dt(rt, 1.0f) / PI;
+    for (int mode = 0; mode <= 3; ++mode) {
+        sam_render_view view;
+        slab_view(&view, 1, mode, SAM_TECHNIQUE_TRANSMITTANCE);
+        sam_image img;
+        render(rt, &view, &img);
+        const float *px = centre_pixel(&img);
+        for (int c = 0; c < 2; ++c) {
+            double want = factor * t[c], rel = fabs(px[c] - want) / want;
+            print_message("transmittance, diffusion %d, channel %d: %.6g, analytic %.6g, relative error %.4f\n", mode,
+                          c, px[c], want, rel);
+            assert_true(rel < 0.02);
+        }
+        sam_image_destroy(&img);
+        slab_view(&view, 0, mode, SAM_TECHNIQUE_TRANSMITTANCE);
+        render(rt, &view, &img);
+        print_message("transmittance, diffusion %d, lit side's centre: %.3g\n", mode, centre_pixel(&img)[0]);
+        assert_true(centre_pixel(&img)[0] == 0.0f);
+        sam_image_destroy(&img);
+    }
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+/* The TSM at the bottom's centre: the top's entering light E rho_dt(1)
+ * (times R_total, which the level weights w_i / R_total take back) through
+ * d = m = 2 mm, the fade at 1 (the top's chart is far away in the atlas):
+ * E rho_dt(1) sum_i w_i exp(-d^2 / 2v_i), seen through rho_dt(1) / pi.
+ * Held to 5%: the levels are the blur's 7-tap Gaussians, not exact ones.
+ * Nothing on the lit side, where the pixel is not in shadow. */
+static void test_tsm_through_slab(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = lit_slab(&profile, &d);
+    double t[3];
+    slab_transmission(&profile, SLAB_THICKNESS * SLAB_MM_PER_UNIT, t);
+    double factor = sam_runtime_rho_dt(rt, 1.0f) / PI, entering = sam_runtime_rho_dt(rt, 1.0f);
+    sam_render_view view;
+    slab_view(&view, 1, 3, SAM_TECHNIQUE_TSM);
+    sam_image img;
+    render(rt, &view, &img);
+    const float *px = centre_pixel(&img);
+    for (int c = 0; c < 2; ++c) {
+        double want = factor * entering * t[c], rel = fabs(px[c] - want) / want;
+        print_message("tsm, channel %d: %.6g, analytic %.6g, relative error %.4f\n", c, px[c], want, rel);
+        assert_true(rel < 0.05);
+    }
+    sam_image_destroy(&img);
+    slab_view(&view, 0, 3, SAM_TECHNIQUE_TSM);
+    render(rt, &view, &img);
+    print_message("tsm, lit side: largest value %.3g\n", image_max(&img));
+    assert_true(image_max(&img) == 0.0);
+    sam_image_destroy(&img);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+/* An area light above the slab, then the environment alone: SAM carries
+ * their light through, the two shadow-map techniques by design do not. */
+static void test_area_and_environment_give_none(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = shape_runtime("slab", 16, SLAB_THICKNESS, SLAB_MM_PER_UNIT, &profile, &d);
+    sam_light area;
+    memset(&area, 0, sizeof area);
+    area.type = SAM_LIGHT_AREA;
+    area.color[0] = area.color[1] = area.color[2] = 1.0f;
+    area.intensity = 1.0f;
+    area.shadow = 1;
+    area.vertex_count = 4;
+    const float square[4][3] = {{-0.4f, 0.5f, -0.4f}, {-0.4f, 0.5f, 0.4f}, {0.4f, 0.5f, 0.4f}, {0.4f, 0.5f, -0.4f}};
+    memcpy(area.vertices, square, sizeof square);
+    area.normal[1] = -1.0f;
+    area.area = 0.64f;
+    float sh[9][3] = {{0}};
+    sh[0][0] = sh[0][1] = sh[0][2] = 1.0f;
+    sam_error err;
+    for (int scene = 0; scene < 2; ++scene) {
+        assert_int_equal(sam_runtime_set_lights(rt, &area, scene == 0, &err), SAM_OK);
+        sam_runtime_set_environment(rt, scene == 1 ? (const float(*)[3])sh : NULL);
+        assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+        assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
+        const char *what = scene == 0 ? "area light" : "environment";
+        sam_render_view view;
+        sam_image img;
+        slab_view(&view, 1, 0, SAM_TECHNIQUE_SAM);
+        render(rt, &view, &img);
+        double sam_max = image_max(&img);
+        sam_image_destroy(&img);
+        slab_view(&view, 1, 0, SAM_TECHNIQUE_TRANSMITTANCE);
+        render(rt, &view, &img);
+        double transmittance_max = image_max(&img);
+        sam_image_destroy(&img);
+        slab_view(&view, 1, 3, SAM_TECHNIQUE_TSM);
+        render(rt, &view, &img);
+        double tsm_max = image_max(&img);
+        sam_image_destroy(&img);
+        print_message("%s, largest translucency seen below: sam %.4g, transmittance %.3g, tsm %.3g\n", what, sam_max,
+                      transmittance_max, tsm_max);
+        assert_true(sam_max > 1e-4);
+        assert_true(transmittance_max == 0.0);
+        assert_true(tsm_max == 0.0);
+    }
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+static void test_tsm_needs_texture_space(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = lit_slab(&profile, &d);
+    sam_render_view view;
+    slab_view(&view, 1, 1, SAM_TECHNIQUE_TSM);
+    sam_image img;
+    sam_error err;
+    assert_int_equal(sam_runtime_render(rt, &view, &img, &err), SAM_ERR_UNSUPPORTED);
+    print_message("tsm with screen diffusion: %s\n", err.message);
+    assert_non_null(strstr(err.message, "texture-space diffusion"));
+    assert_null(img.pixels);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+/* The override replaces the technique's translucency. Zero gives the
+ * picture of technique none (front light on). In screen space, a value
+ * that grows down the rows comes out, pixel by pixel, as
+ * rho_dt(N.V) / pi times itself (N from the G-buffer): a flipped or
+ * shifted image would not. In the atlas, light on the bottom's texels only
+ * (found by the atlas G-buffer) shows below and not above. Wrong sizes are
+ * refused naming both. */
+static void test_override(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = lit_slab(&profile, &d);
+    sam_error err;
+    sam_image zero_view, zero_atlas;
+    assert_int_equal(sam_image_create(&zero_view, SIZE, SIZE, 3, &err), SAM_OK);
+    assert_int_equal(sam_image_create(&zero_atlas, ATLAS, ATLAS, 4, &err), SAM_OK);
+    memset(zero_view.pixels, 0, (size_t)SIZE * SIZE * 3 * sizeof(float));
+    memset(zero_atlas.pixels, 0, (size_t)ATLAS * ATLAS * 4 * sizeof(float));
+    for (int mode = 0; mode <= 3; ++mode) {
+        sam_render_view view;
+        slab_view(&view, 0, mode, SAM_TECHNIQUE_NONE);
+        view.front = 1;
+        sam_image none, zero;
+        render(rt, &view, &none);
+        view.technique = SAM_TECHNIQUE_SAM;
+        view.translucency = mode == 3 ? &zero_atlas : &zero_view;
+        render(rt, &view, &zero);
+        double worst = 0;
+        for (size_t i = 0; i < (size_t)SIZE * SIZE * 4; ++i)
+            worst = fmax(worst, fabs(none.pixels[i] - zero.pixels[i]));
+        print_message("diffusion %d: zero override vs technique none, largest difference %.3g (image max %.3g)\n",
+                      mode, worst, image_max(&none));
+        assert_true(worst == 0.0);
+        assert_true(image_max(&none) > 0.0);
+        sam_image_destroy(&none);
+        sam_image_destroy(&zero);
+    }
+
+    /* A row gradient in screen space, translucency only. */
+    sam_render_view view;
+    slab_view(&view, 1, 0, SAM_TECHNIQUE_NONE);
+    sam_image grad, img, pos, nrm;
+    assert_int_equal(sam_image_create(&grad, SIZE, SIZE, 4, &err), SAM_OK);
+    for (uint32_t y = 0; y < SIZE; ++y)
+        for (uint32_t x = 0; x < SIZE; ++x)
+            for (int c = 0; c < 4; ++c)
+                grad.pixels[4 * (y * SIZE + x) + c] = 0.1f * (1.0f + (float)y) * (c == 1 ? 0.5f : 1.0f);
+    view.translucency = &grad;
+    render(rt, &view, &img);
+    assert_int_equal(sam_runtime_gbuffer(rt, &view, SAM_GBUFFER_SCREEN, &pos, &nrm, &err), SAM_OK);
+    double worst = 0;
+    size_t covered = 0;
+    for (size_t i = 0; i < (size_t)SIZE * SIZE; ++i) {
+        if (pos.pixels[4 * i + 3] == 0)
+            continue;
+        const float *p = pos.pixels + 4 * i, *n = nrm.pixels + 4 * i;
+        double to[3] = {view.eye[0] - p[0], view.eye[1] - p[1], view.eye[2] - p[2]};
+        double len = sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
+        double ndv = (n[0] * to[0] + n[1] * to[1] + n[2] * to[2]) / len;
+        for (int c = 0; c < 3; ++c) {
+            double want = sam_runtime_rho_dt(rt, (float)ndv) / PI * grad.pixels[4 * i + c];
+            worst = fmax(worst, fabs(img.pixels[4 * i + c] - want) / want);
+        }
+        covered++;
+    }
+    print_message("screen gradient override over %zu pixels: worst relative error %.2e\n", covered, worst);
+    assert_true(covered > SIZE * SIZE / 4);
+    assert_true(worst < 2e-3);
+    sam_image_destroy(&img);
+    sam_image_destroy(&pos);
+    sam_image_destroy(&nrm);
+
+    /* The bottom's texels only, in the atlas. */
+    slab_view(&view, 1, 3, SAM_TECHNIQUE_NONE);
+    assert_int_equal(sam_runtime_gbuffer(rt, &view, SAM_GBUFFER_ATLAS, &pos, &nrm, &err), SAM_OK);
+    assert_int_equal(pos.width, ATLAS);
+    const float c_rgb[3] = {0.3f, 0.2f, 0.1f};
+    for (size_t i = 0; i < (size_t)ATLAS * ATLAS; ++i)
+        for (int c = 0; c < 3; ++c)
+            zero_atlas.pixels[4 * i + c] = pos.pixels[4 * i + 3] > 0 && pos.pixels[4 * i + 1] < 0 ? c_rgb[c] : 0.0f;
+    view.translucency = &zero_atlas;
+    render(rt, &view, &img);
+    double below = centre_pixel(&img)[0], want = sam_runtime_rho_dt(rt, 1.0f) / PI * c_rgb[0];
+    sam_image_destroy(&img);
+    slab_view(&view, 0, 3, SAM_TECHNIQUE_NONE);
+    view.translucency = &zero_atlas;
+    render(rt, &view, &img);
+    double above = centre_pixel(&img)[0];
+    print_message("atlas override on the bottom's texels: below %.6g (expected %.6g), above %.3g\n", below, want,
+                  above);
+    assert_true(fabs(below - want) < 1e-3 * want);
+    assert_true(above == 0.0);
+    sam_image_destroy(&img);
+
+    /* Wrong sizes. */
+    view.translucency = &grad;
+    assert_int_equal(sam_runtime_render(rt, &view, &img, &err), SAM_ERR_INVALID_ARGUMENT);
+    print_message("view-sized override in texture space: %s\n", err.message);
+    assert_non_null(strstr(err.message, "64x64"));
+    assert_non_null(strstr(err.message, "512x512"));
+    slab_view(&view, 1, 1, SAM_TECHNIQUE_NONE);
+    view.translucency = &zero_atlas;
+    assert_int_equal(sam_runtime_render(rt, &view, &img, &err), SAM_ERR_INVALID_ARGUMENT);
+    print_message("atlas-sized override in screen space: %s\n", err.message);
+    sam_image_destroy(&pos);
+    sam_image_destroy(&nrm);
+    sam_image_destroy(&grad);
+    sam_image_destroy(&zero_view);
+    sam_image_destroy(&zero_atlas);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+/* A sphere of radius 0.5 at the origin: every covered pixel's position lies
+ * on it (within the tessellation's sagitta), its normal along p / |p|, and
+ * the covered pixels are the render's alpha mask; the same in the atlas
+ * against a texture-space render's irradiance map. */
+static void test_gbuffer_sphere(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = shape_runtime("sphere", 48, 0, 60.0f, &profile, &d);
+    sam_render_view view;
+    memset(&view, 0, sizeof view);
+    view.width = SIZE;
+    view.height = SIZE - 16; /* not square: rows and columns cannot swap unnoticed */
+    view.fov_deg = 40.0f;
+    view.eye[0] = 0.4f, view.eye[1] = 0.6f, view.eye[2] = 1.8f;
+    view.up[1] = 1.0f;
+    view.albedo[0] = view.albedo[1] = view.albedo[2] = 1.0f;
+    view.front = 1;
+    view.options.atlas_size = ATLAS;
+    sam_error err;
+    for (int space = 0; space < 2; ++space) {
+        sam_image pos, nrm, img, mask;
+        assert_int_equal(sam_runtime_gbuffer(rt, &view, (sam_gbuffer_space)space, &pos, &nrm, &err), SAM_OK);
+        view.diffusion = space == SAM_GBUFFER_ATLAS ? 3 : 0;
+        render(rt, &view, &img);
+        if (space == SAM_GBUFFER_ATLAS)
+            assert_int_equal(sam_runtime_read_atlas(rt, SAM_ATLAS_IRRADIANCE, &mask, &err), SAM_OK);
+        const sam_image *m = space == SAM_GBUFFER_ATLAS ? &mask : &img;
+        assert_int_equal(pos.width, m->width);
+        assert_int_equal(pos.height, m->height);
+        double worst_r = 0, worst_deg = 0;
+        size_t covered = 0, mismatched = 0;
+        for (size_t i = 0; i < (size_t)pos.width * pos.height; ++i) {
+            mismatched += (pos.pixels[4 * i + 3] > 0) != (m->pixels[4 * i + 3] > 0);
+            mismatched += pos.pixels[4 * i + 3] != nrm.pixels[4 * i + 3];
+            if (pos.pixels[4 * i + 3] == 0)
+                continue;
+            const float *p = pos.pixels + 4 * i, *n = nrm.pixels + 4 * i;
+            double r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+            double cosine = (p[0] * n[0] + p[1] * n[1] + p[2] * n[2]) / r;
+            worst_r = fmax(worst_r, fabs(r - 0.5) / 0.5);
+            worst_deg = fmax(worst_deg, acos(fmin(cosine, 1.0)) * 180 / PI);
+            covered++;
+        }
+        print_message("%s G-buffer: %zu covered, %zu disagree with the render's mask, worst |p| error %.4f of r, "
+                      "worst normal angle %.3f deg\n",
+                      space ? "atlas" : "screen", covered, mismatched, worst_r, worst_deg);
+        assert_true(covered > (space ? (size_t)ATLAS * ATLAS / 4 : (size_t)SIZE * SIZE / 8));
+        assert_int_equal(mismatched, 0);
+        assert_true(worst_r < 0.005);
+        assert_true(worst_deg < 2.0);
+        sam_image_destroy(&pos);
+        sam_image_destroy(&nrm);
+        sam_image_destroy(&img);
+        if (space == SAM_GBUFFER_ATLAS)
+            sam_image_destroy(&mask);
+    }
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_transmittance_through_slab),
+        cmocka_unit_test(test_tsm_through_slab),
+        cmocka_unit_test(test_area_and_environment_give_none),
+        cmocka_unit_test(test_tsm_needs_texture_space),
+        cmocka_unit_test(test_override),
+        cmocka_unit_test(test_gbuffer_sphere),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
