@@ -32,6 +32,7 @@
 #include "sam/sam_common.h"
 #include "sam/sam_mesh.h"
 #include "sam/sam_profile.h"
+#include "sam/sam_scene.h"
 #include "sam/samfile.h"
 
 #ifdef __cplusplus
@@ -157,6 +158,22 @@ typedef struct sam_build_info {
  * Errors: SAM_ERR_FORMAT when the recorded material is not a valid one
  * (the message names the field), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_build_info_read(const samfile_data *data, const char *name, sam_build_info *out, sam_error *err);
+
+/* The object of a scene as a map, for the tools that render scenes: a
+ * scene naming a .sam has it read (checked against the scene's mesh, when it
+ * names one too, by the SHA-256 INFO records), its material and scale taken
+ * from the scene where given, else from INFO; a scene naming only a mesh has
+ * its map built with `settings` (NULL: the defaults, N = 3) and the scene's
+ * material and scale, `progress` as in sam_build_run (may be NULL).
+ * `*built_seconds` (may be NULL) gets the build time, 0 when read.
+ * On success the caller frees `sam` with samfile_free; on failure it is
+ * zeroed. Errors: those of samfile_read, sam_build_info_read, sam_mesh_load
+ * and sam_build_samfile; SAM_ERR_FORMAT when the .sam records no material
+ * or scale the scene does not give, or was built from another mesh (the
+ * message names both files and their hashes). */
+sam_status sam_build_scene_object(const sam_scene *scene, const sam_build_settings *settings,
+                                  sam_build_progress_fn progress, void *user, samfile_data *sam,
+                                  sam_profile *profile, float *mm_per_unit, double *built_seconds, sam_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,42 @@
+/*
+ * sam_runtime_scene: a scene file (sam_scene.h) applied to a runtime, so
+ * every tool that renders scenes (sam_render, sam_compare, the benchmarks)
+ * lights, frames and shades them the same way.
+ *
+ * Needs what sam_runtime needs: a current GL context on the calling thread.
+ */
+#ifndef SAM_RUNTIME_SCENE_H
+#define SAM_RUNTIME_SCENE_H
+
+#include "sam/sam_runtime.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Gives `rt` the scene's lights, its environment (the lat-long map's SH-9
+ * radiance, rotated and scaled as the scene says) and its albedo map.
+ * `sh` (may be NULL) receives the environment's SH and `*has_environment`
+ * (may be NULL) whether there is one, for CPU references that must light
+ * the object alike. `warning` (size n, may be NULL) gets one line when
+ * something of the scene is left out but the render can go on (an albedo
+ * map on a mesh without UVs), else "".
+ * Errors: those of sam_image_read_exr / sam_image_read_png (naming the
+ * file), sam_light_sh9_from_latlong, sam_runtime_set_lights and
+ * sam_runtime_set_albedo_map. */
+sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, float sh[9][3], int *has_environment,
+                                   char *warning, size_t n, sam_error *err);
+
+/* The scene's view: its resolution, camera (or, without one, the bounding
+ * sphere framed from +Z with a 40 degree field of view), albedo and
+ * diffusion settings, front lighting on, technique SAM. Texture-space
+ * diffusion on a runtime whose UVs cannot carry it falls back to screen
+ * space, and `warning` (size n, may be NULL) says why; else it gets "". */
+void sam_runtime_scene_view(const sam_runtime *rt, const sam_scene *scene, sam_render_view *view, char *warning,
+                            size_t n);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

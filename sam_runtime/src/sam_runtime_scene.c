@@ -1,0 +1,96 @@
+/* A scene file applied to a runtime (sam_runtime_scene.h). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "sam/sam_light.h"
+#include "sam/sam_runtime_scene.h"
+
+static void set_warning(char *warning, size_t n, const char *text)
+{
+    if (warning && n)
+        snprintf(warning, n, "%s", text);
+}
+
+sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, float sh[9][3], int *has_environment,
+                                   char *warning, size_t n, sam_error *err)
+{
+    set_warning(warning, n, "");
+    if (has_environment)
+        *has_environment = 0;
+    if (!rt || !scene)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "scene setup: NULL runtime or scene");
+    sam_status st = sam_runtime_set_lights(rt, scene->lights, scene->light_count, err);
+    if (st != SAM_OK)
+        return st;
+    float env_sh[9][3];
+    sam_runtime_set_environment(rt, NULL);
+    if (scene->environment.map) {
+        sam_image env;
+        if ((st = sam_image_read_exr(scene->environment.map, &env, err)) != SAM_OK)
+            return st;
+        st = sam_light_sh9_from_latlong(&env, scene->environment.rotation_deg, scene->environment.intensity, env_sh,
+                                        err);
+        sam_image_destroy(&env);
+        if (st != SAM_OK)
+            return st;
+        sam_runtime_set_environment(rt, (const float(*)[3])env_sh);
+        if (sh)
+            memcpy(sh, env_sh, sizeof env_sh);
+        if (has_environment)
+            *has_environment = 1;
+    }
+    if (scene->albedo_map) {
+        sam_image map;
+        if ((st = sam_image_read_png(scene->albedo_map, &map, SAM_PNG_SRGB, err)) != SAM_OK)
+            return st;
+        st = sam_runtime_set_albedo_map(rt, &map, err);
+        sam_image_destroy(&map);
+        if (st == SAM_ERR_UNSUPPORTED && warning && n) {
+            snprintf(warning, n, "albedo map %s ignored: the mesh has no UVs", scene->albedo_map);
+            st = SAM_OK;
+        } else if (st == SAM_ERR_UNSUPPORTED) {
+            st = SAM_OK;
+        }
+    }
+    return st;
+}
+
+void sam_runtime_scene_view(const sam_runtime *rt, const sam_scene *scene, sam_render_view *view, char *warning,
+                            size_t n)
+{
+    set_warning(warning, n, "");
+    memset(view, 0, sizeof *view);
+    view->width = scene->width;
+    view->height = scene->height;
+    memcpy(view->albedo, scene->albedo, sizeof view->albedo);
+    view->front = 1;
+    view->options = scene->diffusion_options;
+    /* sam_render_view.diffusion: 0 none, 1 screen, 2 pre-integrated, 3 texture */
+    view->diffusion = scene->diffusion == SAM_DIFFUSION_PREINTEGRATED ? 2
+                      : scene->diffusion == SAM_DIFFUSION_TEXTURE    ? 3
+                                                                     : 1;
+    char reason[160];
+    if (view->diffusion == 3 && !sam_runtime_uv_status(rt, reason, sizeof reason)) {
+        if (warning && n)
+            snprintf(warning, n, "texture-space diffusion falls back to screen space: %s", reason);
+        view->diffusion = 1;
+    }
+    if (scene->has_camera) {
+        memcpy(view->eye, scene->camera.position, sizeof view->eye);
+        memcpy(view->target, scene->camera.target, sizeof view->target);
+        memcpy(view->up, scene->camera.up, sizeof view->up);
+        view->fov_deg = scene->camera.fov_deg;
+        view->near_plane = scene->camera.near_plane;
+        view->far_plane = scene->camera.far_plane;
+    } else {
+        float centre[3], radius;
+        sam_runtime_bounds(rt, centre, &radius);
+        view->fov_deg = 40.0f;
+        float dist = radius / sinf(0.5f * view->fov_deg * 3.14159265f / 180.0f) * 1.05f;
+        memcpy(view->target, centre, sizeof view->target);
+        memcpy(view->eye, centre, sizeof view->eye);
+        view->eye[2] += dist;
+        view->up[1] = 1.0f;
+    }
+}
