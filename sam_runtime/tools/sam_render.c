@@ -10,9 +10,7 @@
 
 
 #include "sam/sam_build.h"
-#include "sam/sam_light.h"
-#include "sam/sam_runtime.h"
-#include "sam/sam_sha256.h"
+#include "sam/sam_runtime_scene.h"
 
 static void usage(FILE *out)
 {
@@ -85,65 +83,6 @@ static int fail(const char *message)
 {
     fprintf(stderr, "sam_render: %s\n", message);
     return 1;
-}
-
-/* The .sam of the scene: read, or built from its mesh. Fills the profile
- * and scale the runtime needs. */
-static sam_status load_object(const sam_scene *scene, samfile_data *sam, sam_profile *profile, float *mm_per_unit,
-                              sam_error *err)
-{
-    memset(sam, 0, sizeof *sam);
-    if (scene->sam_path) {
-        sam_status st = samfile_read(scene->sam_path, sam, err);
-        if (st != SAM_OK)
-            return st;
-        sam_build_info info;
-        st = sam_build_info_read(sam, scene->sam_path, &info, err);
-        *mm_per_unit = info.mm_per_unit;
-        /* The scene's material replaces the one INFO records. */
-        if (scene->material && st == SAM_ERR_FORMAT)
-            st = SAM_OK;
-        if (st == SAM_OK && !scene->material && !info.has_material)
-            st = sam_fail(err, SAM_ERR_FORMAT, "%s: INFO records no material and the scene gives none",
-                          scene->sam_path);
-        if (st == SAM_OK)
-            *profile = scene->material ? scene->profile : info.profile;
-        /* With "mesh" too, the .sam must be that mesh's map. */
-        if (st == SAM_OK && scene->mesh_path) {
-            char hex[65];
-            st = sam_sha256_file(scene->mesh_path, hex, err);
-            if (st == SAM_OK && !info.source_sha256[0])
-                st = sam_fail(err, SAM_ERR_FORMAT, "%s: records no source hash, so it cannot be checked against %s",
-                              scene->sam_path, scene->mesh_path);
-            else if (st == SAM_OK && strcmp(info.source_sha256, hex))
-                st = sam_fail(err, SAM_ERR_FORMAT,
-                              "%s was built from another mesh (%s, sha256 %.12s...), not from %s (sha256 %.12s...)",
-                              scene->sam_path, info.source_file[0] ? info.source_file : "unnamed",
-                              info.source_sha256, scene->mesh_path, hex);
-        }
-        if (scene->scale_kind == SAM_SCALE_MM_PER_UNIT)
-            *mm_per_unit = scene->scale_value;
-        if (st == SAM_OK && !(*mm_per_unit > 0))
-            st = sam_fail(err, SAM_ERR_FORMAT, "%s: no scale (INFO has no mm_per_unit)", scene->sam_path);
-        if (st != SAM_OK)
-            samfile_free(sam);
-        return st;
-    }
-    sam_mesh mesh;
-    sam_status st = sam_mesh_load(scene->mesh_path, &mesh, NULL, err);
-    if (st != SAM_OK)
-        return st;
-    *profile = scene->profile;
-    *mm_per_unit = scene->scale_kind == SAM_SCALE_SIZE_MM ? (float)(scene->scale_value / sam_mesh_diagonal(&mesh))
-                                                          : scene->scale_value;
-    sam_build_source source = {scene->mesh_path, NULL};
-    double seconds = 0;
-    st = sam_build_samfile(&mesh, profile, *mm_per_unit, NULL, &source, NULL, NULL, sam, &seconds, err);
-    if (st == SAM_OK)
-        fprintf(stderr, "sam_render: built the map of %s (%u vertices) in %.2f s\n", scene->mesh_path,
-                mesh.vertex_count, seconds);
-    sam_mesh_destroy(&mesh);
-    return st;
 }
 
 static sam_status write_vertices(const char *path, const float *ld, const float *t, uint32_t n, sam_error *err)
@@ -289,16 +228,12 @@ int main(int argc, char **argv)
     /* techniques[] follows sam_technique's order. */
     sam_technique chosen = technique ? (sam_technique)use_technique : scene.technique;
     int use_sam = chosen == SAM_TECHNIQUE_SAM;
-    /* 0 none, 1 screen, 2 pre-integrated, 3 texture (sam_render_view.diffusion) */
-    int use_diffusion = scene.diffusion == SAM_DIFFUSION_PREINTEGRATED ? 2
-                        : scene.diffusion == SAM_DIFFUSION_TEXTURE    ? 3
-                                                                      : 1;
-    if (diffusion)
-        use_diffusion = !strcmp(diffusion, "screen")          ? 1
-                        : !strcmp(diffusion, "preintegrated") ? 2
-                        : !strcmp(diffusion, "texture")       ? 3
-                                                              : 0;
-    if (chosen == SAM_TECHNIQUE_TSM && use_diffusion != 3) {
+    if (diffusion && strcmp(diffusion, "none"))
+        scene.diffusion = !strcmp(diffusion, "screen")          ? SAM_DIFFUSION_SCREEN
+                          : !strcmp(diffusion, "preintegrated") ? SAM_DIFFUSION_PREINTEGRATED
+                                                                : SAM_DIFFUSION_TEXTURE;
+    int no_diffusion = diffusion && !strcmp(diffusion, "none");
+    if (chosen == SAM_TECHNIQUE_TSM && (no_diffusion || scene.diffusion != SAM_DIFFUSION_TEXTURE)) {
         sam_scene_destroy(&scene);
         return fail("the tsm technique needs texture-space diffusion (--diffusion texture or the scene's "
                     "\"diffusion\": \"texture\")");
@@ -306,33 +241,27 @@ int main(int argc, char **argv)
     samfile_data sam;
     sam_profile profile;
     float mm_per_unit;
-    if (load_object(&scene, &sam, &profile, &mm_per_unit, &err) != SAM_OK) {
+    double built_seconds;
+    if (sam_build_scene_object(&scene, NULL, NULL, NULL, &sam, &profile, &mm_per_unit, &built_seconds, &err) !=
+        SAM_OK) {
         sam_scene_destroy(&scene);
         return fail(err.message);
     }
+    if (!scene.sam_path)
+        fprintf(stderr, "sam_render: built the map of %s (%u vertices) in %.2f s\n", scene.mesh_path,
+                sam.vertex_count, built_seconds);
     int code = 1;
-    float sh[9][3];
-    int has_env = 0;
     sam_gl_context *gl = NULL;
     sam_runtime *rt = NULL;
     sam_image img = {0};
     float *ld = NULL, *t = NULL;
-    if (scene.environment.map) {
-        sam_image env;
-        if (sam_image_read_exr(scene.environment.map, &env, &err) != SAM_OK)
-            goto done;
-        sam_status st =
-            sam_light_sh9_from_latlong(&env, scene.environment.rotation_deg, scene.environment.intensity, sh, &err);
-        sam_image_destroy(&env);
-        if (st != SAM_OK)
-            goto done;
-        has_env = 1;
-    }
+    char warning[512];
     if (sam_gl_context_create_headless(&gl, &err) != SAM_OK ||
         sam_runtime_create(&sam, &profile, mm_per_unit, &rt, &err) != SAM_OK ||
-        sam_runtime_set_lights(rt, scene.lights, scene.light_count, &err) != SAM_OK)
+        sam_runtime_scene_setup(rt, &scene, NULL, NULL, warning, sizeof warning, &err) != SAM_OK)
         goto done;
-    sam_runtime_set_environment(rt, has_env ? (const float(*)[3])sh : NULL);
+    if (warning[0])
+        fprintf(stderr, "sam_render: warning: %s\n", warning);
     for (long f = 0; f < frames; ++f) {
         if (sam_runtime_irradiance(rt, &err) != SAM_OK)
             goto done;
@@ -340,12 +269,20 @@ int main(int argc, char **argv)
             goto done;
     }
     sam_render_view view;
-    memset(&view, 0, sizeof view);
-    view.width = scene.width;
-    view.height = scene.height;
-    memcpy(view.albedo, scene.albedo, sizeof view.albedo);
+    sam_runtime_scene_view(rt, &scene, &view, warning, sizeof warning);
+    if (chosen == SAM_TECHNIQUE_TSM && view.diffusion != 3) {
+        char reason[160];
+        sam_runtime_uv_status(rt, reason, sizeof reason);
+        sam_fail(&err, SAM_ERR_UNSUPPORTED, "the tsm technique needs texture-space diffusion, which cannot run: %s",
+                 reason);
+        goto done;
+    }
+    if (warning[0])
+        fprintf(stderr, "sam_render: warning: %s\n", warning);
+    if (no_diffusion)
+        view.diffusion = 0;
     view.front = !translucency_only;
-    view.options = scene.diffusion_options;
+    view.technique = chosen;
     if (kernel)
         view.options.sss_kernel = !strcmp(kernel, "eq1")        ? SAM_SSS_KERNEL_EQ1
                                   : !strcmp(kernel, "marginal") ? SAM_SSS_KERNEL_MARGINAL
@@ -358,47 +295,6 @@ int main(int argc, char **argv)
         parse_optimizations(optimize, &view.options);
     if (texels_per_pixel > 0)
         view.options.texels_per_pixel = texels_per_pixel;
-    char reason[160];
-    if (use_diffusion == 3 && !sam_runtime_uv_status(rt, reason, sizeof reason)) {
-        if (chosen == SAM_TECHNIQUE_TSM) {
-            sam_fail(&err, SAM_ERR_UNSUPPORTED, "the tsm technique needs texture-space diffusion, which cannot run: %s",
-                     reason);
-            goto done;
-        }
-        fprintf(stderr, "sam_render: warning: texture-space diffusion falls back to screen space: %s\n", reason);
-        use_diffusion = 1;
-    }
-    if (scene.albedo_map) {
-        sam_image map;
-        if (sam_image_read_png(scene.albedo_map, &map, SAM_PNG_SRGB, &err) != SAM_OK)
-            goto done;
-        sam_status st = sam_runtime_set_albedo_map(rt, &map, &err);
-        sam_image_destroy(&map);
-        if (st == SAM_ERR_UNSUPPORTED)
-            fprintf(stderr, "sam_render: warning: albedo map %s ignored: the mesh has no UVs\n", scene.albedo_map);
-        else if (st != SAM_OK)
-            goto done;
-    }
-    view.diffusion = use_diffusion;
-    view.technique = chosen;
-    if (scene.has_camera) {
-        memcpy(view.eye, scene.camera.position, sizeof view.eye);
-        memcpy(view.target, scene.camera.target, sizeof view.target);
-        memcpy(view.up, scene.camera.up, sizeof view.up);
-        view.fov_deg = scene.camera.fov_deg;
-        view.near_plane = scene.camera.near_plane;
-        view.far_plane = scene.camera.far_plane;
-    } else {
-        /* Frame the bounding sphere from +Z. */
-        float centre[3], radius;
-        sam_runtime_bounds(rt, centre, &radius);
-        view.fov_deg = 40.0f;
-        float dist = radius / sinf(0.5f * view.fov_deg * 3.14159265f / 180.0f) * 1.05f;
-        memcpy(view.target, centre, sizeof view.target);
-        memcpy(view.eye, centre, sizeof view.eye);
-        view.eye[2] += dist;
-        view.up[1] = 1.0f;
-    }
     if (sam_runtime_render(rt, &view, &img, &err) != SAM_OK)
         goto done;
     if (sam_image_write_exr(out, &img, SAM_EXR_FLOAT, &err) != SAM_OK)
