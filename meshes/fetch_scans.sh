@@ -14,6 +14,7 @@ MESHES=(
   "armadillo.off:data/meshes/armadillo.off"
   "dragon.off:data/meshes/ChineseDragon-10kv.off"
   "elephant.off:data/meshes/elephant.off"
+  "head.off:data/meshes/mannequin-devil.off"
 )
 
 die() {

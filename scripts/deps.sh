@@ -9,6 +9,7 @@ packages=(
   libepoxy-dev libglfw3-dev libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
   libpng-dev zlib1g-dev
   xvfb xauth                                   # window tests
+  gnuplot-nox                                  # sam_compare's RMSE-against-N plot
 )
 missing=()
 for p in "${packages[@]}"; do

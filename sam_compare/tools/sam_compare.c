@@ -1,0 +1,897 @@
+/*
+ * sam_compare: the SAM paper's evaluation (Sec. 5.1-5.2, Fig. 10-11) on any
+ * scene. Renders a dense CPU ground truth of the translucency (sam_truth)
+ * and every requested technique with the same front lighting and surface
+ * diffusion, writes the images, their differences x4, and a report with
+ * PSNR and RMSE; optionally rebuilds the map for several sample counts N
+ * and plots RMSE against N with gnuplot.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "sam/sam_build.h"
+#include "sam/sam_runtime_scene.h"
+#include "sam/sam_truth.h"
+
+#define MAX_TECHNIQUES 4
+#define MAX_SWEEP 16
+/* Doublings of the truth's samples before giving up on 0.5 dB: from the
+ * library's smallest count to its largest. */
+#define MAX_DOUBLINGS 6
+#define CONVERGED_DB 0.5
+
+static const char *const technique_names[MAX_TECHNIQUES] = {"sam", "none", "tsm", "transmittance"};
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: sam_compare SCENE.json --out DIR [options]\n"
+            "\n"
+            "Renders a ground truth of the scene's translucency (dense surface samples, exact\n"
+            "visibility by ray casting, the same front lighting and surface diffusion as the\n"
+            "techniques) and each technique, and writes to DIR:\n"
+            "  truth.exr/.png, TECH.exr/.png             full shading (linear HDR, tonemapped sRGB)\n"
+            "  *_translucency.exr/.png                   translucency only (PNG: / the truth's maximum)\n"
+            "  TECH_diff4.png, TECH_translucency_diff4.png  |TECH - truth| x 4 of the PNGs\n"
+            "  report.md, report.json                    PSNR and RMSE per technique\n"
+            "  rmse_vs_samples.png, sweep.dat            with --samples-sweep\n"
+            "\n"
+            "options:\n"
+            "  --techniques LIST      comma-separated from sam, tsm, transmittance, none\n"
+            "                         (default: all four)\n"
+            "  --samples-sweep LIST   rebuild the map with each N in LIST (e.g. 3,5,10,20,50; each\n"
+            "                         1..64) and plot SAM's RMSE against N (needs a scene with a mesh\n"
+            "                         and gnuplot)\n"
+            "  --samples N            back-side samples per vertex of the map SAM is shown with\n"
+            "                         (default 3; a scene's prebuilt .sam keeps its own)\n"
+            "  --truth-samples N      the ground truth's first surface sample count (default 65536);\n"
+            "                         it is doubled (up to 6 times) until doubling changes SAM's\n"
+            "                         PSNRs by under 0.5 dB\n"
+            "  --force                write into a DIR that already holds a report\n"
+            "  -h, --help             this text\n"
+            "PSNR is computed on the tonemapped 8-bit sRGB images over the object's pixels, over\n"
+            "the pixels that differ from the truth (as the paper does), and on the translucency\n"
+            "images normalised by the truth's maximum. Texture-space depth sizing and culling are\n"
+            "turned off for every render: they change the picture, and the comparison should not.\n");
+}
+
+static void say(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("sam_compare: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+/* Progress every 10% on one rewritten line on a terminal; into a log, a
+ * line when a stage is done. */
+typedef struct progress_state {
+    const char *what;
+    int last_decile;
+} progress_state;
+
+static void progress_line(progress_state *p, const char *stage, double fraction)
+{
+    int decile = (int)(fraction * 10.0);
+    if (decile == p->last_decile)
+        return;
+    p->last_decile = decile;
+    if (isatty(STDERR_FILENO))
+        fprintf(stderr, "\rsam_compare: %s%s%s %3.0f%%%s", p->what, stage ? ": " : "", stage ? stage : "",
+                100.0 * fraction, fraction >= 1.0 ? "\n" : "");
+    else if (fraction >= 1.0)
+        fprintf(stderr, "sam_compare: %s%s%s done\n", p->what, stage ? ": " : "", stage ? stage : "");
+}
+
+static void truth_progress(void *user, const char *stage, double fraction)
+{
+    progress_line(user, stage, fraction);
+}
+
+static int build_progress(void *user, uint64_t done, uint64_t total)
+{
+    progress_line(user, NULL, total ? (double)done / (double)total : 1.0);
+    return 0;
+}
+
+/* A comma-separated list of integers in [lo, hi]; 0 on a bad entry. */
+static int parse_int_list(const char *text, long lo, long hi, long *out, int max, int *count)
+{
+    *count = 0;
+    const char *p = text;
+    while (*p) {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || (*end && *end != ',') || v < lo || v > hi || *count == max)
+            return 0;
+        out[(*count)++] = v;
+        p = *end ? end + 1 : end;
+    }
+    return *count > 0;
+}
+
+/* The images and scores of one technique. */
+typedef struct technique_result {
+    int requested, available;
+    char reason[SAM_ERROR_MESSAGE_SIZE];
+    sam_image full, translucency; /* linear HDR RGBA */
+    sam_image_comparison all, normalised;
+} technique_result;
+
+typedef struct compare_state {
+    const char *dir;
+    sam_scene scene;
+    samfile_data sam;
+    sam_profile profile;
+    float mm_per_unit;
+    double build_seconds;
+    sam_runtime *rt;
+    sam_render_view view;
+    float sh[9][3];
+    int has_environment;
+    sam_truth_scene truth_scene;
+} compare_state;
+
+static float rho_dt_of(const void *user, float n_dot_l)
+{
+    return sam_runtime_rho_dt(user, n_dot_l);
+}
+
+static sam_status join_path(char *out, size_t n, const char *dir, const char *name, sam_error *err)
+{
+    int len = snprintf(out, n, "%s/%s", dir, name);
+    if (len < 0 || (size_t)len >= n)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "output path %s/%s is too long", dir, name);
+    return SAM_OK;
+}
+
+/* The display image of a render: tonemapped with the scene's curve over black. */
+static sam_status display(const compare_state *s, const sam_image *hdr, sam_image *out, sam_error *err)
+{
+    static const float black[3] = {0, 0, 0};
+    return sam_image_tonemap(hdr, s->scene.tonemap, s->scene.exposure, black, out, err);
+}
+
+/* A translucency image divided by `scale` (the truth's maximum) and clamped
+ * to [0, 1]: the normalised pictures the paper's detail images show. */
+static sam_status normalised(const sam_image *hdr, float scale, sam_image *out, sam_error *err)
+{
+    sam_status st = sam_image_create(out, hdr->width, hdr->height, 3, err);
+    if (st != SAM_OK)
+        return st;
+    size_t n = (size_t)hdr->width * hdr->height;
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            float v = hdr->pixels[i * hdr->channels + (size_t)c] / scale;
+            out->pixels[i * 3 + (size_t)c] = v > 0 ? (v < 1 ? v : 1) : 0;
+        }
+    return SAM_OK;
+}
+
+/* The largest colour value over the object's pixels (alpha > 0). */
+static float max_value(const sam_image *img)
+{
+    float m = 0;
+    size_t n = (size_t)img->width * img->height;
+    for (size_t i = 0; i < n; ++i)
+        if (img->pixels[i * 4 + 3] > 0)
+            for (int c = 0; c < 3; ++c)
+                m = fmaxf(m, img->pixels[i * 4 + (size_t)c]);
+    return m;
+}
+
+/* Writes NAME.exr and NAME.png (the display image `shown`). */
+static sam_status write_pair(const compare_state *s, const char *name, const sam_image *hdr, const sam_image *shown,
+                             sam_error *err)
+{
+    char path[4096], file[256];
+    snprintf(file, sizeof file, "%s.exr", name);
+    sam_status st = join_path(path, sizeof path, s->dir, file, err);
+    if (st == SAM_OK)
+        st = sam_image_write_exr(path, hdr, SAM_EXR_FLOAT, err);
+    snprintf(file, sizeof file, "%s.png", name);
+    if (st == SAM_OK)
+        st = join_path(path, sizeof path, s->dir, file, err);
+    if (st == SAM_OK)
+        st = sam_image_write_png(path, shown, SAM_PNG_SRGB, err);
+    return st;
+}
+
+/* |a - b| x 4 of two display images as they look in 8-bit sRGB (the
+ * paper's enhanced difference images). */
+static sam_status write_difference(const compare_state *s, const char *name, const sam_image *a, const sam_image *b,
+                                   sam_error *err)
+{
+    sam_image d;
+    sam_status st = sam_image_create(&d, a->width, a->height, 3, err);
+    if (st != SAM_OK)
+        return st;
+    size_t n = (size_t)a->width * a->height;
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            float x = roundf(255.0f * sam_linear_to_srgb(a->pixels[i * a->channels + (size_t)c])) / 255.0f;
+            float y = roundf(255.0f * sam_linear_to_srgb(b->pixels[i * b->channels + (size_t)c])) / 255.0f;
+            d.pixels[i * 3 + (size_t)c] = fminf(1.0f, 4.0f * fabsf(x - y));
+        }
+    char path[4096], file[256];
+    snprintf(file, sizeof file, "%s.png", name);
+    st = join_path(path, sizeof path, s->dir, file, err);
+    if (st == SAM_OK)
+        st = sam_image_write_png(path, &d, SAM_PNG_LINEAR, err);
+    sam_image_destroy(&d);
+    return st;
+}
+
+/* Renders the current view with `technique`, or with `override` as the
+ * translucency when not NULL: full shading and translucency only. */
+static sam_status render_pair(compare_state *s, sam_technique technique, const sam_image *override, sam_image *full,
+                              sam_image *translucency, sam_error *err)
+{
+    sam_render_view v = s->view;
+    v.technique = technique;
+    v.translucency = override;
+    v.front = 1;
+    sam_status st = sam_runtime_render(s->rt, &v, full, err);
+    if (st != SAM_OK)
+        return st;
+    v.front = 0;
+    st = sam_runtime_render(s->rt, &v, translucency, err);
+    if (st != SAM_OK)
+        sam_image_destroy(full);
+    return st;
+}
+
+/* The truth's translucency at every covered pixel (screen) or texel
+ * (atlas) of the G-buffer, as an override image for sam_runtime_render. */
+static sam_status evaluate_truth(compare_state *s, const sam_image *positions, const sam_image *normals,
+                                     uint64_t samples, sam_image *out, uint64_t *used_samples, double *seconds,
+                                     sam_error *err)
+{
+    size_t n = (size_t)positions->width * positions->height, count = 0;
+    for (size_t i = 0; i < n; ++i)
+        count += positions->pixels[i * 4 + 3] > 0;
+    float *p = malloc((count ? count : 1) * 3 * sizeof *p), *nrm = malloc((count ? count : 1) * 3 * sizeof *nrm),
+          *t = malloc((count ? count : 1) * 3 * sizeof *t);
+    sam_truth *truth = NULL;
+    sam_status st = SAM_OK;
+    if (!p || !nrm || !t) {
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "ground truth: out of memory for %zu query points", count);
+        goto done;
+    }
+    for (size_t i = 0, q = 0; i < n; ++i)
+        if (positions->pixels[i * 4 + 3] > 0) {
+            memcpy(p + 3 * q, positions->pixels + i * 4, 3 * sizeof *p);
+            memcpy(nrm + 3 * q, normals->pixels + i * 4, 3 * sizeof *nrm);
+            ++q;
+        }
+    char what[64];
+    snprintf(what, sizeof what, "ground truth (%llu samples)", (unsigned long long)samples);
+    progress_state ps = {what, -1};
+    sam_truth_settings settings = {0};
+    settings.sample_count = samples;
+    settings.seed = 1;
+    settings.progress = truth_progress;
+    settings.progress_user = &ps;
+    if ((st = sam_truth_create(&s->truth_scene, &settings, &truth, err)) != SAM_OK)
+        goto done;
+    ps.last_decile = -1;
+    if ((st = sam_truth_translucency(truth, count, p, nrm, t, err)) != SAM_OK)
+        goto done;
+    *used_samples = sam_truth_sample_count(truth);
+    *seconds = sam_truth_seconds(truth);
+    if ((st = sam_image_create(out, positions->width, positions->height, 4, err)) != SAM_OK)
+        goto done;
+    for (size_t i = 0, q = 0; i < n; ++i) {
+        float *o = out->pixels + i * 4;
+        if (positions->pixels[i * 4 + 3] > 0) {
+            memcpy(o, t + 3 * q, 3 * sizeof *o);
+            o[3] = 1;
+            ++q;
+        } else {
+            o[0] = o[1] = o[2] = o[3] = 0;
+        }
+    }
+done:
+    sam_truth_destroy(truth);
+    free(p);
+    free(nrm);
+    free(t);
+    return st;
+}
+
+/* Scores a technique's images against the truth's. */
+static sam_status score(const compare_state *s, const sam_image *full, const sam_image *translucency,
+                        const sam_image *truth_full, const sam_image *truth_translucency, float truth_max,
+                        sam_image_comparison *all, sam_image_comparison *norm, sam_error *err)
+{
+    sam_image a = {0}, b = {0}, c = {0}, d = {0};
+    sam_status st = display(s, full, &a, err);
+    if (st == SAM_OK)
+        st = display(s, truth_full, &b, err);
+    if (st == SAM_OK)
+        st = sam_image_compare_srgb8(&a, &b, truth_full, all, err);
+    if (st == SAM_OK)
+        st = normalised(translucency, truth_max, &c, err);
+    if (st == SAM_OK)
+        st = normalised(truth_translucency, truth_max, &d, err);
+    if (st == SAM_OK)
+        st = sam_image_compare_srgb8(&c, &d, truth_full, norm, err);
+    sam_image_destroy(&a);
+    sam_image_destroy(&b);
+    sam_image_destroy(&c);
+    sam_image_destroy(&d);
+    return st;
+}
+
+/* JSON has no infinity: an exact match is written as null. */
+static void json_number(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.4f", v);
+    else
+        fprintf(f, "null");
+}
+
+static void md_db(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, " %.2f |", v);
+    else
+        fprintf(f, " inf |");
+}
+
+typedef struct truth_step {
+    uint64_t samples;
+    double seconds, sam_psnr_db, sam_psnr_normalised_db;
+} truth_step;
+
+typedef struct sweep_point {
+    long n;
+    double build_seconds;
+    sam_image_comparison all, normalised;
+} sweep_point;
+
+static sam_status write_reports(const compare_state *s, const char *scene_path, const technique_result *results,
+                                const technique_result *self, const truth_step *steps, int step_count,
+                                float truth_max, const char *space,
+                                const sweep_point *sweep, int sweep_count, int monotonic, sam_error *err)
+{
+    const truth_step *final = &steps[step_count - 1];
+    char path[4096];
+    sam_atomic_file f;
+    sam_status st = join_path(path, sizeof path, s->dir, "report.json", err);
+    if (st == SAM_OK)
+        st = sam_atomic_open(&f, path, err);
+    if (st != SAM_OK)
+        return st;
+    static const char *const diffusion_names[4] = {"none", "screen", "preintegrated", "texture"};
+    fprintf(f.fp, "{\n  \"scene\": \"%s\",\n  \"resolution\": [%u, %u],\n  \"vertices\": %u,\n", sam_path_basename(scene_path),
+            s->view.width, s->view.height, s->sam.vertex_count);
+    fprintf(f.fp, "  \"samples_per_vertex\": %u,\n  \"map_build_seconds\": %.3f,\n  \"diffusion\": \"%s\",\n",
+            s->sam.samples_per_vertex, s->build_seconds, diffusion_names[s->view.diffusion]);
+    fprintf(f.fp, "  \"truth\": {\"samples\": %llu, \"seconds\": %.3f, \"space\": \"%s\", \"translucency_max\": %.6g, "
+                  "\"convergence\": [",
+            (unsigned long long)final->samples, final->seconds, space, (double)truth_max);
+    for (int i = 0; i < step_count; ++i) {
+        fprintf(f.fp, "%s{\"samples\": %llu, \"seconds\": %.3f, \"sam_psnr_db\": ", i ? ", " : "",
+                (unsigned long long)steps[i].samples, steps[i].seconds);
+        json_number(f.fp, steps[i].sam_psnr_db);
+        fprintf(f.fp, ", \"sam_psnr_translucency_db\": ");
+        json_number(f.fp, steps[i].sam_psnr_normalised_db);
+        fprintf(f.fp, "}");
+    }
+    /* The truth scored against itself checks the scoring: an exact match. */
+    fprintf(f.fp, "], \"self_psnr_db\": ");
+    json_number(f.fp, self->all.psnr_db);
+    fprintf(f.fp, ", \"self_differing_pixels\": %llu, \"self_psnr_translucency_db\": ",
+            (unsigned long long)self->all.differing_pixels);
+    json_number(f.fp, self->normalised.psnr_db);
+    fprintf(f.fp, "},\n  \"techniques\": [\n");
+    int first = 1;
+    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
+        const technique_result *r = &results[t];
+        if (!r->requested)
+            continue;
+        fprintf(f.fp, "%s    {\"name\": \"%s\", \"available\": %s", first ? "" : ",\n", technique_names[t],
+                r->available ? "true" : "false");
+        first = 0;
+        if (!r->available) {
+            fprintf(f.fp, ", \"reason\": \"%s\"}", r->reason);
+            continue;
+        }
+        fprintf(f.fp, ", \"pixels\": %llu, \"differing_pixels\": %llu, \"psnr_db\": ", (unsigned long long)r->all.pixels,
+                (unsigned long long)r->all.differing_pixels);
+        json_number(f.fp, r->all.psnr_db);
+        fprintf(f.fp, ", \"rmse\": %.4f, \"psnr_differing_db\": ", r->all.rmse);
+        json_number(f.fp, r->all.psnr_differing_db);
+        fprintf(f.fp, ", \"rmse_differing\": %.4f, \"psnr_translucency_db\": ", r->all.rmse_differing);
+        json_number(f.fp, r->normalised.psnr_db);
+        fprintf(f.fp, ", \"rmse_translucency\": %.4f, \"psnr_translucency_differing_db\": ", r->normalised.rmse);
+        json_number(f.fp, r->normalised.psnr_differing_db);
+        fprintf(f.fp, "}");
+    }
+    fprintf(f.fp, "\n  ]");
+    if (sweep_count) {
+        fprintf(f.fp, ",\n  \"samples_sweep\": {\"rmse_falls_monotonically\": %s, \"points\": [",
+                monotonic ? "true" : "false");
+        for (int i = 0; i < sweep_count; ++i) {
+            fprintf(f.fp, "%s{\"n\": %ld, \"build_seconds\": %.3f, \"rmse\": %.4f, \"rmse_translucency\": %.4f, \"psnr_db\": ",
+                    i ? ", " : "", sweep[i].n, sweep[i].build_seconds, sweep[i].all.rmse, sweep[i].normalised.rmse);
+            json_number(f.fp, sweep[i].all.psnr_db);
+            fprintf(f.fp, "}");
+        }
+        fprintf(f.fp, "]}");
+    }
+    fprintf(f.fp, "\n}\n");
+    if ((st = sam_atomic_commit(&f, err)) != SAM_OK)
+        return st;
+
+    if ((st = join_path(path, sizeof path, s->dir, "report.md", err)) != SAM_OK ||
+        (st = sam_atomic_open(&f, path, err)) != SAM_OK)
+        return st;
+    fprintf(f.fp, "# sam_compare: %s\n\n", sam_path_basename(scene_path));
+    fprintf(f.fp, "%ux%u, %u vertices, N = %u back-side samples per vertex, %s diffusion.\n\n", s->view.width,
+            s->view.height, s->sam.vertex_count, s->sam.samples_per_vertex, diffusion_names[s->view.diffusion]);
+    fprintf(f.fp, "Ground truth: %llu surface samples, %.2f s, evaluated per %s. Doubling the samples:\n\n",
+            (unsigned long long)final->samples, final->seconds, space);
+    fprintf(f.fp, "| truth samples | seconds | SAM PSNR (dB) | SAM translucency PSNR (dB) |\n| --- | --- | --- | --- |\n");
+    for (int i = 0; i < step_count; ++i) {
+        fprintf(f.fp, "| %llu | %.2f |", (unsigned long long)steps[i].samples, steps[i].seconds);
+        md_db(f.fp, steps[i].sam_psnr_db);
+        md_db(f.fp, steps[i].sam_psnr_normalised_db);
+        fprintf(f.fp, "\n");
+    }
+    fprintf(f.fp, "\nPSNR on tonemapped 8-bit sRGB over the object's pixels; \"differing\" counts only pixels that "
+                  "differ from the truth (the paper's Fig. 11); translucency images are normalised by the truth's "
+                  "maximum (%.4g).\n\n",
+            (double)truth_max);
+    fprintf(f.fp, "| technique | PSNR (dB) | RMSE | PSNR differing (dB) | differing pixels | translucency PSNR (dB) | "
+                  "translucency RMSE |\n| --- | --- | --- | --- | --- | --- | --- |\n");
+    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
+        const technique_result *r = &results[t];
+        if (!r->requested)
+            continue;
+        if (!r->available) {
+            fprintf(f.fp, "| %s | unavailable: %s | | | | | |\n", technique_names[t], r->reason);
+            continue;
+        }
+        fprintf(f.fp, "| %s |", technique_names[t]);
+        md_db(f.fp, r->all.psnr_db);
+        fprintf(f.fp, " %.3f |", r->all.rmse);
+        md_db(f.fp, r->all.psnr_differing_db);
+        fprintf(f.fp, " %llu of %llu |", (unsigned long long)r->all.differing_pixels, (unsigned long long)r->all.pixels);
+        md_db(f.fp, r->normalised.psnr_db);
+        fprintf(f.fp, " %.3f |\n", r->normalised.rmse);
+    }
+    if (sweep_count) {
+        fprintf(f.fp, "\nSAM against the truth as the map is rebuilt with N samples per vertex (rmse_vs_samples.png); "
+                      "RMSE %s monotonically:\n\n| N | build s | RMSE | translucency RMSE |\n| --- | --- | --- | --- |\n",
+                monotonic ? "falls" : "does not fall");
+        for (int i = 0; i < sweep_count; ++i)
+            fprintf(f.fp, "| %ld | %.2f | %.4f | %.4f |\n", sweep[i].n, sweep[i].build_seconds, sweep[i].all.rmse,
+                    sweep[i].normalised.rmse);
+    }
+    return sam_atomic_commit(&f, err);
+}
+
+/* sweep.dat and rmse_vs_samples.png through gnuplot. */
+static sam_status plot_sweep(const compare_state *s, const sweep_point *sweep, int count, sam_error *err)
+{
+    char dat[4096], script[4096], png[4096];
+    sam_status st = join_path(dat, sizeof dat, s->dir, "sweep.dat", err);
+    if (st == SAM_OK)
+        st = join_path(script, sizeof script, s->dir, "sweep.gnuplot", err);
+    if (st == SAM_OK)
+        st = join_path(png, sizeof png, s->dir, "rmse_vs_samples.png", err);
+    if (st != SAM_OK)
+        return st;
+    sam_atomic_file f;
+    if ((st = sam_atomic_open(&f, dat, err)) != SAM_OK)
+        return st;
+    fprintf(f.fp, "# N rmse rmse_translucency (8-bit levels)\n");
+    for (int i = 0; i < count; ++i)
+        fprintf(f.fp, "%ld %.6f %.6f\n", sweep[i].n, sweep[i].all.rmse, sweep[i].normalised.rmse);
+    if ((st = sam_atomic_commit(&f, err)) != SAM_OK)
+        return st;
+    if ((st = sam_atomic_open(&f, script, err)) != SAM_OK)
+        return st;
+    /* gnuplot writes the PNG itself; a temporary name keeps a failed run
+     * from leaving half a picture. */
+    fprintf(f.fp,
+            "set terminal pngcairo size 800,500 noenhanced\nset output '%s.tmp'\n"
+            "set title 'SAM against the ground truth (%s)'\nset xlabel 'back-side samples per vertex N'\n"
+            "set ylabel 'RMSE (8-bit sRGB levels)'\nset grid\nset key top right\n"
+            "plot '%s' using 1:2 with linespoints lw 2 title 'full shading', '' using 1:3 with linespoints lw 2 "
+            "title 'translucency (normalised)'\n",
+            png, sam_path_basename(s->scene.mesh_path ? s->scene.mesh_path : "scene"), dat);
+    if ((st = sam_atomic_commit(&f, err)) != SAM_OK)
+        return st;
+    pid_t pid = fork();
+    if (pid == 0) {
+        execlp("gnuplot", "gnuplot", script, (char *)NULL);
+        _exit(127);
+    }
+    int status = 0;
+    if (pid < 0 || waitpid(pid, &status, 0) < 0)
+        return sam_fail(err, SAM_ERR_IO, "could not run gnuplot: %s", strerror(errno));
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return sam_fail(err, SAM_ERR_IO,
+                        WIFEXITED(status) && WEXITSTATUS(status) == 127
+                            ? "gnuplot is not installed (scripts/deps.sh installs gnuplot-nox); %s and %s are written"
+                            : "gnuplot failed on %s (data in %s)",
+                        script, dat);
+    char tmp[4200];
+    snprintf(tmp, sizeof tmp, "%s.tmp", png);
+    if (rename(tmp, png) != 0)
+        return sam_fail(err, SAM_ERR_IO, "%s: %s", png, strerror(errno));
+    return SAM_OK;
+}
+
+/* Rebuilds the map with N samples per vertex for each N and scores SAM. */
+static sam_status run_sweep(compare_state *s, const long *ns, int count, const sam_image *truth_full,
+                            const sam_image *truth_translucency, float truth_max, sweep_point *out, sam_error *err)
+{
+    for (int i = 0; i < count; ++i) {
+        char what[64];
+        snprintf(what, sizeof what, "sweep: building the map with N = %ld", ns[i]);
+        progress_state ps = {what, -1};
+        sam_build_settings settings;
+        sam_build_default_settings(&settings);
+        settings.samples_per_vertex = (uint32_t)ns[i];
+        samfile_data sam;
+        sam_profile profile;
+        float mm;
+        sam_status st =
+            sam_build_scene_object(&s->scene, &settings, build_progress, &ps, &sam, &profile, &mm, &out[i].build_seconds, err);
+        if (st != SAM_OK)
+            return st;
+        sam_runtime *rt = NULL;
+        sam_image full = {0}, translucency = {0};
+        st = sam_runtime_create(&sam, &profile, mm, &rt, err);
+        if (st == SAM_OK)
+            st = sam_runtime_scene_setup(rt, &s->scene, NULL, NULL, NULL, 0, err);
+        if (st == SAM_OK)
+            st = sam_runtime_irradiance(rt, err);
+        if (st == SAM_OK)
+            st = sam_runtime_translucency(rt, 0, 0.0f, 1, err);
+        if (st == SAM_OK) {
+            sam_runtime *kept = s->rt;
+            s->rt = rt;
+            st = render_pair(s, SAM_TECHNIQUE_SAM, NULL, &full, &translucency, err);
+            s->rt = kept;
+        }
+        if (st == SAM_OK)
+            st = score(s, &full, &translucency, truth_full, truth_translucency, truth_max, &out[i].all,
+                       &out[i].normalised, err);
+        out[i].n = ns[i];
+        if (st == SAM_OK)
+            say("sweep: N = %ld: RMSE %.4f, translucency RMSE %.4f", ns[i], out[i].all.rmse, out[i].normalised.rmse);
+        sam_image_destroy(&full);
+        sam_image_destroy(&translucency);
+        sam_runtime_destroy(rt);
+        samfile_free(&sam);
+        if (st != SAM_OK)
+            return st;
+    }
+    return SAM_OK;
+}
+
+/* DIR: created when missing; one that already holds a report is kept
+ * unless --force, so a finished comparison is not overwritten by accident. */
+static sam_status prepare_dir(const char *dir, int force, sam_error *err)
+{
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return sam_fail(err, SAM_ERR_IO, "cannot create %s: %s", dir, strerror(errno));
+    struct stat sb;
+    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
+        return sam_fail(err, SAM_ERR_IO, "%s is not a directory", dir);
+    char report[4096];
+    sam_status st = join_path(report, sizeof report, dir, "report.json", err);
+    if (st == SAM_OK && !force && access(report, F_OK) == 0)
+        st = sam_fail(err, SAM_ERR_IO, "%s already holds a report (report.json); give --force to overwrite it", dir);
+    return st;
+}
+
+int main(int argc, char **argv)
+{
+    const char *scene_path = NULL, *dir = NULL, *techniques = "sam,none,tsm,transmittance", *sweep_list = NULL;
+    long map_samples = 0, truth_samples = 0;
+    int force = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        int has_value = i + 1 < argc;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--force")) {
+            force = 1;
+        } else if (a[0] == '-' && a[1] && !has_value) {
+            fprintf(stderr, "sam_compare: %s needs a value (see --help)\n", a);
+            return 2;
+        } else if (!strcmp(a, "--out")) {
+            dir = argv[++i];
+        } else if (!strcmp(a, "--techniques")) {
+            techniques = argv[++i];
+        } else if (!strcmp(a, "--samples-sweep")) {
+            sweep_list = argv[++i];
+        } else if (!strcmp(a, "--samples") || !strcmp(a, "--truth-samples")) {
+            char *end;
+            long v = strtol(argv[++i], &end, 10);
+            long hi = !strcmp(a, "--samples") ? 64 : 100000000L;
+            if (*end || end == argv[i] || v < 1 || v > hi) {
+                fprintf(stderr, "sam_compare: %s must be an integer in 1..%ld, got \"%s\"\n", a, hi, argv[i]);
+                return 2;
+            }
+            *(!strcmp(a, "--samples") ? &map_samples : &truth_samples) = v;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "sam_compare: unknown option \"%s\" (see --help)\n", a);
+            return 2;
+        } else if (!scene_path) {
+            scene_path = a;
+        } else {
+            fprintf(stderr, "sam_compare: unexpected argument \"%s\"\n", a);
+            return 2;
+        }
+    }
+    if (!scene_path || !dir) {
+        usage(stderr);
+        return 2;
+    }
+    technique_result results[MAX_TECHNIQUES];
+    memset(results, 0, sizeof results);
+    for (const char *p = techniques; *p;) {
+        size_t n = strcspn(p, ",");
+        int found = 0;
+        for (int t = 0; t < MAX_TECHNIQUES; ++t)
+            if (strlen(technique_names[t]) == n && !strncmp(p, technique_names[t], n))
+                results[t].requested = found = 1;
+        if (!found) {
+            fprintf(stderr, "sam_compare: --techniques takes sam, tsm, transmittance and none, got \"%.*s\"\n", (int)n,
+                    p);
+            return 2;
+        }
+        p += n + (p[n] == ',');
+    }
+    long sweep_n[MAX_SWEEP];
+    int sweep_count = 0;
+    if (sweep_list && !parse_int_list(sweep_list, 1, 64, sweep_n, MAX_SWEEP, &sweep_count)) {
+        fprintf(stderr, "sam_compare: --samples-sweep takes up to %d comma-separated integers in 1..64, got \"%s\"\n",
+                MAX_SWEEP, sweep_list);
+        return 2;
+    }
+
+    compare_state s;
+    memset(&s, 0, sizeof s);
+    s.dir = dir;
+    sam_error err;
+    int code = 1;
+    sam_gl_context *gl = NULL;
+    sam_image positions = {0}, normals = {0}, truth_override = {0}, truth_full = {0}, truth_translucency = {0};
+    sam_image candidate = {0}, candidate_full = {0}, candidate_translucency = {0};
+    truth_step steps[MAX_DOUBLINGS + 1];
+    int step_count = 0;
+    sweep_point sweep[MAX_SWEEP];
+    technique_result self;
+    memset(&self, 0, sizeof self);
+    char warning[512];
+    if (sam_scene_load(scene_path, &s.scene, &err) != SAM_OK) {
+        say("%s", err.message);
+        return 1;
+    }
+    if (sweep_count && !s.scene.mesh_path) {
+        say("%s: --samples-sweep rebuilds the map, so the scene must name a mesh", scene_path);
+        sam_scene_destroy(&s.scene);
+        return 2;
+    }
+    if (prepare_dir(dir, force, &err) != SAM_OK)
+        goto done;
+
+    say("[1/5] the map");
+    progress_state bps = {"building the map", -1};
+    sam_build_settings build;
+    sam_build_default_settings(&build);
+    if (map_samples)
+        build.samples_per_vertex = (uint32_t)map_samples;
+    if (sam_build_scene_object(&s.scene, &build, build_progress, &bps, &s.sam, &s.profile, &s.mm_per_unit,
+                               &s.build_seconds, &err) != SAM_OK)
+        goto done;
+    if (sam_gl_context_create_headless(&gl, &err) != SAM_OK ||
+        sam_runtime_create(&s.sam, &s.profile, s.mm_per_unit, &s.rt, &err) != SAM_OK ||
+        sam_runtime_scene_setup(s.rt, &s.scene, s.sh, &s.has_environment, warning, sizeof warning, &err) != SAM_OK)
+        goto done;
+    if (warning[0])
+        say("warning: %s", warning);
+    sam_runtime_scene_view(s.rt, &s.scene, &s.view, warning, sizeof warning);
+    if (warning[0])
+        say("warning: %s", warning);
+    /* Lossy texture-space optimisations would change the picture under comparison. */
+    s.view.options.culled = 0;
+    s.view.options.depth_sized = 0;
+    if (sam_runtime_irradiance(s.rt, &err) != SAM_OK || sam_runtime_translucency(s.rt, 0, 0.0f, 1, &err) != SAM_OK)
+        goto done;
+
+    say("[2/5] the techniques");
+    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
+        technique_result *r = &results[t];
+        if (!r->requested)
+            continue;
+        sam_status st = render_pair(&s, (sam_technique)t, NULL, &r->full, &r->translucency, &err);
+        if (st == SAM_ERR_UNSUPPORTED) {
+            snprintf(r->reason, sizeof r->reason, "%s", err.message);
+            say("%s unavailable: %s", technique_names[t], r->reason);
+            continue;
+        }
+        if (st != SAM_OK)
+            goto done;
+        r->available = 1;
+    }
+
+    say("[3/5] the ground truth");
+    sam_gbuffer_space space = s.view.diffusion == 3 ? SAM_GBUFFER_ATLAS : SAM_GBUFFER_SCREEN;
+    const char *space_name = space == SAM_GBUFFER_ATLAS ? "atlas texel" : "pixel";
+    if (sam_runtime_gbuffer(s.rt, &s.view, space, &positions, &normals, &err) != SAM_OK)
+        goto done;
+    s.truth_scene.vertex_count = s.sam.vertex_count;
+    s.truth_scene.positions = s.sam.positions;
+    s.truth_scene.normals = s.sam.normals;
+    s.truth_scene.triangle_count = s.sam.triangle_count;
+    s.truth_scene.triangles = s.sam.triangles;
+    s.truth_scene.mm_per_unit = s.mm_per_unit;
+    s.truth_scene.profile = &s.profile;
+    s.truth_scene.lights = s.scene.lights;
+    s.truth_scene.light_count = s.scene.light_count;
+    s.truth_scene.sh = s.has_environment ? (const float(*)[3])s.sh : NULL;
+    s.truth_scene.environment_rho_dt = sam_runtime_environment_rho_dt(s.rt);
+    s.truth_scene.rho_dt = rho_dt_of;
+    s.truth_scene.rho_dt_user = s.rt;
+    /* Double the samples until the SAM scores move by under 0.5 dB: the
+     * truth is then converged for what the report measures. */
+    const technique_result *sam_r = &results[0];
+    /* A query costs one test per sample in reach, so start small and let
+     * the doublings find the count that the scores no longer notice. */
+    uint64_t samples = truth_samples ? (uint64_t)truth_samples : SAM_TRUTH_MIN_SAMPLES;
+    for (;;) {
+        truth_step *step = &steps[step_count];
+        if (evaluate_truth(&s, &positions, &normals, samples, &candidate, &step->samples, &step->seconds, &err) !=
+                SAM_OK ||
+            render_pair(&s, SAM_TECHNIQUE_SAM, &candidate, &candidate_full, &candidate_translucency, &err) != SAM_OK)
+            goto done;
+        float candidate_max = max_value(&candidate_translucency);
+        sam_image_comparison all, norm;
+        step->sam_psnr_db = step->sam_psnr_normalised_db = NAN;
+        if (sam_r->available && candidate_max > 0) {
+            if (score(&s, &sam_r->full, &sam_r->translucency, &candidate_full, &candidate_translucency, candidate_max,
+                      &all, &norm, &err) != SAM_OK)
+                goto done;
+            step->sam_psnr_db = all.psnr_db;
+            step->sam_psnr_normalised_db = norm.psnr_db;
+        }
+        say("ground truth with %llu samples: %.2f s; SAM PSNR %.2f dB, translucency %.2f dB",
+            (unsigned long long)step->samples, step->seconds, step->sam_psnr_db, step->sam_psnr_normalised_db);
+        sam_image_destroy(&truth_override);
+        sam_image_destroy(&truth_full);
+        sam_image_destroy(&truth_translucency);
+        truth_override = candidate;
+        truth_full = candidate_full;
+        truth_translucency = candidate_translucency;
+        memset(&candidate, 0, sizeof candidate);
+        memset(&candidate_full, 0, sizeof candidate_full);
+        memset(&candidate_translucency, 0, sizeof candidate_translucency);
+        ++step_count;
+        if (step_count > 1) {
+            const truth_step *prev = &steps[step_count - 2];
+            double d1 = fabs(step->sam_psnr_db - prev->sam_psnr_db);
+            double d2 = fabs(step->sam_psnr_normalised_db - prev->sam_psnr_normalised_db);
+            /* Without SAM in the run (or no translucency at all) there is
+             * nothing to converge for: one doubling is all we check. */
+            if (!(d1 >= CONVERGED_DB) && !(d2 >= CONVERGED_DB))
+                break;
+        }
+        if (step_count == MAX_DOUBLINGS + 1) {
+            say("warning: the ground truth still moves by 0.5 dB or more after %d doublings; the report says so",
+                MAX_DOUBLINGS);
+            break;
+        }
+        samples = 2 * step->samples;
+    }
+    float truth_max = max_value(&truth_translucency);
+    if (!(truth_max > 0)) {
+        say("warning: the ground truth has no translucency in view; normalised scores use 1");
+        truth_max = 1.0f;
+    }
+
+    say("[4/5] images and scores");
+    sam_image shown = {0}, truth_shown = {0}, truth_norm = {0};
+    if (score(&s, &truth_full, &truth_translucency, &truth_full, &truth_translucency, truth_max, &self.all,
+              &self.normalised, &err) != SAM_OK)
+        goto done;
+    if (display(&s, &truth_full, &truth_shown, &err) != SAM_OK ||
+        normalised(&truth_translucency, truth_max, &truth_norm, &err) != SAM_OK ||
+        write_pair(&s, "truth", &truth_full, &truth_shown, &err) != SAM_OK ||
+        write_pair(&s, "truth_translucency", &truth_translucency, &truth_norm, &err) != SAM_OK)
+        goto images_done;
+    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
+        technique_result *r = &results[t];
+        if (!r->available)
+            continue;
+        char name[128];
+        sam_image norm = {0};
+        sam_status st = score(&s, &r->full, &r->translucency, &truth_full, &truth_translucency, truth_max, &r->all,
+                              &r->normalised, &err);
+        if (st == SAM_OK)
+            st = display(&s, &r->full, &shown, &err);
+        if (st == SAM_OK)
+            st = write_pair(&s, technique_names[t], &r->full, &shown, &err);
+        snprintf(name, sizeof name, "%s_diff4", technique_names[t]);
+        if (st == SAM_OK)
+            st = write_difference(&s, name, &shown, &truth_shown, &err);
+        if (st == SAM_OK)
+            st = normalised(&r->translucency, truth_max, &norm, &err);
+        snprintf(name, sizeof name, "%s_translucency", technique_names[t]);
+        if (st == SAM_OK)
+            st = write_pair(&s, name, &r->translucency, &norm, &err);
+        snprintf(name, sizeof name, "%s_translucency_diff4", technique_names[t]);
+        if (st == SAM_OK)
+            st = write_difference(&s, name, &norm, &truth_norm, &err);
+        sam_image_destroy(&shown);
+        sam_image_destroy(&norm);
+        if (st != SAM_OK)
+            goto images_done;
+        say("%-13s PSNR %6.2f dB (differing pixels %6.2f dB), translucency %6.2f dB", technique_names[t],
+            r->all.psnr_db, r->all.psnr_differing_db, r->normalised.psnr_db);
+    }
+    code = 0;
+images_done:
+    sam_image_destroy(&truth_shown);
+    sam_image_destroy(&truth_norm);
+    if (code)
+        goto done;
+    code = 1;
+
+    int monotonic = 1;
+    if (sweep_count) {
+        say("[5/5] samples sweep");
+        if (run_sweep(&s, sweep_n, sweep_count, &truth_full, &truth_translucency, truth_max, sweep, &err) != SAM_OK)
+            goto done;
+        for (int i = 1; i < sweep_count; ++i)
+            if (sweep_n[i] > sweep_n[i - 1] && sweep[i].all.rmse > sweep[i - 1].all.rmse)
+                monotonic = 0;
+    }
+    if (write_reports(&s, scene_path, results, &self, steps, step_count, truth_max, space_name, sweep, sweep_count, monotonic,
+                      &err) != SAM_OK)
+        goto done;
+    if (sweep_count && plot_sweep(&s, sweep, sweep_count, &err) != SAM_OK)
+        goto done;
+    say("wrote %s/report.md", dir);
+    code = 0;
+done:
+    if (code)
+        say("%s", err.message);
+    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
+        sam_image_destroy(&results[t].full);
+        sam_image_destroy(&results[t].translucency);
+    }
+    sam_image_destroy(&positions);
+    sam_image_destroy(&normals);
+    sam_image_destroy(&truth_override);
+    sam_image_destroy(&truth_full);
+    sam_image_destroy(&truth_translucency);
+    sam_image_destroy(&candidate);
+    sam_image_destroy(&candidate_full);
+    sam_image_destroy(&candidate_translucency);
+    sam_runtime_destroy(s.rt);
+    sam_gl_context_destroy(gl);
+    samfile_free(&s.sam);
+    sam_scene_destroy(&s.scene);
+    return code;
+}
