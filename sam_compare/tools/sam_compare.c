@@ -41,6 +41,7 @@ static void usage(FILE *out)
             "  truth.exr/.png, TECH.exr/.png             full shading (linear HDR, tonemapped sRGB)\n"
             "  *_translucency.exr/.png                   translucency only (PNG: / the truth's maximum)\n"
             "  TECH_diff4.png, TECH_translucency_diff4.png  |TECH - truth| x 4 of the PNGs\n"
+            "  row.png, translucency_row.png             the truth, then each technique, side by side\n"
             "  report.md, report.json                    PSNR and RMSE per technique\n"
             "  rmse_vs_samples.png, sweep.dat            with --samples-sweep\n"
             "\n"
@@ -330,6 +331,88 @@ static sam_status score(const compare_state *s, const sam_image *full, const sam
     sam_image_destroy(&b);
     sam_image_destroy(&c);
     sam_image_destroy(&d);
+    return st;
+}
+
+/* Copies `img` (3 channels) into `row` at column x0. */
+static void blit(sam_image *row, const sam_image *img, uint32_t x0)
+{
+    for (uint32_t y = 0; y < img->height; ++y)
+        memcpy(row->pixels + ((size_t)y * row->width + x0) * 3, img->pixels + (size_t)y * img->width * 3,
+               (size_t)img->width * 3 * sizeof *img->pixels);
+}
+
+/* Every image of the truth and of each available technique, their
+ * differences x4, the scores, and two rows side by side (truth first, then
+ * the techniques in the report's order): row.png of the full shading,
+ * translucency_row.png of the normalised translucency. */
+static sam_status write_images(const compare_state *s, technique_result *results, const sam_image *truth_full,
+                               const sam_image *truth_translucency, float truth_max, sam_error *err)
+{
+    sam_image shown[MAX_TECHNIQUES + 1], norm[MAX_TECHNIQUES + 1], row = {0}, row_t = {0};
+    memset(shown, 0, sizeof shown);
+    memset(norm, 0, sizeof norm);
+    sam_status st = display(s, truth_full, &shown[0], err);
+    if (st == SAM_OK)
+        st = normalised(truth_translucency, truth_max, &norm[0], err);
+    if (st == SAM_OK)
+        st = write_pair(s, "truth", truth_full, &shown[0], err);
+    if (st == SAM_OK)
+        st = write_pair(s, "truth_translucency", truth_translucency, &norm[0], err);
+    int count = 1;
+    for (int t = 0; t < MAX_TECHNIQUES && st == SAM_OK; ++t) {
+        technique_result *r = &results[t];
+        if (!r->available)
+            continue;
+        char name[128];
+        sam_image *a = &shown[count], *b = &norm[count];
+        ++count;
+        st = score(s, &r->full, &r->translucency, truth_full, truth_translucency, truth_max, &r->all, &r->normalised,
+                   err);
+        if (st == SAM_OK)
+            st = display(s, &r->full, a, err);
+        if (st == SAM_OK)
+            st = write_pair(s, technique_names[t], &r->full, a, err);
+        snprintf(name, sizeof name, "%s_diff4", technique_names[t]);
+        if (st == SAM_OK)
+            st = write_difference(s, name, a, &shown[0], err);
+        if (st == SAM_OK)
+            st = normalised(&r->translucency, truth_max, b, err);
+        snprintf(name, sizeof name, "%s_translucency", technique_names[t]);
+        if (st == SAM_OK)
+            st = write_pair(s, name, &r->translucency, b, err);
+        snprintf(name, sizeof name, "%s_translucency_diff4", technique_names[t]);
+        if (st == SAM_OK)
+            st = write_difference(s, name, b, &norm[0], err);
+        if (st == SAM_OK)
+            say("%-13s PSNR %6.2f dB (differing pixels %6.2f dB), translucency %6.2f dB", technique_names[t],
+                r->all.psnr_db, r->all.psnr_differing_db, r->normalised.psnr_db);
+    }
+    uint32_t w = truth_full->width, h = truth_full->height;
+    if (st == SAM_OK)
+        st = sam_image_create(&row, w * (uint32_t)count, h, 3, err);
+    if (st == SAM_OK)
+        st = sam_image_create(&row_t, w * (uint32_t)count, h, 3, err);
+    if (st == SAM_OK) {
+        for (int i = 0; i < count; ++i) {
+            blit(&row, &shown[i], w * (uint32_t)i);
+            blit(&row_t, &norm[i], w * (uint32_t)i);
+        }
+        char path[4096];
+        st = join_path(path, sizeof path, s->dir, "row.png", err);
+        if (st == SAM_OK)
+            st = sam_image_write_png(path, &row, SAM_PNG_SRGB, err);
+        if (st == SAM_OK)
+            st = join_path(path, sizeof path, s->dir, "translucency_row.png", err);
+        if (st == SAM_OK)
+            st = sam_image_write_png(path, &row_t, SAM_PNG_SRGB, err);
+    }
+    for (int i = 0; i <= MAX_TECHNIQUES; ++i) {
+        sam_image_destroy(&shown[i]);
+        sam_image_destroy(&norm[i]);
+    }
+    sam_image_destroy(&row);
+    sam_image_destroy(&row_t);
     return st;
 }
 
@@ -811,52 +894,10 @@ int main(int argc, char **argv)
     }
 
     say("[4/5] images and scores");
-    sam_image shown = {0}, truth_shown = {0}, truth_norm = {0};
     if (score(&s, &truth_full, &truth_translucency, &truth_full, &truth_translucency, truth_max, &self.all,
-              &self.normalised, &err) != SAM_OK)
+              &self.normalised, &err) != SAM_OK ||
+        write_images(&s, results, &truth_full, &truth_translucency, truth_max, &err) != SAM_OK)
         goto done;
-    if (display(&s, &truth_full, &truth_shown, &err) != SAM_OK ||
-        normalised(&truth_translucency, truth_max, &truth_norm, &err) != SAM_OK ||
-        write_pair(&s, "truth", &truth_full, &truth_shown, &err) != SAM_OK ||
-        write_pair(&s, "truth_translucency", &truth_translucency, &truth_norm, &err) != SAM_OK)
-        goto images_done;
-    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
-        technique_result *r = &results[t];
-        if (!r->available)
-            continue;
-        char name[128];
-        sam_image norm = {0};
-        sam_status st = score(&s, &r->full, &r->translucency, &truth_full, &truth_translucency, truth_max, &r->all,
-                              &r->normalised, &err);
-        if (st == SAM_OK)
-            st = display(&s, &r->full, &shown, &err);
-        if (st == SAM_OK)
-            st = write_pair(&s, technique_names[t], &r->full, &shown, &err);
-        snprintf(name, sizeof name, "%s_diff4", technique_names[t]);
-        if (st == SAM_OK)
-            st = write_difference(&s, name, &shown, &truth_shown, &err);
-        if (st == SAM_OK)
-            st = normalised(&r->translucency, truth_max, &norm, &err);
-        snprintf(name, sizeof name, "%s_translucency", technique_names[t]);
-        if (st == SAM_OK)
-            st = write_pair(&s, name, &r->translucency, &norm, &err);
-        snprintf(name, sizeof name, "%s_translucency_diff4", technique_names[t]);
-        if (st == SAM_OK)
-            st = write_difference(&s, name, &norm, &truth_norm, &err);
-        sam_image_destroy(&shown);
-        sam_image_destroy(&norm);
-        if (st != SAM_OK)
-            goto images_done;
-        say("%-13s PSNR %6.2f dB (differing pixels %6.2f dB), translucency %6.2f dB", technique_names[t],
-            r->all.psnr_db, r->all.psnr_differing_db, r->normalised.psnr_db);
-    }
-    code = 0;
-images_done:
-    sam_image_destroy(&truth_shown);
-    sam_image_destroy(&truth_norm);
-    if (code)
-        goto done;
-    code = 1;
 
     int monotonic = 1;
     if (sweep_count) {

@@ -24,7 +24,7 @@ for f in truth truth_translucency sam sam_translucency none none_translucency tr
   head -c 4 "$tmp/out/$f.exr" | od -An -tx1 | grep -q "76 2f 31 01" || fail "$f.exr is not an EXR"
   head -c 8 "$tmp/out/$f.png" | od -An -tx1 | grep -q "89 50 4e 47" || fail "$f.png is not a PNG"
 done
-for f in sam_diff4 sam_translucency_diff4 none_diff4 rmse_vs_samples; do
+for f in sam_diff4 sam_translucency_diff4 none_diff4 rmse_vs_samples row translucency_row; do
   head -c 8 "$tmp/out/$f.png" | od -An -tx1 | grep -q "89 50 4e 47" || fail "$f.png is not a PNG"
 done
 grep -q "^| sam |" "$tmp/out/report.md" || fail "report.md has no sam row"
