@@ -22,26 +22,6 @@
 
 #define PI 3.14159265358979323846
 
-static sam_gl_context *gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    sam_error err;
-    if (sam_gl_context_create_headless(&gl, &err) != SAM_OK) {
-        fprintf(stderr, "%s\n", err.message);
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    sam_gl_context_destroy(gl);
-    return 0;
-}
-
 /* A mesh from raw arrays, built into a .sam with `material` at `mm_per_unit`. */
 static void build(const char *name, uint32_t vertex_count, const float *positions, const float *uvs,
                   uint32_t triangle_count, const uint32_t *triangles, const char *material, float mm_per_unit,
@@ -92,6 +72,17 @@ static void plane(int n, float size, int mirror, const char *material, sam_profi
     free(pos);
     free(uv);
     free(tri);
+}
+
+/* plane()'s skin plane on the GPU; the caller frees `d` and the runtime. */
+static sam_runtime *skin_plane_runtime(int n, float size, int mirror, sam_profile *profile, samfile_data *d)
+{
+    plane(n, size, mirror, "skin", profile, d);
+    sam_runtime *rt;
+    sam_error err;
+    if (sam_runtime_create(d, profile, 1.0f, &rt, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    return rt;
 }
 
 static sam_light directional(float x, float y, float z, float intensity)
@@ -235,10 +226,8 @@ static void test_spot_matches_profile(void **state)
     const float size = 20.0f;
     sam_profile profile;
     samfile_data d;
-    plane(n, size, 0, "skin", &profile, &d);
-    sam_runtime *rt;
+    sam_runtime *rt = skin_plane_runtime(n, size, 0, &profile, &d);
     sam_error err;
-    assert_int_equal(sam_runtime_create(&d, &profile, 1.0f, &rt, &err), SAM_OK);
     sam_light l;
     memset(&l, 0, sizeof l);
     l.type = SAM_LIGHT_SPOT;
@@ -414,10 +403,8 @@ static void test_albedo_map(void **state)
     (void)state;
     sam_profile profile;
     samfile_data d;
-    plane(33, 40.0f, 0, "skin", &profile, &d);
-    sam_runtime *rt;
+    sam_runtime *rt = skin_plane_runtime(33, 40.0f, 0, &profile, &d);
     sam_error err;
-    assert_int_equal(sam_runtime_create(&d, &profile, 1.0f, &rt, &err), SAM_OK);
     sam_light l = directional(0, -1, 0, 1.0f);
     assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
     /* No specular: it does not take the albedo, and would blur the ratios. */
@@ -480,10 +467,8 @@ static void test_overlapping_uvs_refused(void **state)
     (void)state;
     sam_profile profile;
     samfile_data d;
-    plane(17, 20.0f, 1, "skin", &profile, &d);
-    sam_runtime *rt;
+    sam_runtime *rt = skin_plane_runtime(17, 20.0f, 1, &profile, &d);
     sam_error err;
-    assert_int_equal(sam_runtime_create(&d, &profile, 1.0f, &rt, &err), SAM_OK);
     char reason[160];
     assert_int_equal(sam_runtime_uv_status(rt, reason, sizeof reason), 0);
     printf("mirrored plane: %s\n", reason);
@@ -509,5 +494,5 @@ int main(void)
         cmocka_unit_test(test_albedo_map),
         cmocka_unit_test(test_overlapping_uvs_refused),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, sam_test_gl_setup, sam_test_gl_teardown);
 }

@@ -21,30 +21,10 @@
 #include "sam/sam_shape.h"
 #include "sam_test.h"
 
-static sam_gl_context *gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    sam_error err;
-    if (sam_gl_context_create_headless(&gl, &err) != SAM_OK) {
-        fprintf(stderr, "%s\n", err.message);
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    sam_gl_context_destroy(gl);
-    return 0;
-}
-
 static void test_context(void **state)
 {
     (void)state;
-    const sam_gl_info *i = sam_gl_context_info(gl);
+    const sam_gl_info *i = sam_gl_context_info(sam_test_gl_context());
     printf("GL: %s, %s\n", i->renderer, i->version);
     assert_true(i->major * 10 + i->minor >= 43);
     assert_true(strlen(i->renderer) > 0);
@@ -642,5 +622,5 @@ int main(void)
         cmocka_unit_test(test_diffusion_energy_and_blur),
         cmocka_unit_test(test_preintegrated_wraps_light),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, sam_test_gl_setup, sam_test_gl_teardown);
 }

@@ -27,26 +27,6 @@
 #define SLAB_MM_PER_UNIT 40.0f  /* a 40 x 40 mm slab ... */
 #define SLAB_THICKNESS 0.05     /* ... 2 mm thick */
 
-static sam_gl_context *gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    sam_error err;
-    if (sam_gl_context_create_headless(&gl, &err) != SAM_OK) {
-        fprintf(stderr, "%s\n", err.message);
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    sam_gl_context_destroy(gl);
-    return 0;
-}
-
 /* A built-in skin shape on the GPU; the caller frees `d` and `rt`. */
 static sam_runtime *shape_runtime(const char *name, int resolution, double thickness, float mm, sam_profile *profile,
                                   samfile_data *d)
@@ -132,6 +112,37 @@ static double image_max(const sam_image *img)
     return m;
 }
 
+/* Renders slab_view's view; the caller destroys `img`. */
+static void render_slab(sam_runtime *rt, int below, int diffusion, sam_technique technique, sam_image *img)
+{
+    sam_render_view view;
+    slab_view(&view, below, diffusion, technique);
+    render(rt, &view, img);
+}
+
+/* The centre pixel's red and green against scale * t[c], to a relative
+ * `tolerance`; `what` names the render in the log. */
+static void assert_centre_near(const sam_image *img, double scale, const double t[3], double tolerance,
+                               const char *what)
+{
+    const float *px = centre_pixel(img);
+    for (int c = 0; c < 2; ++c) {
+        double want = scale * t[c], rel = fabs(px[c] - want) / want;
+        print_message("%s, channel %d: %.6g, analytic %.6g, relative error %.4f\n", what, c, px[c], want, rel);
+        assert_true(rel < tolerance);
+    }
+}
+
+/* image_max of the render_slab picture. */
+static double slab_max(sam_runtime *rt, int below, int diffusion, sam_technique technique)
+{
+    sam_image img;
+    render_slab(rt, below, diffusion, technique, &img);
+    double m = image_max(&img);
+    sam_image_destroy(&img);
+    return m;
+}
+
 /* Behind a 2 mm slab lit at irradiance E = 1 head-on, Jimenez's
  * transmittance is E sum_i w_i exp(-d^2 / 2v_i) saturate(0.3 + 1) at the
  * bottom's centre, which the camera sees at N.V = 1 through the shading
@@ -147,20 +158,13 @@ static void test_transmittance_through_slab(void **state)
     slab_transmission(&profile, SLAB_THICKNESS * SLAB_MM_PER_UNIT, t);
     double factor = sam_runtime_rho_dt(rt, 1.0f) / PI;
     for (int mode = 0; mode <= 3; ++mode) {
-        sam_render_view view;
-        slab_view(&view, 1, mode, SAM_TECHNIQUE_TRANSMITTANCE);
         sam_image img;
-        render(rt, &view, &img);
-        const float *px = centre_pixel(&img);
-        for (int c = 0; c < 2; ++c) {
-            double want = factor * t[c], rel = fabs(px[c] - want) / want;
-            print_message("transmittance, diffusion %d, channel %d: %.6g, analytic %.6g, relative error %.4f\n", mode,
-                          c, px[c], want, rel);
-            assert_true(rel < 0.02);
-        }
+        render_slab(rt, 1, mode, SAM_TECHNIQUE_TRANSMITTANCE, &img);
+        char what[64];
+        snprintf(what, sizeof what, "transmittance, diffusion %d", mode);
+        assert_centre_near(&img, factor, t, 0.02, what);
         sam_image_destroy(&img);
-        slab_view(&view, 0, mode, SAM_TECHNIQUE_TRANSMITTANCE);
-        render(rt, &view, &img);
+        render_slab(rt, 0, mode, SAM_TECHNIQUE_TRANSMITTANCE, &img);
         print_message("transmittance, diffusion %d, lit side's centre: %.3g\n", mode, centre_pixel(&img)[0]);
         assert_true(centre_pixel(&img)[0] == 0.0f);
         sam_image_destroy(&img);
@@ -184,22 +188,13 @@ static void test_tsm_through_slab(void **state)
     double t[3];
     slab_transmission(&profile, SLAB_THICKNESS * SLAB_MM_PER_UNIT, t);
     double factor = sam_runtime_rho_dt(rt, 1.0f) / PI, entering = sam_runtime_rho_dt(rt, 1.0f);
-    sam_render_view view;
-    slab_view(&view, 1, 3, SAM_TECHNIQUE_TSM);
     sam_image img;
-    render(rt, &view, &img);
-    const float *px = centre_pixel(&img);
-    for (int c = 0; c < 2; ++c) {
-        double want = factor * entering * t[c], rel = fabs(px[c] - want) / want;
-        print_message("tsm, channel %d: %.6g, analytic %.6g, relative error %.4f\n", c, px[c], want, rel);
-        assert_true(rel < 0.05);
-    }
+    render_slab(rt, 1, 3, SAM_TECHNIQUE_TSM, &img);
+    assert_centre_near(&img, factor * entering, t, 0.05, "tsm");
     sam_image_destroy(&img);
-    slab_view(&view, 0, 3, SAM_TECHNIQUE_TSM);
-    render(rt, &view, &img);
-    print_message("tsm, lit side: largest value %.3g\n", image_max(&img));
-    assert_true(image_max(&img) == 0.0);
-    sam_image_destroy(&img);
+    double lit = slab_max(rt, 0, 3, SAM_TECHNIQUE_TSM);
+    print_message("tsm, lit side: largest value %.3g\n", lit);
+    assert_true(lit == 0.0);
     sam_runtime_destroy(rt);
     samfile_free(&d);
 }
@@ -232,20 +227,9 @@ static void test_area_and_environment_give_none(void **state)
         assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
         assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
         const char *what = scene == 0 ? "area light" : "environment";
-        sam_render_view view;
-        sam_image img;
-        slab_view(&view, 1, 0, SAM_TECHNIQUE_SAM);
-        render(rt, &view, &img);
-        double sam_max = image_max(&img);
-        sam_image_destroy(&img);
-        slab_view(&view, 1, 0, SAM_TECHNIQUE_TRANSMITTANCE);
-        render(rt, &view, &img);
-        double transmittance_max = image_max(&img);
-        sam_image_destroy(&img);
-        slab_view(&view, 1, 3, SAM_TECHNIQUE_TSM);
-        render(rt, &view, &img);
-        double tsm_max = image_max(&img);
-        sam_image_destroy(&img);
+        double sam_max = slab_max(rt, 1, 0, SAM_TECHNIQUE_SAM);
+        double transmittance_max = slab_max(rt, 1, 0, SAM_TECHNIQUE_TRANSMITTANCE);
+        double tsm_max = slab_max(rt, 1, 3, SAM_TECHNIQUE_TSM);
         print_message("%s, largest translucency seen below: sam %.4g, transmittance %.3g, tsm %.3g\n", what, sam_max,
                       transmittance_max, tsm_max);
         assert_true(sam_max > 1e-4);
@@ -460,5 +444,5 @@ int main(void)
         cmocka_unit_test(test_override),
         cmocka_unit_test(test_gbuffer_sphere),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, sam_test_gl_setup, sam_test_gl_teardown);
 }

@@ -1052,14 +1052,19 @@ static void fill(sam_image *img, float v)
         img->pixels[i] = v;
 }
 
+/* The comparison tests' starting image: 2 x 2, every value byte 188. */
+static void make_grey_2x2(sam_image *img, uint32_t channels)
+{
+    make_image(img, 2, 2, channels);
+    fill(img, BYTE_188);
+}
+
 static void test_compare_known_differences(void **state)
 {
     (void)state;
     sam_image a, b;
-    make_image(&a, 2, 2, 3);
-    make_image(&b, 2, 2, 3);
-    fill(&a, BYTE_188);
-    fill(&b, BYTE_188);
+    make_grey_2x2(&a, 3);
+    make_grey_2x2(&b, 3);
 
     /* One channel of one pixel 60 levels off: over 4 pixels x 3 channels
      * rmse = sqrt(60^2 / 12); over the differing pixel, sqrt(60^2 / 3). */
@@ -1107,10 +1112,8 @@ static void test_compare_identical_in_8_bits(void **state)
 {
     (void)state;
     sam_image a, b;
-    make_image(&a, 2, 2, 4);
-    make_image(&b, 2, 2, 3);
-    fill(&a, BYTE_188);
-    fill(&b, BYTE_188);
+    make_grey_2x2(&a, 4);
+    make_grey_2x2(&b, 3);
     /* Float differences that the same byte hides, values the encoder
      * clamps (2 and 1, -1 and 0, NaN and 0), and alpha, which is not
      * compared, all count as equal. */
@@ -1140,11 +1143,9 @@ static void test_compare_mask(void **state)
 {
     (void)state;
     sam_image a, b, mask;
-    make_image(&a, 2, 2, 3);
-    make_image(&b, 2, 2, 3);
+    make_grey_2x2(&a, 3);
+    make_grey_2x2(&b, 3);
     make_image(&mask, 2, 2, 4);
-    fill(&a, BYTE_188);
-    fill(&b, BYTE_188);
     b.pixels[3 * 1 + 0] = BYTE_128; /* pixel 1 differs by 60 in red */
 
     /* Alpha 0 at the differing pixel (and -1, NaN count as outside). */

@@ -98,6 +98,18 @@ static void assert_vec3(const float v[3], float x, float y, float z)
     assert_float_equal(v[2], z, 1e-6f);
 }
 
+/* Field by field, so a failure names the field. */
+static void assert_options(const sam_diffusion_options *o, sam_diffusion_options want)
+{
+    assert_int_equal(o->sss_kernel, want.sss_kernel);
+    assert_int_equal(o->sss_samples, want.sss_samples);
+    assert_int_equal(o->atlas_size, want.atlas_size);
+    assert_int_equal(o->culled, want.culled);
+    assert_int_equal(o->depth_sized, want.depth_sized);
+    assert_int_equal(o->clipped, want.clipped);
+    assert_float_equal(o->texels_per_pixel, want.texels_per_pixel, 0.0f);
+}
+
 static void test_full_scene_loads(void **state)
 {
     (void)state;
@@ -170,14 +182,9 @@ static void test_full_scene_loads(void **state)
     assert_int_equal(s.height, 480);
     assert_int_equal(s.technique, SAM_TECHNIQUE_TSM);
     assert_int_equal(s.diffusion, SAM_DIFFUSION_TEXTURE);
-    const sam_diffusion_options *o = &s.diffusion_options;
-    assert_int_equal(o->sss_kernel, SAM_SSS_KERNEL_MARGINAL);
-    assert_int_equal(o->sss_samples, 25);
-    assert_int_equal(o->atlas_size, 2048);
-    assert_int_equal(o->culled, 0);
-    assert_int_equal(o->depth_sized, 1);
-    assert_int_equal(o->clipped, 0);
-    assert_float_equal(o->texels_per_pixel, 0.5f, 0.0f);
+    assert_options(&s.diffusion_options,
+                   (sam_diffusion_options){.sss_kernel = SAM_SSS_KERNEL_MARGINAL, .sss_samples = 25, .atlas_size = 2048,
+                                           .depth_sized = 1, .texels_per_pixel = 0.5f});
     assert_int_equal(s.tonemap, SAM_TONEMAP_REINHARD);
     assert_float_equal(s.exposure, -1.5f, 0.0f);
     sam_scene_destroy(&s);
@@ -189,13 +196,8 @@ static void test_full_scene_loads(void **state)
 /* The documented defaults of sam_diffusion_options. */
 static void assert_default_options(const sam_diffusion_options *o)
 {
-    assert_int_equal(o->sss_kernel, SAM_SSS_KERNEL_FIT2D);
-    assert_int_equal(o->sss_samples, 17);
-    assert_int_equal(o->atlas_size, 1024);
-    assert_int_equal(o->culled, 0);
-    assert_int_equal(o->depth_sized, 0);
-    assert_int_equal(o->clipped, 1);
-    assert_float_equal(o->texels_per_pixel, 1.0f, 0.0f);
+    assert_options(o, (sam_diffusion_options){.sss_kernel = SAM_SSS_KERNEL_FIT2D, .sss_samples = 17, .atlas_size = 1024,
+                                              .clipped = 1, .texels_per_pixel = 1.0f});
 }
 
 static void test_defaults(void **state)
@@ -292,26 +294,17 @@ static void test_diffusion_options(void **state)
               &s, &err) != SAM_OK)
         fail_msg("%s", err.message);
     const sam_diffusion_options *o = &s.diffusion_options;
-    assert_int_equal(o->sss_kernel, SAM_SSS_KERNEL_EQ1);
-    assert_int_equal(o->sss_samples, 9);
-    assert_int_equal(o->atlas_size, 64);
-    assert_int_equal(o->culled, 0);
-    assert_int_equal(o->depth_sized, 1);
-    assert_int_equal(o->clipped, 0);
-    assert_float_equal(o->texels_per_pixel, 16.0f, 0.0f);
+    assert_options(o, (sam_diffusion_options){.sss_kernel = SAM_SSS_KERNEL_EQ1, .sss_samples = 9, .atlas_size = 64,
+                                              .depth_sized = 1, .texels_per_pixel = 16.0f});
     sam_scene_destroy(&s);
 
     if (parse("{\"sam\": \"head.sam\", \"screen_space\": {\"samples\": 33},"
               " \"texture_space\": {\"atlas_size\": 4096, \"texels_per_pixel\": 0.001}}",
               &s, &err) != SAM_OK)
         fail_msg("%s", err.message);
-    assert_int_equal(o->sss_kernel, SAM_SSS_KERNEL_FIT2D);
-    assert_int_equal(o->sss_samples, 33);
-    assert_int_equal(o->atlas_size, 4096);
-    assert_int_equal(o->culled, 0);
-    assert_int_equal(o->depth_sized, 0);
-    assert_int_equal(o->clipped, 1);
-    assert_float_equal(o->texels_per_pixel, 0.001f, 0.0f);
+    /* The keys left out keep their defaults. */
+    assert_options(o, (sam_diffusion_options){.sss_kernel = SAM_SSS_KERNEL_FIT2D, .sss_samples = 33, .atlas_size = 4096,
+                                              .clipped = 1, .texels_per_pixel = 0.001f});
     sam_scene_destroy(&s);
 
     /* Empty objects are all defaults; an atlas side need not be a power of 2. */
@@ -426,23 +419,31 @@ static void assert_scenes_equal(const sam_scene *a, const sam_scene *b)
     assert_same_floats(&a->exposure, &b->exposure, 1, "exposure");
 }
 
+/* Writes `a` to `path` and checks that loading it gives `a` back. */
+static void assert_round_trip(const sam_scene *a, const char *path)
+{
+    sam_scene b;
+    sam_error err;
+    if (sam_scene_write(path, a, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    if (sam_scene_load(path, &b, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_scenes_equal(a, &b);
+    sam_scene_destroy(&b);
+}
+
 static void test_round_trip(void **state)
 {
     (void)state;
     char in[640], out[640];
     dir_file(in, sizeof in, "full.json");
     sam_test_write_text(in, full_scene);
-    sam_scene a, b;
+    sam_scene a;
     sam_error err;
     assert_int_equal(sam_scene_load(in, &a, &err), SAM_OK);
     /* Written into another directory: absolute paths keep it loadable. */
     dir_file(out, sizeof out, "sub/written.json");
-    if (sam_scene_write(out, &a, &err) != SAM_OK)
-        fail_msg("%s", err.message);
-    if (sam_scene_load(out, &b, &err) != SAM_OK)
-        fail_msg("%s", err.message);
-    assert_scenes_equal(&a, &b);
-    sam_scene_destroy(&b);
+    assert_round_trip(&a, out);
 
     /* Numbers are written short: 0.9f as 0.9, not 0.899999976. */
     uint8_t *text;
@@ -461,10 +462,7 @@ static void test_round_trip(void **state)
     a.lights[0].position[1] = -1.17549435e-38f;
     a.camera.fov_deg = 179.99998f;
     a.diffusion_options.texels_per_pixel = nextafterf(0.3f, 1.0f);
-    assert_int_equal(sam_scene_write(out, &a, &err), SAM_OK);
-    assert_int_equal(sam_scene_load(out, &b, &err), SAM_OK);
-    assert_scenes_equal(&a, &b);
-    sam_scene_destroy(&b);
+    assert_round_trip(&a, out);
     sam_scene_destroy(&a);
 }
 
@@ -540,12 +538,7 @@ static void test_write_hand_built_scene(void **state)
     a.diffusion_options.depth_sized = 1;
     a.diffusion_options.clipped = 0;
     a.diffusion_options.texels_per_pixel = 2.5f;
-    if (sam_scene_write(out, &a, &err) != SAM_OK)
-        fail_msg("%s", err.message);
-    if (sam_scene_load(out, &b, &err) != SAM_OK)
-        fail_msg("%s", err.message);
-    assert_scenes_equal(&a, &b);
-    sam_scene_destroy(&b);
+    assert_round_trip(&a, out);
 
     /* An invalid scene is refused with the loader's message, and no file. */
     remove(out);

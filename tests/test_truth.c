@@ -149,19 +149,27 @@ static void square_at(float a, float depth, float pos[12], float nrm[12], uint32
     memcpy(tri, t, sizeof t);
 }
 
+/* The truth of square_at's square (its triangles `tri`) under one light,
+ * from 4096 samples. */
+static sam_truth *square_truth(const float pos[12], const float nrm[12], const uint32_t tri[6], float mm_per_unit,
+                               const sam_profile *profile, const sam_light *light)
+{
+    sam_truth_scene scene = {.vertex_count = 4, .positions = pos, .normals = nrm, .triangle_count = 2,
+                             .triangles = tri, .mm_per_unit = mm_per_unit, .profile = profile,
+                             .lights = light, .light_count = 1};
+    sam_truth_settings set;
+    sam_truth_default_settings(&set);
+    set.sample_count = 4096;
+    return make(&scene, &set);
+}
+
 static double patch_truth(const sam_profile *profile, float a, float depth, float mm_per_unit, float e)
 {
     float pos[12], nrm[12];
     uint32_t tri[6];
     square_at(a, depth, pos, nrm, tri);
     sam_light light = directional(0, 0, 1, e);
-    sam_truth_scene scene = {.vertex_count = 4, .positions = pos, .normals = nrm, .triangle_count = 2,
-                             .triangles = tri, .mm_per_unit = mm_per_unit, .profile = profile,
-                             .lights = &light, .light_count = 1};
-    sam_truth_settings set;
-    sam_truth_default_settings(&set);
-    set.sample_count = 4096;
-    sam_truth *t = make(&scene, &set);
+    sam_truth *t = square_truth(pos, nrm, tri, mm_per_unit, profile, &light);
     const float q[3] = {0, 0, 0}, n[3] = {0, 0, 1};
     float out[3];
     translucency(t, 1, q, n, out);
@@ -216,13 +224,7 @@ static void test_small_patch(void **state)
         nrm[3 * k + 2] = 1;
     const uint32_t up[6] = {0, 1, 2, 0, 2, 3};
     sam_light light = directional(0, 0, -1, e);
-    sam_truth_scene scene = {.vertex_count = 4, .positions = pos, .normals = nrm, .triangle_count = 2,
-                             .triangles = up, .mm_per_unit = 1.0f, .profile = &marble, .lights = &light,
-                             .light_count = 1};
-    sam_truth_settings set;
-    sam_truth_default_settings(&set);
-    set.sample_count = 4096;
-    sam_truth *t = make(&scene, &set);
+    sam_truth *t = square_truth(pos, nrm, up, 1.0f, &marble, &light);
     const float q[3] = {0, 0, 0}, n[3] = {0, 0, 1};
     float out[3];
     translucency(t, 1, q, n, out);

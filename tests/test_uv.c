@@ -119,20 +119,25 @@ static void assert_exact_cover(const uv_mesh *m, uint32_t r)
 }
 
 /* 64 x 64 quads over [0,1]^2 whose interior lines all lie exactly on texel
- * centres (and so do the grid vertices and, at 1024, the diagonals): every
- * centre is covered exactly once. */
-static void test_grid_covers_every_texel_once(void **state)
+ * centres (and so do the grid vertices and, at 1024, the diagonals), with
+ * windings `flip`: every centre is covered exactly once. */
+static void assert_centre_grid_covers_once(int flip)
 {
-    (void)state;
     const uint32_t resolutions[] = { 1024, 333 };
     for (size_t r = 0; r < 2; ++r) {
         float lines[65];
         centre_lines(lines, 64, resolutions[r]);
         uv_mesh m;
-        grid_mesh(&m, 64, lines, lines, FLIP_NONE);
+        grid_mesh(&m, 64, lines, lines, flip);
         assert_exact_cover(&m, resolutions[r]);
         uv_mesh_free(&m);
     }
+}
+
+static void test_grid_covers_every_texel_once(void **state)
+{
+    (void)state;
+    assert_centre_grid_covers_once(FLIP_NONE);
     /* The plain uniform grid k/64 (exact in float) at 96 = 32 * 3 texels:
      * every odd line k/64 = (1.5 k) / 96 lies on a centre. */
     float uniform[65];
@@ -149,17 +154,8 @@ static void test_grid_covers_every_texel_once(void **state)
 static void test_flipped_windings_change_nothing(void **state)
 {
     (void)state;
-    const uint32_t resolutions[] = { 1024, 333 };
-    for (size_t r = 0; r < 2; ++r) {
-        float lines[65];
-        centre_lines(lines, 64, resolutions[r]);
-        for (int flip = FLIP_ALL; flip <= FLIP_ALTERNATE; ++flip) {
-            uv_mesh m;
-            grid_mesh(&m, 64, lines, lines, flip);
-            assert_exact_cover(&m, resolutions[r]);
-            uv_mesh_free(&m);
-        }
-    }
+    for (int flip = FLIP_ALL; flip <= FLIP_ALTERNATE; ++flip)
+        assert_centre_grid_covers_once(flip);
 }
 
 static uint64_t next_random(uint64_t *s)

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sam/sam_rng.h"
 #include "sam_build_internal.h"
 
 void sam_build_default_settings(sam_build_settings *s)
@@ -37,31 +38,6 @@ sam_status sam_build_check_settings(const sam_build_settings *s, float mm_per_un
     if (s->threads < 0)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "threads must be >= 0, got %d", s->threads);
     return SAM_OK;
-}
-
-/* ---- random numbers */
-
-static uint64_t splitmix64(uint64_t x)
-{
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
-
-void sam_rng_seed(sam_rng *rng, uint64_t seed, uint64_t a, uint64_t b)
-{
-    rng->state = splitmix64(splitmix64(seed) ^ splitmix64(a * 0x100000001B3ull + b));
-}
-
-float sam_rng_float(sam_rng *rng)
-{
-    uint64_t old = rng->state;
-    rng->state = old * 6364136223846793005ull + 1442695040888963407ull;
-    uint32_t xorshifted = (uint32_t)(((old >> 18) ^ old) >> 27);
-    uint32_t rot = (uint32_t)(old >> 59);
-    uint32_t r = (xorshifted >> rot) | (xorshifted << ((32 - rot) & 31));
-    return (float)(r >> 8) * (1.0f / 16777216.0f);
 }
 
 /* ---- R_d */

@@ -48,14 +48,4 @@ void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_
 void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
                                 uint32_t samples, uint64_t seed, float k[3], float *k_error);
 
-/* A small deterministic random stream (PCG32). */
-typedef struct sam_rng {
-    uint64_t state;
-} sam_rng;
-
-/* A stream for the pair (a, b) of a build with `seed`. */
-void sam_rng_seed(sam_rng *rng, uint64_t seed, uint64_t a, uint64_t b);
-/* Uniform in [0, 1). */
-float sam_rng_float(sam_rng *rng);
-
 #endif

@@ -8,6 +8,8 @@
 
 #include <omp.h>
 
+#include "sam/sam_rng.h"
+
 void sam_truth_default_settings(sam_truth_settings *settings)
 {
     if (!settings)
@@ -225,8 +227,8 @@ sam_status sam_truth_create(const sam_truth_scene *scene, const sam_truth_settin
     t->progress = settings->progress;
     t->progress_user = settings->progress_user;
     /* 53 random bits each: the shifts of the two lattice axes. */
-    t->shift[0] = (double)(truth_mix(settings->seed) >> 11) * 0x1.0p-53;
-    t->shift[1] = (double)(truth_mix(settings->seed ^ 0xA5A5A5A5A5A5A5A5ull) >> 11) * 0x1.0p-53;
+    t->shift[0] = (double)(sam_rng_mix(settings->seed) >> 11) * 0x1.0p-53;
+    t->shift[1] = (double)(sam_rng_mix(settings->seed ^ 0xA5A5A5A5A5A5A5A5ull) >> 11) * 0x1.0p-53;
 
     if ((st = copy_scene(t, scene, err)) != SAM_OK)
         goto fail;

@@ -64,9 +64,6 @@ typedef struct truth_progress {
     uint64_t done, total, next;
 } truth_progress;
 
-/* SplitMix64's finaliser: the seed's shifts and each sample's stream. */
-uint64_t truth_mix(uint64_t x);
-
 void truth_progress_step(truth_progress *p);
 /* The final report (fraction exactly 1), outside the parallel region. */
 void truth_progress_finish(const truth_progress *p);

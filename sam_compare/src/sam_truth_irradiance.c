@@ -9,6 +9,7 @@
 #include <omp.h>
 
 #include "sam/sam_light.h"
+#include "sam/sam_rng.h"
 
 /* The fractional part of the golden ratio: the lattice's second axis. */
 #define GOLDEN_FRACTION 0.61803398874989484820
@@ -16,29 +17,6 @@
 /* A ray that ends this fraction short of its light does not hit an emitter
  * modelled as part of the mesh. */
 #define RAY_END_SHRINK 1e-4f
-
-uint64_t truth_mix(uint64_t x)
-{
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
-
-/* PCG32 stream of one sample: its numbers depend on (seed, sample) only. */
-typedef struct truth_rng {
-    uint64_t state;
-} truth_rng;
-
-static float rng_float(truth_rng *rng)
-{
-    uint64_t old = rng->state;
-    rng->state = old * 6364136223846793005ull + 1442695040888963407ull;
-    uint32_t xorshifted = (uint32_t)(((old >> 18) ^ old) >> 27);
-    uint32_t rot = (uint32_t)(old >> 59);
-    uint32_t r = (xorshifted >> rot) | (xorshifted << ((32 - rot) & 31));
-    return (float)(r >> 8) * (1.0f / 16777216.0f);
-}
 
 static float dot3(const float *a, const float *b)
 {
@@ -175,7 +153,7 @@ static float light_cosine(const sam_light *l, const float p[3], const float n[3]
  * randomly shifted lattice over the polygon's fan triangles, each ray
  * weighted by the point's unoccluded contribution. */
 static float area_visibility(const sam_truth *t, const sam_light *l, const float org[3], const float p[3],
-                             const float n[3], truth_rng *rng)
+                             const float n[3], sam_rng *rng)
 {
     float fan[SAM_AREA_LIGHT_MAX_VERTICES - 2], total = 0;
     uint32_t tris = l->vertex_count - 2;
@@ -187,7 +165,7 @@ static float area_visibility(const sam_truth *t, const sam_light *l, const float
         total += 0.5f * sqrtf(dot3(c, c));
         fan[k] = total;
     }
-    float shift_u = rng_float(rng), shift_v = rng_float(rng);
+    float shift_u = sam_rng_float(rng), shift_v = sam_rng_float(rng);
     double weighted = 0, weight = 0;
     uint32_t visible = 0;
     for (uint32_t s = 0; s < t->area_samples; ++s) {
@@ -223,7 +201,7 @@ static float area_visibility(const sam_truth *t, const sam_light *l, const float
 }
 
 static float visibility(const sam_truth *t, const sam_light *l, const float org[3], const float p[3],
-                        const float n[3], truth_rng *rng)
+                        const float n[3], sam_rng *rng)
 {
     float dir[3];
     switch (l->type) {
@@ -248,7 +226,11 @@ void truth_sample_at(const sam_truth *t, uint64_t i, float p[3], float n[3], flo
     float org[3];
     for (int j = 0; j < 3; ++j)
         org[j] = p[j] + ng[j] * t->ray_offset;
-    truth_rng rng = {truth_mix(truth_mix(t->seed) ^ truth_mix(i + 0x5bd1e995ull))};
+    /* One stream per sample, so its numbers do not depend on which thread
+     * draws it; the offset keeps it apart from the builder's stream (0, i)
+     * under the same seed. */
+    sam_rng rng;
+    sam_rng_seed(&rng, t->seed, 0, i + 0x5bd1e995ull);
     float sum[3] = {0, 0, 0};
     for (size_t k = 0; k < t->light_count; ++k) {
         const sam_light *l = &t->lights[k];

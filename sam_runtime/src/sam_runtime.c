@@ -326,6 +326,13 @@ uint32_t sam_runtime_vertex_count(const sam_runtime *rt)
     return rt->vertex_count;
 }
 
+/* Point and area lights cast all round: a cube map; spot and directional
+ * lights a flat one. */
+static int cube_shadowed(const sam_light *l)
+{
+    return l->type == SAM_LIGHT_POINT || l->type == SAM_LIGHT_AREA;
+}
+
 sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size_t count, sam_error *err)
 {
     if (count > SAM_SCENE_MAX_LIGHTS || (count && !lights))
@@ -335,7 +342,7 @@ sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size
     for (size_t i = 0; i < count; ++i) {
         if (!lights[i].shadow)
             continue;
-        if (lights[i].type == SAM_LIGHT_POINT || lights[i].type == SAM_LIGHT_AREA)
+        if (cube_shadowed(&lights[i]))
             cubes++;
         else
             flats++;
@@ -373,7 +380,7 @@ sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size
         g[i].params[1] = (float)l->two_sided;
         g[i].params[2] = -1.0f;
         if (l->shadow) {
-            int cube = l->type == SAM_LIGHT_POINT || l->type == SAM_LIGHT_AREA;
+            int cube = cube_shadowed(l);
             g[i].params[2] = (float)(cube ? rt->cube_count++ : rt->flat_count++);
             g[i].params[3] = (float)cube;
         }
@@ -483,12 +490,10 @@ static void render_shadows(sam_runtime *rt)
     glDisable(GL_CULL_FACE);
     glBindVertexArray(rt->vao);
     glUseProgram(rt->shadow_program);
-    uint32_t cube = 0, flat = 0;
-    for (uint32_t i = 0; i < rt->light_count; ++i) {
-        const sam_light *l = &rt->lights[i];
-        if (!l->shadow)
-            continue;
-        if (l->type == SAM_LIGHT_POINT || l->type == SAM_LIGHT_AREA) {
+    for (sam_runtime_shadow s = {0}; sam_runtime_next_shadow(rt, &s);) {
+        const sam_light *l = &rt->lights[s.light];
+        if (s.cube) {
+            uint32_t cube = s.map;
             float o[3];
             memcpy(o, l->position, sizeof o);
             if (l->type == SAM_LIGHT_AREA) {
@@ -508,8 +513,8 @@ static void render_shadows(sam_runtime *rt)
                            sam_runtime_cube_face(o, far_plane, f), 1, o, far_plane);
             memcpy(rt->cube_origin[cube], o, sizeof o);
             rt->cube_far[cube] = far_plane;
-            cube++;
         } else {
+            uint32_t flat = s.map;
             const float *d = l->direction;
             float up[3] = {0, 1, 0};
             if (fabsf(d[1]) > 0.9f)
@@ -541,11 +546,24 @@ static void render_shadows(sam_runtime *rt)
             rt->flat_matrix[flat] = vp;
             memcpy(rt->flat_origin[flat], l->position, sizeof rt->flat_origin[flat]);
             rt->flat_far[flat] = far_plane;
-            flat++;
         }
     }
     glBindVertexArray(0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+int sam_runtime_next_shadow(const sam_runtime *rt, sam_runtime_shadow *s)
+{
+    for (; s->next < rt->light_count; ++s->next) {
+        const sam_light *l = &rt->lights[s->next];
+        if (!l->shadow)
+            continue;
+        s->light = s->next++;
+        s->cube = cube_shadowed(l);
+        s->map = s->cube ? s->cubes++ : s->flats++;
+        return 1;
+    }
+    return 0;
 }
 
 void sam_runtime_bind_shadows(const sam_runtime *rt, GLuint p)

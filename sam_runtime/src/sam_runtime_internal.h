@@ -115,6 +115,20 @@ sam_mat4 sam_runtime_cube_face(const float origin[3], float far_plane, int face)
 /* Binds the shadow maps and their uniforms (shadows.glsl) to program p. */
 void sam_runtime_bind_shadows(const sam_runtime *rt, GLuint p);
 
+/* One step of a walk over the shadowed lights (sam_runtime_next_shadow). */
+typedef struct sam_runtime_shadow {
+    uint32_t light; /* index in rt->lights */
+    int cube;       /* 1: a cube map (point and area lights); 0: a flat map (spot and directional) */
+    uint32_t map;   /* its index among the cube maps, or among the flat ones */
+    uint32_t next, cubes, flats; /* the walk's own state */
+} sam_runtime_shadow;
+
+/* Steps `s` (zeroed before the first call) to the next shadowed light and
+ * returns 1; 0 after the last. The maps are numbered as
+ * sam_runtime_set_lights numbers them for the shaders, so every pass that
+ * draws them walks this way. */
+int sam_runtime_next_shadow(const sam_runtime *rt, sam_runtime_shadow *s);
+
 /* sam_runtime_technique.c. The translucency source of `view`'s passes
  * (TECHNIQUE_*). */
 int sam_runtime_technique_mode(const sam_render_view *view);

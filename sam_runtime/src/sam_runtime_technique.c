@@ -166,23 +166,17 @@ sam_status sam_runtime_render_tsm(sam_runtime *rt, sam_error *err)
     glUseProgram(rt->tsm_program);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_LIGHTS, rt->buffer[B_LIGHTS]);
     glBindVertexArray(rt->vao);
-    /* Shadow maps are numbered in light order, area lights among the cubes
-     * (sam_runtime_set_lights); area lights get no TSM. */
-    uint32_t cube = 0, flat = 0;
-    for (uint32_t i = 0; i < rt->light_count; ++i) {
-        const sam_light *l = &rt->lights[i];
-        if (!l->shadow)
-            continue;
-        if (l->type == SAM_LIGHT_POINT || l->type == SAM_LIGHT_AREA) {
-            if (l->type == SAM_LIGHT_POINT)
+    /* Area lights get no TSM, but keep their cube map's slot. */
+    for (sam_runtime_shadow s = {0}; sam_runtime_next_shadow(rt, &s);) {
+        if (s.cube) {
+            if (rt->lights[s.light].type == SAM_LIGHT_POINT)
                 for (int f = 0; f < 6; ++f) {
-                    sam_mat4 vp = sam_runtime_cube_face(rt->cube_origin[cube], rt->cube_far[cube], f);
-                    draw_tsm(rt, rt->tsm_cube_tex, (GLint)(12 * cube) + f, 6, CUBE_SHADOW_SIZE, &vp, i);
+                    sam_mat4 vp = sam_runtime_cube_face(rt->cube_origin[s.map], rt->cube_far[s.map], f);
+                    draw_tsm(rt, rt->tsm_cube_tex, (GLint)(12 * s.map) + f, 6, CUBE_SHADOW_SIZE, &vp, s.light);
                 }
-            cube++;
         } else {
-            draw_tsm(rt, rt->tsm_flat_tex, (GLint)(2 * flat), 1, FLAT_SHADOW_SIZE, &rt->flat_matrix[flat], i);
-            flat++;
+            draw_tsm(rt, rt->tsm_flat_tex, (GLint)(2 * s.map), 1, FLAT_SHADOW_SIZE, &rt->flat_matrix[s.map],
+                     s.light);
         }
     }
     glBindVertexArray(0);

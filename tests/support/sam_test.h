@@ -33,4 +33,15 @@ struct sam_mesh;
 void sam_test_shape_mesh(const char *name, int resolution, double size, double thickness, int count,
                          struct sam_mesh *mesh);
 
+struct sam_gl_context;
+
+/* cmocka group setup and teardown of the GL tests: a headless GL context,
+ * current on this thread for every test of the group. Setup prints why
+ * there is none and fails the group. */
+int sam_test_gl_setup(void **state);
+int sam_test_gl_teardown(void **state);
+
+/* The context sam_test_gl_setup opened. */
+struct sam_gl_context *sam_test_gl_context(void);
+
 #endif
