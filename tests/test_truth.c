@@ -425,6 +425,56 @@ static void test_deterministic_across_threads(void **state)
 
 /* ------------------------------------------------------------------------ */
 
+/* The far field: on a marble sphere lit from one side (the profile's
+ * radius spans the whole ball, the slow case for exact queries), every
+ * query with a 1% tolerance is within 1% of the exact sum, and the
+ * approximation is used (fewer seconds). */
+static void test_far_field(void **state)
+{
+    (void)state;
+    sam_profile marble;
+    assert_int_equal(sam_profile_preset("marble", &marble, NULL), SAM_OK);
+    sam_mesh mesh;
+    sam_test_shape_mesh("sphere", 24, 1.0, 0, 0, &mesh);
+    sam_light light = directional(1, 0.2f, 0.1f, 2.0f);
+    sam_truth_scene scene = scene_of(&mesh, 30.0f, &marble, &light, 1);
+    /* The query points: every vertex, normals outward. */
+    uint32_t count = mesh.vertex_count;
+    float *out[2] = {malloc(sizeof(float) * 3 * count), malloc(sizeof(float) * 3 * count)};
+    assert_non_null(out[0]);
+    assert_non_null(out[1]);
+    double seconds[2];
+    const float tolerance[2] = {0.0f, 0.01f};
+    for (int run = 0; run < 2; ++run) {
+        sam_truth_settings set;
+        sam_truth_default_settings(&set);
+        set.sample_count = 200000;
+        set.far_field_tolerance = tolerance[run];
+        sam_truth *t = make(&scene, &set);
+        double start = sam_seconds();
+        translucency(t, count, mesh.positions, mesh.normals, out[run]);
+        seconds[run] = sam_seconds() - start;
+        sam_truth_destroy(t);
+    }
+    double worst = 0, total = 0;
+    for (uint32_t k = 0; k < 3 * count; ++k) {
+        double exact = out[0][k], approx = out[1][k];
+        total += exact;
+        if (exact > 0)
+            worst = fmax(worst, fabs(approx - exact) / exact);
+        else
+            assert_true(approx == 0);
+    }
+    print_message("far field 1%%: %u queries, exact %.3f s, approximate %.3f s (%.1fx); worst relative error %.5f\n",
+                  count, seconds[0], seconds[1], seconds[0] / seconds[1], worst);
+    assert_true(total > 0);
+    assert_true(worst <= 0.0101);
+    assert_true(seconds[1] < seconds[0]);
+    free(out[0]);
+    free(out[1]);
+    sam_mesh_destroy(&mesh);
+}
+
 static void expect_create_error(const sam_truth_scene *scene, const sam_truth_settings *set, const char *needle)
 {
     sam_truth *t = (sam_truth *)1;
@@ -535,6 +585,7 @@ int main(void)
         cmocka_unit_test(test_small_patch),
         cmocka_unit_test(test_irradiance_and_shadows),
         cmocka_unit_test(test_deterministic_across_threads),
+        cmocka_unit_test(test_far_field),
         cmocka_unit_test(test_argument_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

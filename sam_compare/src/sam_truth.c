@@ -110,6 +110,10 @@ static sam_status check_arguments(const sam_truth_scene *s, const sam_truth_sett
     if (set->threads < 0)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "truth: settings.threads must be >= 0, found %d",
                         set->threads);
+    if (!(set->far_field_tolerance >= 0 && set->far_field_tolerance < 0.5f))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "truth: settings.far_field_tolerance must be in [0, 0.5), found %g",
+                        (double)set->far_field_tolerance);
     return SAM_OK;
 }
 
@@ -226,6 +230,8 @@ sam_status sam_truth_create(const sam_truth_scene *scene, const sam_truth_settin
     t->threads = settings->threads > 0 ? settings->threads : omp_get_max_threads();
     t->progress = settings->progress;
     t->progress_user = settings->progress_user;
+    t->tolerance = settings->far_field_tolerance;
+    t->far_ratio = expf(sqrtf(8.0f * t->tolerance));
     /* 53 random bits each: the shifts of the two lattice axes. */
     t->shift[0] = (double)(sam_rng_mix(settings->seed) >> 11) * 0x1.0p-53;
     t->shift[1] = (double)(sam_rng_mix(settings->seed ^ 0xA5A5A5A5A5A5A5A5ull) >> 11) * 0x1.0p-53;
@@ -243,7 +249,7 @@ sam_status sam_truth_create(const sam_truth_scene *scene, const sam_truth_settin
         goto fail;
     }
     if ((st = truth_embree_scene(t, err)) != SAM_OK || (st = truth_compute_samples(t, err)) != SAM_OK ||
-        (st = truth_build_grid(t, scene->profile, err)) != SAM_OK)
+        (st = truth_build_tree(t, scene->profile, err)) != SAM_OK)
         goto fail;
     t->seconds = sam_seconds() - start;
     *out = t;
@@ -268,7 +274,7 @@ void sam_truth_destroy(sam_truth *truth)
     free(truth->lights);
     free(truth->rd_table);
     free(truth->lit);
-    free(truth->cell_start);
+    free(truth->nodes);
     free(truth);
 }
 

@@ -6,12 +6,22 @@
 
 #include <embree3/rtcore.h>
 
-/* One lit sample as the queries read it: 36 bytes, kept in grid-cell order. */
+/* One lit sample as the queries read it: 36 bytes, kept in tree order. */
 typedef struct truth_sample {
     float p[3];  /* model units */
     float n[3];  /* unit */
     float l[3];  /* L_d dA */
 } truth_sample;
+
+/* A node of the tree over the lit samples: what a query needs to skip it,
+ * or to count it as one sample. */
+typedef struct truth_node {
+    float lo[3], hi[3];      /* the samples' positions' box, model units */
+    float nlo[3], nhi[3];    /* their normals' box */
+    float centre[3];         /* centroid weighted by the sum of L_d dA's channels */
+    float l[3];              /* sum of L_d dA */
+    uint32_t begin, end;     /* samples [begin, end) of lit */
+} truth_node;
 
 struct sam_truth {
     /* The scene, copied: sam_truth_sample recomputes any sample. */
@@ -46,12 +56,12 @@ struct sam_truth {
     float table_scale;       /* table intervals per mm */
     float (*rd_table)[3];    /* SAM_TRUTH_RD_TABLE_SIZE + 1 entries: R_d at k / table_scale mm */
 
-    truth_sample *lit;       /* lit_count, in cell order */
+    truth_sample *lit;       /* lit_count, in tree order */
     uint64_t lit_count;
-    float grid_origin[3];    /* model units */
-    float cell;              /* cell edge, model units */
-    uint32_t dims[3];
-    uint32_t *cell_start;    /* dims product + 1 offsets into lit */
+    truth_node *nodes;       /* node_count: a complete binary tree, children of i at 2i+1, 2i+2 */
+    uint32_t node_count;
+    float tolerance;         /* settings.far_field_tolerance */
+    float far_ratio;         /* exp(sqrt(8 tolerance)): the R_d ratio a far node may span */
 
     double seconds;
 };
@@ -79,8 +89,8 @@ void truth_sample_at(const sam_truth *t, uint64_t i, float p[3], float n[3], flo
  * sample order; the grid sorts them). Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status truth_compute_samples(sam_truth *t, sam_error *err);
 
-/* The R_d table and the grid over t->lit (reordered into cell order).
+/* The R_d table and the tree over t->lit (reordered into tree order).
  * Errors: SAM_ERR_OUT_OF_MEMORY. */
-sam_status truth_build_grid(sam_truth *t, const sam_profile *profile, sam_error *err);
+sam_status truth_build_tree(sam_truth *t, const sam_profile *profile, sam_error *err);
 
 #endif

@@ -1,5 +1,6 @@
-/* The ground truth's queries: the R_d table, the uniform grid over the lit
- * samples, and eq. 7 summed over the back side within the profile's radius. */
+/* The ground truth's queries: the R_d table, a bounding-volume tree over the
+ * lit samples, and eq. 7 summed over the back side within the profile's
+ * radius. */
 #include "sam_truth_internal.h"
 
 #include <math.h>
@@ -8,9 +9,9 @@
 
 #include <omp.h>
 
-/* Cells of the grid at most: enough for cells of half the radius around
- * any object a few radii across, and bounded against a tiny radius. */
-#define MAX_CELLS (1u << 22)
+/* Samples per leaf of the hierarchy: small enough that a leaf straddling
+ * the tangent plane costs little, large enough to keep the tree shallow. */
+#define LEAF_SAMPLES 16
 
 void truth_progress_step(truth_progress *p)
 {
@@ -29,7 +30,92 @@ void truth_progress_finish(const truth_progress *p)
         p->truth->progress(p->truth->progress_user, p->stage, 1.0);
 }
 
-static sam_status build_table(sam_truth *t, const sam_profile *profile, sam_error *err)
+/* R_d at r model units from the table (linear between entries). */
+static void rd_at(const sam_truth *t, float r, float out[3])
+{
+    float u = r * t->mm_per_unit * t->table_scale;
+    int k = (int)u;
+    if (k >= SAM_TRUTH_RD_TABLE_SIZE)
+        k = SAM_TRUTH_RD_TABLE_SIZE - 1;
+    float f = u - (float)k;
+    const float *r0 = t->rd_table[k], *r1 = t->rd_table[k + 1];
+    for (int j = 0; j < 3; ++j)
+        out[j] = r0[j] + f * (r1[j] - r0[j]);
+}
+
+/* Reorders samples [begin, end) so that the one of rank `nth` along `axis`
+ * is in place, smaller before it and larger after it (quickselect). */
+static void select_nth(truth_sample *s, uint32_t begin, uint32_t end, uint32_t nth, int axis)
+{
+    while (end - begin > 1) {
+        float pivot = s[begin + (end - begin) / 2].p[axis];
+        uint32_t i = begin, j = end - 1;
+        while (i <= j) {
+            while (s[i].p[axis] < pivot)
+                ++i;
+            while (s[j].p[axis] > pivot)
+                --j;
+            if (i <= j) {
+                truth_sample tmp = s[i];
+                s[i] = s[j];
+                s[j] = tmp;
+                ++i;
+                if (j == 0)
+                    break;
+                --j;
+            }
+        }
+        if (nth <= j)
+            end = j + 1;
+        else if (nth >= i)
+            begin = i;
+        else
+            return;
+    }
+}
+
+/* Builds node `index` over samples [begin, end) and its subtree; nodes are
+ * numbered so that a node's children are 2 index + 1 and 2 index + 2 of a
+ * complete tree over leaves of LEAF_SAMPLES, which needs no pointers. */
+static void build_node(sam_truth *t, uint32_t index, uint32_t begin, uint32_t end)
+{
+    truth_node *node = &t->nodes[index];
+    node->begin = begin;
+    node->end = end;
+    for (int k = 0; k < 3; ++k) {
+        node->lo[k] = node->nlo[k] = INFINITY;
+        node->hi[k] = node->nhi[k] = -INFINITY;
+        node->l[k] = 0;
+    }
+    double centre[3] = {0, 0, 0}, weight = 0;
+    for (uint32_t i = begin; i < end; ++i) {
+        const truth_sample *s = &t->lit[i];
+        double w = (double)s->l[0] + s->l[1] + s->l[2];
+        for (int k = 0; k < 3; ++k) {
+            node->lo[k] = fminf(node->lo[k], s->p[k]);
+            node->hi[k] = fmaxf(node->hi[k], s->p[k]);
+            node->nlo[k] = fminf(node->nlo[k], s->n[k]);
+            node->nhi[k] = fmaxf(node->nhi[k], s->n[k]);
+            node->l[k] += s->l[k];
+            centre[k] += w * s->p[k];
+        }
+        weight += w;
+    }
+    for (int k = 0; k < 3; ++k)
+        node->centre[k] = weight > 0 ? (float)(centre[k] / weight) : 0.5f * (node->lo[k] + node->hi[k]);
+    if (2 * index + 2 >= t->node_count || end - begin <= LEAF_SAMPLES)
+        return;
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (node->hi[k] - node->lo[k] > node->hi[axis] - node->lo[axis])
+            axis = k;
+    uint32_t mid = begin + (end - begin) / 2;
+    select_nth(t->lit, begin, end, mid, axis);
+    build_node(t, 2 * index + 1, begin, mid);
+    build_node(t, 2 * index + 2, mid, end);
+}
+
+sam_status truth_build_tree(sam_truth *t, const sam_profile *profile, sam_error *err)
 {
     t->rd_table = malloc(sizeof *t->rd_table * (SAM_TRUTH_RD_TABLE_SIZE + 1));
     if (!t->rd_table)
@@ -37,140 +123,93 @@ static sam_status build_table(sam_truth *t, const sam_profile *profile, sam_erro
     t->table_scale = (float)SAM_TRUTH_RD_TABLE_SIZE / t->radius_mm;
     for (uint32_t k = 0; k <= SAM_TRUTH_RD_TABLE_SIZE; ++k)
         sam_profile_eval(profile, (float)k / t->table_scale, t->rd_table[k]);
+    /* A complete binary tree deep enough that leaves hold at most
+     * LEAF_SAMPLES samples. */
+    uint32_t leaves = 1;
+    while ((uint64_t)leaves * LEAF_SAMPLES < t->lit_count)
+        leaves *= 2;
+    t->node_count = 2 * leaves - 1;
+    t->nodes = malloc(sizeof *t->nodes * t->node_count);
+    if (!t->nodes)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "truth: out of memory for the sample tree (%u nodes)",
+                        t->node_count);
+    build_node(t, 0, 0, (uint32_t)t->lit_count);
     return SAM_OK;
 }
 
-static uint32_t cell_of(const sam_truth *t, const float p[3])
+/* Adds the exact eq.-7 terms of samples [begin, end). */
+static void sum_samples(const sam_truth *t, uint32_t begin, uint32_t end, const float p[3], const float n[3],
+                        float radius2, double sum[3])
 {
-    uint32_t c[3];
-    for (int k = 0; k < 3; ++k) {
-        float x = floorf((p[k] - t->grid_origin[k]) / t->cell);
-        c[k] = x <= 0 ? 0 : x >= (float)(t->dims[k] - 1) ? t->dims[k] - 1 : (uint32_t)x;
+    for (uint32_t i = begin; i < end; ++i) {
+        const truth_sample *s = &t->lit[i];
+        float d[3] = {s->p[0] - p[0], s->p[1] - p[1], s->p[2] - p[2]};
+        float dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+        float nn = s->n[0] * n[0] + s->n[1] * n[1] + s->n[2] * n[2];
+        float r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        if (dn >= 0 || nn >= 0 || r2 >= radius2)
+            continue;
+        float rd[3];
+        rd_at(t, sqrtf(r2), rd);
+        for (int j = 0; j < 3; ++j)
+            sum[j] += (double)(rd[j] * s->l[j]);
     }
-    return (c[2] * t->dims[1] + c[1]) * t->dims[0] + c[0];
 }
 
-sam_status truth_build_grid(sam_truth *t, const sam_profile *profile, sam_error *err)
-{
-    sam_status st = build_table(t, profile, err);
-    if (st != SAM_OK)
-        return st;
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint64_t i = 0; i < t->lit_count; ++i)
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = fminf(lo[k], t->lit[i].p[k]);
-            hi[k] = fmaxf(hi[k], t->lit[i].p[k]);
-        }
-    if (t->lit_count == 0)
-        lo[0] = lo[1] = lo[2] = hi[0] = hi[1] = hi[2] = 0;
-    /* Half-radius cells: a query's sphere touches at most 5^3 of them, about
-     * 3.7 times its volume, against 6.4 times for cells of one radius. */
-    double cell = 0.5 * (double)t->radius_mm / t->mm_per_unit, cells;
-    for (;;) {
-        cells = 1;
-        for (int k = 0; k < 3; ++k)
-            cells *= floor((hi[k] - lo[k]) / cell) + 1;
-        if (cells <= MAX_CELLS && cells <= 8.0 * (double)t->lit_count + 1)
-            break;
-        cell *= 1.25;
-    }
-    t->cell = (float)cell;
-    for (int k = 0; k < 3; ++k) {
-        t->grid_origin[k] = lo[k];
-        t->dims[k] = (uint32_t)floor((hi[k] - lo[k]) / cell) + 1;
-    }
-    uint32_t cell_count = t->dims[0] * t->dims[1] * t->dims[2];
-    t->cell_start = calloc((size_t)cell_count + 1, sizeof *t->cell_start);
-    uint32_t *dest = malloc(sizeof *dest * (t->lit_count ? t->lit_count : 1));
-    if (!t->cell_start || !dest) {
-        free(dest);
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "truth: out of memory for the sample grid (%u cells)",
-                        cell_count);
-    }
-    for (uint64_t i = 0; i < t->lit_count; ++i) {
-        dest[i] = cell_of(t, t->lit[i].p);
-        t->cell_start[dest[i] + 1]++;
-    }
-    for (uint32_t c = 0; c < cell_count; ++c)
-        t->cell_start[c + 1] += t->cell_start[c];
-    /* Stable counting sort into final slots, then an in-place permutation:
-     * every swap puts one sample where it belongs, so no second copy of the
-     * samples is needed. */
-    uint32_t *fill = malloc(sizeof *fill * cell_count);
-    if (!fill) {
-        free(dest);
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "truth: out of memory for the sample grid (%u cells)",
-                        cell_count);
-    }
-    memcpy(fill, t->cell_start, sizeof *fill * cell_count);
-    for (uint64_t i = 0; i < t->lit_count; ++i)
-        dest[i] = fill[dest[i]]++;
-    free(fill);
-    for (uint32_t i = 0; i < t->lit_count; ++i)
-        while (dest[i] != i) {
-            uint32_t j = dest[i];
-            truth_sample s = t->lit[j];
-            t->lit[j] = t->lit[i];
-            t->lit[i] = s;
-            dest[i] = dest[j];
-            dest[j] = j;
-        }
-    free(dest);
-    return SAM_OK;
-}
-
-/* Eq. 7 at one query point with unit normal n. */
+/* Eq. 7 at one query point with unit normal n, down the tree: a node out of
+ * reach, or wholly in front (eq. 13) or facing the same way (eq. 14), is
+ * skipped. With a tolerance, a node wholly on the back side and in reach
+ * counts as one sample at its centroid when ln(R_d(nearest) /
+ * R_d(farthest)) <= sqrt(8 tolerance): evaluating a falloff at the mean
+ * distance instead of averaging it errs by about (ln ratio)^2 / 8 of the
+ * node's contribution (second order, as for exp(-k r): k^2 dr^2 / 8). */
 static void query(const sam_truth *t, const float p[3], const float n[3], float out[3])
 {
     const float radius = t->radius_mm / t->mm_per_unit, radius2 = radius * radius;
-    const float scale = t->mm_per_unit * t->table_scale;
     double sum[3] = {0, 0, 0};
-    int lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-        float a = floorf((p[k] - radius - t->grid_origin[k]) / t->cell);
-        float b = floorf((p[k] + radius - t->grid_origin[k]) / t->cell);
-        if (b < 0 || a > (float)(t->dims[k] - 1)) {
-            out[0] = out[1] = out[2] = 0;
-            return;
+    uint32_t stack[64];
+    int top = 0;
+    if (t->lit_count)
+        stack[top++] = 0;
+    while (top) {
+        const uint32_t index = stack[--top];
+        const truth_node *node = &t->nodes[index];
+        float near2 = 0, far2 = 0, dn_lo = 0, dn_hi = 0, nn_lo = 0, nn_hi = 0;
+        for (int k = 0; k < 3; ++k) {
+            float a = node->lo[k] - p[k], b = node->hi[k] - p[k];
+            float d = a > 0 ? a : b < 0 ? -b : 0.0f, e = fmaxf(fabsf(a), fabsf(b));
+            near2 += d * d;
+            far2 += e * e;
+            dn_lo += fminf(a * n[k], b * n[k]);
+            dn_hi += fmaxf(a * n[k], b * n[k]);
+            nn_lo += fminf(node->nlo[k] * n[k], node->nhi[k] * n[k]);
+            nn_hi += fmaxf(node->nlo[k] * n[k], node->nhi[k] * n[k]);
         }
-        lo[k] = a < 0 ? 0 : (int)a;
-        hi[k] = b > (float)(t->dims[k] - 1) ? (int)t->dims[k] - 1 : (int)b;
-    }
-    /* How far a cell's corners reach along n from its centre. */
-    const float half_extent = 0.5f * t->cell * (fabsf(n[0]) + fabsf(n[1]) + fabsf(n[2]));
-    for (int z = lo[2]; z <= hi[2]; ++z)
-        for (int y = lo[1]; y <= hi[1]; ++y)
-            for (int x = lo[0]; x <= hi[0]; ++x) {
-                const int c[3] = {x, y, z};
-                float dist2 = 0, centre_dn = 0;
-                for (int k = 0; k < 3; ++k) {
-                    float b0 = t->grid_origin[k] + (float)c[k] * t->cell, b1 = b0 + t->cell;
-                    float d = p[k] < b0 ? b0 - p[k] : p[k] > b1 ? p[k] - b1 : 0.0f;
-                    dist2 += d * d;
-                    centre_dn += (0.5f * (b0 + b1) - p[k]) * n[k];
-                }
-                /* Cells out of reach, or wholly in front of the tangent plane (eq. 13). */
-                if (dist2 >= radius2 || centre_dn - half_extent >= 0)
-                    continue;
-                uint32_t cell = ((uint32_t)z * t->dims[1] + (uint32_t)y) * t->dims[0] + (uint32_t)x;
-                for (uint32_t i = t->cell_start[cell]; i < t->cell_start[cell + 1]; ++i) {
-                    const truth_sample *s = &t->lit[i];
-                    float d[3] = {s->p[0] - p[0], s->p[1] - p[1], s->p[2] - p[2]};
-                    float dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
-                    float nn = s->n[0] * n[0] + s->n[1] * n[1] + s->n[2] * n[2];
-                    float r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                    if (dn >= 0 || nn >= 0 || r2 >= radius2)
-                        continue;
-                    float u = sqrtf(r2) * scale;
-                    int k = (int)u;
-                    if (k >= SAM_TRUTH_RD_TABLE_SIZE)
-                        k = SAM_TRUTH_RD_TABLE_SIZE - 1;
-                    float f = u - (float)k;
-                    const float *r0 = t->rd_table[k], *r1 = t->rd_table[k + 1];
-                    for (int j = 0; j < 3; ++j)
-                        sum[j] += (double)((r0[j] + f * (r1[j] - r0[j])) * s->l[j]);
-                }
+        if (near2 >= radius2 || dn_lo >= 0 || nn_lo >= 0)
+            continue;
+        const int leaf = 2 * index + 2 >= t->node_count || node->end - node->begin <= LEAF_SAMPLES;
+        if (!leaf && t->tolerance > 0 && dn_hi < 0 && nn_hi < 0 && far2 < radius2) {
+            float r_near[3], r_far[3];
+            rd_at(t, sqrtf(near2), r_near);
+            rd_at(t, sqrtf(far2), r_far);
+            int flat = 1;
+            for (int j = 0; j < 3; ++j)
+                flat &= r_near[j] <= t->far_ratio * r_far[j];
+            if (flat) {
+                float d[3] = {node->centre[0] - p[0], node->centre[1] - p[1], node->centre[2] - p[2]}, rd[3];
+                rd_at(t, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), rd);
+                for (int j = 0; j < 3; ++j)
+                    sum[j] += (double)(rd[j] * node->l[j]);
+                continue;
             }
+        }
+        if (leaf) {
+            sum_samples(t, node->begin, node->end, p, n, radius2, sum);
+        } else {
+            stack[top++] = 2 * index + 1;
+            stack[top++] = 2 * index + 2;
+        }
+    }
     for (int j = 0; j < 3; ++j)
         out[j] = (float)sum[j];
 }

@@ -56,6 +56,9 @@ static void usage(FILE *out)
             "  --truth-samples N      the ground truth's first surface sample count (default 65536);\n"
             "                         it is doubled (up to 6 times) until doubling changes SAM's\n"
             "                         PSNRs by under 0.5 dB\n"
+            "  --truth-tolerance X    far-field tolerance of the truth's sum, in [0, 0.5): distant\n"
+            "                         groups of samples count as one where that errs by about X of\n"
+            "                         their share (default 0.01; 0 sums every sample)\n"
             "  --force                write into a DIR that already holds a report\n"
             "  -h, --help             this text\n"
             "PSNR is computed on the tonemapped 8-bit sRGB images over the object's pixels, over\n"
@@ -136,6 +139,7 @@ typedef struct compare_state {
     sam_profile profile;
     float mm_per_unit;
     double build_seconds;
+    float truth_tolerance;
     sam_runtime *rt;
     sam_render_view view;
     float sh[9][3];
@@ -281,6 +285,7 @@ static sam_status evaluate_truth(compare_state *s, const sam_image *positions, c
     sam_truth_settings settings = {0};
     settings.sample_count = samples;
     settings.seed = 1;
+    settings.far_field_tolerance = s->truth_tolerance;
     settings.progress = truth_progress;
     settings.progress_user = &ps;
     if ((st = sam_truth_create(&s->truth_scene, &settings, &truth, err)) != SAM_OK)
@@ -463,8 +468,8 @@ static sam_status write_reports(const compare_state *s, const char *scene_path, 
     fprintf(f.fp, "  \"samples_per_vertex\": %u,\n  \"map_build_seconds\": %.3f,\n  \"diffusion\": \"%s\",\n",
             s->sam.samples_per_vertex, s->build_seconds, diffusion_names[s->view.diffusion]);
     fprintf(f.fp, "  \"truth\": {\"samples\": %llu, \"seconds\": %.3f, \"space\": \"%s\", \"translucency_max\": %.6g, "
-                  "\"convergence\": [",
-            (unsigned long long)final->samples, final->seconds, space, (double)truth_max);
+                  "\"far_field_tolerance\": %g, \"convergence\": [",
+            (unsigned long long)final->samples, final->seconds, space, (double)truth_max, (double)s->truth_tolerance);
     for (int i = 0; i < step_count; ++i) {
         fprintf(f.fp, "%s{\"samples\": %llu, \"seconds\": %.3f, \"sam_psnr_db\": ", i ? ", " : "",
                 (unsigned long long)steps[i].samples, steps[i].seconds);
@@ -525,8 +530,9 @@ static sam_status write_reports(const compare_state *s, const char *scene_path, 
     fprintf(f.fp, "# sam_compare: %s\n\n", sam_path_basename(scene_path));
     fprintf(f.fp, "%ux%u, %u vertices, N = %u back-side samples per vertex, %s diffusion.\n\n", s->view.width,
             s->view.height, s->sam.vertex_count, s->sam.samples_per_vertex, diffusion_names[s->view.diffusion]);
-    fprintf(f.fp, "Ground truth: %llu surface samples, %.2f s, evaluated per %s. Doubling the samples:\n\n",
-            (unsigned long long)final->samples, final->seconds, space);
+    fprintf(f.fp, "Ground truth: %llu surface samples, %.2f s, evaluated per %s, far-field tolerance %g. Doubling "
+                  "the samples:\n\n",
+            (unsigned long long)final->samples, final->seconds, space, (double)s->truth_tolerance);
     fprintf(f.fp, "| truth samples | seconds | SAM PSNR (dB) | SAM translucency PSNR (dB) |\n| --- | --- | --- | --- |\n");
     for (int i = 0; i < step_count; ++i) {
         fprintf(f.fp, "| %llu | %.2f |", (unsigned long long)steps[i].samples, steps[i].seconds);
@@ -689,6 +695,7 @@ int main(int argc, char **argv)
 {
     const char *scene_path = NULL, *dir = NULL, *techniques = "sam,none,tsm,transmittance", *sweep_list = NULL;
     long map_samples = 0, truth_samples = 0;
+    float truth_tolerance = 0.01f;
     int force = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -707,6 +714,13 @@ int main(int argc, char **argv)
             techniques = argv[++i];
         } else if (!strcmp(a, "--samples-sweep")) {
             sweep_list = argv[++i];
+        } else if (!strcmp(a, "--truth-tolerance")) {
+            char *end;
+            truth_tolerance = strtof(argv[++i], &end);
+            if (*end || end == argv[i] || !(truth_tolerance >= 0 && truth_tolerance < 0.5f)) {
+                fprintf(stderr, "sam_compare: --truth-tolerance must be a number in [0, 0.5), got \"%s\"\n", argv[i]);
+                return 2;
+            }
         } else if (!strcmp(a, "--samples") || !strcmp(a, "--truth-samples")) {
             char *end;
             long v = strtol(argv[++i], &end, 10);
@@ -756,6 +770,7 @@ int main(int argc, char **argv)
     compare_state s;
     memset(&s, 0, sizeof s);
     s.dir = dir;
+    s.truth_tolerance = truth_tolerance;
     sam_error err;
     int code = 1;
     sam_gl_context *gl = NULL;

@@ -67,6 +67,7 @@ expect_error() { # label args...
 }
 expect_error "unknown technique" "$tmp/scene.json" --out "$tmp/x" --techniques sam,foo
 expect_error "bad sweep" "$tmp/scene.json" --out "$tmp/x" --samples-sweep 3,0
+expect_error "bad tolerance" "$tmp/scene.json" --out "$tmp/x" --truth-tolerance 0.7
 expect_error "missing scene" "$tmp/nope.json" --out "$tmp/x"
 expect_error "no --out" "$tmp/scene.json"
 "$bin/sam_compare" --help | grep -q "usage: sam_compare" || fail "--help"

@@ -60,17 +60,30 @@
  * the same count. Skin (v = 0.0064 mm^2) asks for 2500 samples per mm^2,
  * so anything above about 1700 mm^2 gets the upper bound.
  *
- * Queries. Only samples whose L_d is non-zero are kept, in a uniform grid
- * of cells half the profile's radius of influence (sam_profile_radius with
- * SAM_TRUTH_RADIUS_TOLERANCE); a query visits the cells within that radius
- * not wholly in front of its tangent plane, and tests every sample in them.
- * R_d comes from a table of SAM_TRUTH_RD_TABLE_SIZE + 1 entries over
- * [0, radius] with linear interpolation: its error is at most 6.5e-5 of
- * R_d(0) for the presets (2.8e-4 for cream, the sharpest peak).
+ * Queries. Only samples whose L_d is non-zero are kept, in a complete
+ * binary tree of median splits (leaves of 16 samples) that stores each
+ * node's box of positions, box of normals, sum of L_d dA and centroid. A
+ * query descends it and skips nodes out of the profile's radius of
+ * influence (sam_profile_radius with SAM_TRUTH_RADIUS_TOLERANCE), wholly
+ * in front of its tangent plane (eq. 13) or with every normal facing its
+ * way (eq. 14), and tests every sample of the leaves it reaches. With
+ * far_field_tolerance > 0, a node wholly on the back side and in reach
+ * whose R_d changes by a ratio of at most exp(sqrt(8 tolerance)) between
+ * its nearest and its farthest point counts as one sample of its summed
+ * L_d dA at its centroid. Evaluating a falloff at the centroid instead of
+ * averaging it errs to second order, about (ln ratio)^2 / 8 of the node's
+ * contribution for an exponential, so each node stays within about the
+ * tolerance (tests/test_truth.c measures it on a marble ball; the
+ * hierarchical idea of Jensen and Buhler 2002). R_d comes from a table of
+ * SAM_TRUTH_RD_TABLE_SIZE + 1 entries over [0, radius] with linear
+ * interpolation: its error is at most 6.5e-5 of R_d(0) for the presets
+ * (2.8e-4 for cream, the sharpest peak).
  *
  * Cost: create is one ray per sample per shadowed point, spot or
  * directional light and area_light_samples rays per shadowed area light;
- * a query costs one test per lit sample within the radius. Measured on 2
+ * an exact query costs one test per lit sample within the radius (the far
+ * field makes wide profiles much cheaper: see sam_compare's README
+ * section for measured times). Measured exact on 2
  * busy cores, a point and an area light (17 rays per sample), 20k
  * triangles: 0.5-0.9 million samples/s; queries at the vertices of a
  * 60 mm ear 2 mm thick: skin (4.2M samples) about 700/s, marble (1.1M
@@ -140,6 +153,10 @@ typedef struct sam_truth_settings {
     uint64_t seed;                /* same seed + count = same result on any thread count */
     uint32_t area_light_samples;  /* visibility points per area light per sample; 0 = 16 */
     int threads;                  /* >= 0; 0 = OpenMP's default */
+    /* 0: every sample is summed (exact). In [0, 0.5): distant groups of
+     * samples are summed as one where that errs by about this fraction of
+     * their contribution (see Queries above). */
+    float far_field_tolerance;
     /* May be NULL. Called from the calling thread only, with stage
      * "irradiance" (sam_truth_create) or "translucency" (queries) and a
      * fraction in [0, 1] that ends at exactly 1. */
@@ -164,7 +181,7 @@ void sam_truth_default_settings(sam_truth_settings *settings);
  * a light with an unknown type, non-finite or negative color/intensity, or
  * an area light with vertex_count outside 3..SAM_AREA_LIGHT_MAX_VERTICES;
  * environment_rho_dt not finite and >= 0; a sample count above UINT32_MAX;
- * negative threads; a profile whose fit fails; a mesh of zero area),
+ * negative threads; far_field_tolerance outside [0, 0.5); a profile whose fit fails; a mesh of zero area),
  * SAM_ERR_OUT_OF_MEMORY, SAM_ERR_UNSUPPORTED (Embree failed: the message
  * gives rtcGetDeviceError's code). */
 sam_status sam_truth_create(const sam_truth_scene *scene, const sam_truth_settings *settings,
