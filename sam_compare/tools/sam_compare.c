@@ -451,7 +451,7 @@ typedef struct sweep_point {
 
 static sam_status write_reports(const compare_state *s, const char *scene_path, const technique_result *results,
                                 const technique_result *self, const truth_step *steps, int step_count,
-                                float truth_max, const char *space,
+                                int converged, float truth_max, const char *space,
                                 const sweep_point *sweep, int sweep_count, int monotonic, sam_error *err)
 {
     const truth_step *final = &steps[step_count - 1];
@@ -468,8 +468,9 @@ static sam_status write_reports(const compare_state *s, const char *scene_path, 
     fprintf(f.fp, "  \"samples_per_vertex\": %u,\n  \"map_build_seconds\": %.3f,\n  \"diffusion\": \"%s\",\n",
             s->sam.samples_per_vertex, s->build_seconds, diffusion_names[s->view.diffusion]);
     fprintf(f.fp, "  \"truth\": {\"samples\": %llu, \"seconds\": %.3f, \"space\": \"%s\", \"translucency_max\": %.6g, "
-                  "\"far_field_tolerance\": %g, \"convergence\": [",
-            (unsigned long long)final->samples, final->seconds, space, (double)truth_max, (double)s->truth_tolerance);
+                  "\"far_field_tolerance\": %g, \"converged\": %s, \"convergence\": [",
+            (unsigned long long)final->samples, final->seconds, space, (double)truth_max, (double)s->truth_tolerance,
+            converged ? "true" : "false");
     for (int i = 0; i < step_count; ++i) {
         fprintf(f.fp, "%s{\"samples\": %llu, \"seconds\": %.3f, \"sam_psnr_db\": ", i ? ", " : "",
                 (unsigned long long)steps[i].samples, steps[i].seconds);
@@ -540,6 +541,9 @@ static sam_status write_reports(const compare_state *s, const char *scene_path, 
         md_db(f.fp, steps[i].sam_psnr_normalised_db);
         fprintf(f.fp, "\n");
     }
+    fprintf(f.fp, converged ? "\nThe last doubling moved SAM's scores by under %.1f dB.\n"
+                            : "\n**Not converged**: the last doubling still moved SAM's scores by %.1f dB or more.\n",
+            CONVERGED_DB);
     fprintf(f.fp, "\nPSNR on tonemapped 8-bit sRGB over the object's pixels; \"differing\" counts only pixels that "
                   "differ from the truth (the paper's Fig. 11); translucency images are normalised by the truth's "
                   "maximum (%.4g).\n\n",
@@ -777,7 +781,7 @@ int main(int argc, char **argv)
     sam_image positions = {0}, normals = {0}, truth_override = {0}, truth_full = {0}, truth_translucency = {0};
     sam_image candidate = {0}, candidate_full = {0}, candidate_translucency = {0};
     truth_step steps[MAX_DOUBLINGS + 1];
-    int step_count = 0;
+    int step_count = 0, converged = 0;
     sweep_point sweep[MAX_SWEEP];
     technique_result self;
     memset(&self, 0, sizeof self);
@@ -892,8 +896,10 @@ int main(int argc, char **argv)
             double d2 = fabs(step->sam_psnr_normalised_db - prev->sam_psnr_normalised_db);
             /* Without SAM in the run (or no translucency at all) there is
              * nothing to converge for: one doubling is all we check. */
-            if (!(d1 >= CONVERGED_DB) && !(d2 >= CONVERGED_DB))
+            if (!(d1 >= CONVERGED_DB) && !(d2 >= CONVERGED_DB)) {
+                converged = 1;
                 break;
+            }
         }
         if (step_count == MAX_DOUBLINGS + 1) {
             say("warning: the ground truth still moves by 0.5 dB or more after %d doublings; the report says so",
@@ -923,7 +929,7 @@ int main(int argc, char **argv)
             if (sweep_n[i] > sweep_n[i - 1] && sweep[i].all.rmse > sweep[i - 1].all.rmse)
                 monotonic = 0;
     }
-    if (write_reports(&s, scene_path, results, &self, steps, step_count, truth_max, space_name, sweep, sweep_count, monotonic,
+    if (write_reports(&s, scene_path, results, &self, steps, step_count, converged, truth_max, space_name, sweep, sweep_count, monotonic,
                       &err) != SAM_OK)
         goto done;
     if (sweep_count && plot_sweep(&s, sweep, sweep_count, &err) != SAM_OK)

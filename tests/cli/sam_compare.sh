@@ -34,7 +34,7 @@ r = json.load(open(sys.argv[1]))
 t = {x["name"]: x for x in r["techniques"]}
 truth = r["truth"]
 assert truth["self_psnr_db"] is None and truth["self_differing_pixels"] == 0, truth
-assert truth["samples"] > 0 and truth["seconds"] > 0, truth
+assert truth["samples"] > 0 and truth["seconds"] > 0 and truth["converged"] is True, truth
 assert t["sam"]["available"] and t["none"]["available"] and t["transmittance"]["available"]
 for x in t.values():
     if not x["available"]:
