@@ -2,12 +2,17 @@
  * bench_frame: the runtime's per-pass costs on the current GL device
  * (llvmpipe without a GPU), measured side by side in one run.
  *
- * For knots at three resolutions (about 2k, 18k and 88k vertices; skin,
- * N = 3): the irradiance pass (one shadowed point light + environment), the
- * translucency pass and the shading pass at 1920x1080, the latter with
- * each surface-diffusion technique. Times are wall-clock around glFinish, the
- * median of 15 runs (llvmpipe reports no timer-query time for compute),
- * and GL timer queries where the driver gives them. The translucency pass
+ * For knots at four resolutions (about 2k, 18k "head-sized", 88k and 550k
+ * "buddha-sized" vertices; skin, N = 3): the irradiance pass (one shadowed
+ * point light + environment), the translucency pass and the shading pass at
+ * 1920x1080, the latter with each surface-diffusion technique. For the
+ * head- and buddha-sized knots, texture-space diffusion with each of
+ * Jimenez and Gutierrez's optimisations (culled, clipped, depth-sized, all)
+ * against none, in a close-up, a whole-object and a far view: the speed-up
+ * ratio of the whole render, and of the diffusion pass alone where the
+ * driver has timer queries. Times are wall-clock around glFinish, medians
+ * (llvmpipe reports no timer-query time for compute), and GL timer queries
+ * where the driver gives them. Usage: bench_frame [--json FILE] The translucency pass
  * is set against its bandwidth lower bound: the bytes it must move per
  * vertex (its own position and T, and per sample the sample record, the
  * back vertex's position, fan area and L_d) over the memory bandwidth
@@ -74,10 +79,12 @@ static sam_status run_shade(sam_runtime *rt, void *user, sam_error *err)
     return st;
 }
 
-/* Median wall time (ms) of `runs` calls, each closed by glFinish. */
-static double median_ms(sam_runtime *rt, pass_fn fn, void *user, int runs)
+/* Median wall time (ms) of `runs` calls, each closed by glFinish; the
+ * median GPU time of `pass` (timer query) in *gpu_ms when not NULL
+ * (<= 0 where the driver reports none). */
+static double median_ms_gpu(sam_runtime *rt, pass_fn fn, void *user, int runs, sam_pass pass, double *gpu_ms)
 {
-    double t[32];
+    double t[32], g[32];
     sam_error err;
     for (int i = 0; i < runs; ++i) {
         glFinish();
@@ -86,9 +93,69 @@ static double median_ms(sam_runtime *rt, pass_fn fn, void *user, int runs)
             die("pass", &err);
         glFinish();
         t[i] = 1e3 * (sam_seconds() - start);
+        g[i] = gpu_ms ? sam_runtime_pass_ms(rt, pass) : 0;
     }
     qsort(t, (size_t)runs, sizeof *t, bench_cmp_double);
+    if (gpu_ms) {
+        qsort(g, (size_t)runs, sizeof *g, bench_cmp_double);
+        *gpu_ms = g[runs / 2];
+    }
     return t[runs / 2];
+}
+
+static double median_ms(sam_runtime *rt, pass_fn fn, void *user, int runs)
+{
+    return median_ms_gpu(rt, fn, user, runs, SAM_PASS_SHADE, NULL);
+}
+
+/* Texture-space diffusion with each optimisation against none, in three
+ * views of the object (bounding radius r about the origin). The cost of
+ * the diffusion is the render's wall time less that of the same view
+ * without diffusion (llvmpipe's timer queries are not reliable for these
+ * passes), so the speed-up compares what the optimisations act on. */
+static void optimization_table(sam_runtime *rt, sam_render_view view, const float centre[3], float r, FILE *json)
+{
+    static const struct {
+        const char *name;
+        float distance; /* in bounding radii from the centre */
+    } views[3] = {{"close", 1.6f}, {"whole", 3.2f}, {"far", 16.0f}};
+    static const struct {
+        const char *name;
+        int culled, clipped, depth_sized;
+    } configs[5] = {{"none", 0, 0, 0},
+                    {"culled", 1, 0, 0},
+                    {"clipped", 0, 1, 0},
+                    {"depth-sized", 0, 0, 1},
+                    {"all", 1, 1, 1}};
+    printf("          texture-space diffusion cost, ms (speed-up against no optimisation):\n");
+    fprintf(json, ", \"texture_space_optimizations\": [");
+    for (int v = 0; v < 3; ++v) {
+        memcpy(view.target, centre, sizeof view.target);
+        memcpy(view.eye, centre, sizeof view.eye);
+        view.eye[2] += views[v].distance * r;
+        view.eye[1] += 0.2f * r;
+        view.diffusion = 0;
+        double plain = median_ms(rt, run_shade, &view, 5);
+        view.diffusion = 3;
+        printf("            %-6s (render without diffusion %.1f ms)", views[v].name, plain);
+        fprintf(json, "%s{\"view\": \"%s\", \"eye_distance_radii\": %.1f, \"render_without_diffusion_ms\": %.3f",
+                v ? ", " : "", views[v].name, views[v].distance, plain);
+        double base = 0;
+        for (int c = 0; c < 5; ++c) {
+            view.options.culled = configs[c].culled;
+            view.options.clipped = configs[c].clipped;
+            view.options.depth_sized = configs[c].depth_sized;
+            double cost = median_ms(rt, run_shade, &view, 5) - plain;
+            if (c == 0)
+                base = cost;
+            printf(" %s %.1f (%.2fx)", configs[c].name, cost, base / cost);
+            fprintf(json, ", \"%s_ms\": %.3f, \"%s_speedup\": %.3f", configs[c].name, cost, configs[c].name,
+                    base / cost);
+        }
+        printf("\n");
+        fprintf(json, "}");
+    }
+    fprintf(json, "]");
 }
 
 int main(int argc, char **argv)
@@ -108,10 +175,10 @@ int main(int argc, char **argv)
     printf("GL: %s; memcpy bandwidth %.1f GB/s\n", info->renderer, bandwidth * 1e-9);
     printf("%9s %11s %13s %11s %12s %13s %10s %11s\n", "vertices", "irradiance", "translucency", "shade 1080p",
            "Mvertices/s", "bound (ms)", "of bound", "SAM share");
-    const int resolutions[3] = {120, 400, 900};
+    const int resolutions[4] = {120, 400, 900, 2250};
     sam_profile skin;
     sam_profile_preset("skin", &skin, NULL);
-    for (int m = 0; m < 3; ++m) {
+    for (int m = 0; m < 4; ++m) {
         sam_shape_params sp;
         sam_shape_default_params("knot", &sp, NULL);
         sp.resolution = resolutions[m];
@@ -151,10 +218,10 @@ int main(int argc, char **argv)
         double sha = median_ms(rt, run_shade, &view, 5);
         /* Every surface-diffusion technique on the same frame. */
         static const char *diffusion_names[4] = {"none", "screen", "preintegrated", "texture"};
-        double diffusion_ms[4];
+        double diffusion_ms[4], diffusion_gpu[4];
         for (int t = 0; t < 4; ++t) {
             view.diffusion = t;
-            diffusion_ms[t] = median_ms(rt, run_shade, &view, 3);
+            diffusion_ms[t] = median_ms_gpu(rt, run_shade, &view, 3, SAM_PASS_DIFFUSION, &diffusion_gpu[t]);
         }
         view.diffusion = 0;
         /* Bytes the translucency pass must move per vertex. */
@@ -164,16 +231,27 @@ int main(int argc, char **argv)
         printf("%9u %9.3f ms %11.3f ms %8.2f ms %12.1f %13.3f %9.0f%% %10.1f%%\n", d.vertex_count, irr, tra, sha,
                1e-3 * d.vertex_count / tra, bound, 100 * bound / tra, 100 * share);
         printf("          1080p shading by diffusion: none %.1f ms, screen %.1f ms, pre-integrated %.1f ms, "
-               "texture %.1f ms\n",
+               "texture %.1f ms",
                diffusion_ms[0], diffusion_ms[1], diffusion_ms[2], diffusion_ms[3]);
+        if (diffusion_gpu[1] > 0)
+            printf(" (diffusion pass GPU ms: screen %.3f, texture %.3f)", diffusion_gpu[1], diffusion_gpu[3]);
+        printf("\n");
         fprintf(json,
                 "    {\"vertices\": %u, \"samples_per_vertex\": %u, \"irradiance_ms\": %.4f, \"translucency_ms\": "
                 "%.4f, \"shade_1080p_ms\": %.3f, \"translucency_vertices_per_s\": %.0f, \"bytes_per_vertex\": %.0f, "
                 "\"bandwidth_bound_ms\": %.4f, \"fraction_of_bound\": %.4f, \"translucency_share_1080p\": %.4f, "
-                "\"shade_1080p_ms_by_diffusion\": {\"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f}}%s\n",
+                "\"shade_1080p_ms_by_diffusion\": {\"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f}, "
+                "\"diffusion_pass_gpu_ms\": {\"screen\": %.4f, \"texture\": %.4f}",
                 d.vertex_count, d.samples_per_vertex, irr, tra, sha, 1e3 * d.vertex_count / tra, bytes, bound,
                 bound / tra, share, diffusion_names[0], diffusion_ms[0], diffusion_names[1], diffusion_ms[1],
-                diffusion_names[2], diffusion_ms[2], diffusion_names[3], diffusion_ms[3], m < 2 ? "," : "");
+                diffusion_names[2], diffusion_ms[2], diffusion_names[3], diffusion_ms[3], diffusion_gpu[1],
+                diffusion_gpu[3]);
+        if (m == 1 || m == 3) {
+            float centre[3], radius;
+            sam_runtime_bounds(rt, centre, &radius);
+            optimization_table(rt, view, centre, radius, json);
+        }
+        fprintf(json, "}%s\n", m < 3 ? "," : "");
         sam_runtime_destroy(rt);
         samfile_free(&d);
         sam_mesh_destroy(&mesh);
