@@ -8,15 +8,17 @@
  * 1920x1080, the latter with each surface-diffusion technique. For the
  * head- and buddha-sized knots, texture-space diffusion with each of
  * Jimenez and Gutierrez's optimisations (culled, clipped, depth-sized, all)
- * against none, in a close-up, a whole-object and a far view: the speed-up
- * ratio of the whole render, and of the diffusion pass alone where the
- * driver has timer queries. Times are wall-clock around glFinish, medians
- * (llvmpipe reports no timer-query time for compute), and GL timer queries
- * where the driver gives them. Usage: bench_frame [--json FILE] The translucency pass
- * is set against its bandwidth lower bound: the bytes it must move per
- * vertex (its own position and T, and per sample the sample record, the
- * back vertex's position, fan area and L_d) over the memory bandwidth
- * measured here with memcpy.
+ * against none, in a close-up, a whole-object and a far view: the cost of
+ * the diffusion as the render's time less the same render's without
+ * diffusion, and its speed-up. Times are wall-clock medians around
+ * glFinish (llvmpipe reports no timer-query time for compute); the
+ * diffusion pass's GL timer query is printed too where the driver gives
+ * one. The translucency pass is set against its bandwidth lower bound: the
+ * bytes it must move per vertex (its own position and T, and per sample the
+ * sample record, the back vertex's position, fan area and L_d) over the
+ * memory bandwidth measured here with memcpy.
+ *
+ * Usage: bench_frame [--json FILE]   (default bench/results/frame.json)
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
