@@ -88,7 +88,16 @@ static const char full_scene[] =
     "  \"texture_space\": {\"atlas_size\": 2048, \"culled\": false, \"depth_sized\": true,\n"
     "                    \"clipped\": false, \"texels_per_pixel\": 0.5},\n"
     "  \"tonemap\": \"reinhard\",\n"
-    "  \"exposure\": -1.5\n"
+    "  \"exposure\": -1.5,\n"
+    "  \"deformers\": [\n"
+    "    {\"type\": \"bend\", \"axis\": [0, 2, 0], \"direction\": [1, 0, 0], \"center\": [0, 1, 0],\n"
+    "     \"angle_deg\": 45, \"length\": 2, \"period_s\": 4},\n"
+    "    {\"type\": \"twist\", \"axis\": [0, 0, 1], \"angle_deg\": -30, \"length\": 0.5},\n"
+    "    {\"type\": \"squash\", \"axis\": [1, 0, 0], \"center\": [2, 0, 0], \"amount\": -0.25,\n"
+    "     \"period_s\": 1.5},\n"
+    "    {\"type\": \"wave\", \"axis\": [1, 0, 0], \"direction\": [0, 3, 4], \"amplitude\": 0.1,\n"
+    "     \"wavelength\": 2, \"speed\": 0.5}\n"
+    "  ]\n"
     "}";
 
 static void assert_vec3(const float v[3], float x, float y, float z)
@@ -187,6 +196,29 @@ static void test_full_scene_loads(void **state)
                                            .depth_sized = 1, .texels_per_pixel = 0.5f});
     assert_int_equal(s.tonemap, SAM_TONEMAP_REINHARD);
     assert_float_equal(s.exposure, -1.5f, 0.0f);
+    assert_int_equal(s.deformer_count, 4);
+    const sam_deformer *d = s.deformers;
+    assert_int_equal(d[0].type, SAM_DEFORM_BEND);
+    assert_vec3(d[0].axis, 0, 1, 0);
+    assert_vec3(d[0].direction, 1, 0, 0);
+    assert_vec3(d[0].center, 0, 1, 0);
+    assert_float_equal(d[0].angle_deg, 45.0f, 0.0f);
+    assert_float_equal(d[0].length, 2.0f, 0.0f);
+    assert_float_equal(d[0].period_s, 4.0f, 0.0f);
+    assert_int_equal(d[1].type, SAM_DEFORM_TWIST);
+    assert_vec3(d[1].center, 0, 0, 0); /* default */
+    assert_float_equal(d[1].angle_deg, -30.0f, 0.0f);
+    assert_float_equal(d[1].length, 0.5f, 0.0f);
+    assert_float_equal(d[1].period_s, 0.0f, 0.0f); /* default: static */
+    assert_int_equal(d[2].type, SAM_DEFORM_SQUASH);
+    assert_vec3(d[2].center, 2, 0, 0);
+    assert_float_equal(d[2].amount, -0.25f, 0.0f);
+    assert_float_equal(d[2].period_s, 1.5f, 0.0f);
+    assert_int_equal(d[3].type, SAM_DEFORM_WAVE);
+    assert_vec3(d[3].direction, 0, 0.6f, 0.8f);
+    assert_float_equal(d[3].amplitude, 0.1f, 0.0f);
+    assert_float_equal(d[3].wavelength, 2.0f, 0.0f);
+    assert_float_equal(d[3].speed, 0.5f, 0.0f);
     sam_scene_destroy(&s);
     assert_null(s.lights);
     assert_null(s.albedo_map);
@@ -215,6 +247,7 @@ static void test_defaults(void **state)
     assert_vec3(s.albedo, 0.8f, 0.8f, 0.8f);
     assert_null(s.albedo_map);
     assert_int_equal(s.light_count, 0);
+    assert_int_equal(s.deformer_count, 0);
     assert_null(s.lights);
     assert_null(s.environment.map);
     assert_int_equal(s.has_camera, 0);
@@ -417,6 +450,22 @@ static void assert_scenes_equal(const sam_scene *a, const sam_scene *b)
     assert_same_floats(&x->texels_per_pixel, &y->texels_per_pixel, 1, "texels per pixel");
     assert_int_equal(a->tonemap, b->tonemap);
     assert_same_floats(&a->exposure, &b->exposure, 1, "exposure");
+    assert_int_equal(a->deformer_count, b->deformer_count);
+    for (size_t i = 0; i < a->deformer_count; ++i) {
+        const sam_deformer *x = &a->deformers[i], *y = &b->deformers[i];
+        assert_int_equal(x->type, y->type);
+        assert_same_floats(x->axis, y->axis, 3, "deformer axis");
+        /* Keys a type does not have are not written; their fields are 0 on load. */
+        assert_same_floats(x->direction, y->direction, 3, "deformer direction");
+        assert_same_floats(x->center, y->center, 3, "deformer center");
+        assert_same_floats(&x->angle_deg, &y->angle_deg, 1, "deformer angle");
+        assert_same_floats(&x->length, &y->length, 1, "deformer length");
+        assert_same_floats(&x->amount, &y->amount, 1, "deformer amount");
+        assert_same_floats(&x->amplitude, &y->amplitude, 1, "deformer amplitude");
+        assert_same_floats(&x->wavelength, &y->wavelength, 1, "deformer wavelength");
+        assert_same_floats(&x->speed, &y->speed, 1, "deformer speed");
+        assert_same_floats(&x->period_s, &y->period_s, 1, "deformer period");
+    }
 }
 
 /* Writes `a` to `path` and checks that loading it gives `a` back. */
@@ -462,6 +511,8 @@ static void test_round_trip(void **state)
     a.lights[0].position[1] = -1.17549435e-38f;
     a.camera.fov_deg = 179.99998f;
     a.diffusion_options.texels_per_pixel = nextafterf(0.3f, 1.0f);
+    a.deformers[0].angle_deg = nextafterf(45.0f, 90.0f);
+    a.deformers[3].speed = -1e-20f;
     assert_round_trip(&a, out);
     sam_scene_destroy(&a);
 }
@@ -606,6 +657,38 @@ typedef struct error_case {
 } error_case;
 
 static const error_case error_cases[] = {
+    {"{\"sam\": \"head.sam\", \"deformers\": {}}", SAM_ERR_FORMAT,
+     "scene.json: deformers: expected an array of deformers, found an object"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"axis\": [1, 0, 0]}]}", SAM_ERR_FORMAT,
+     "scene.json: deformers[0].type: missing (expected bend, twist, squash, wave)"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"type\": \"melt\"}]}", SAM_ERR_FORMAT,
+     "scene.json: deformers[0].type: unknown deformer type \"melt\" (expected bend, twist, squash, wave)"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"type\": \"twist\", \"axis\": [1, 0, 0], "
+     "\"angle_deg\": 10, \"length\": 1, \"amount\": 2}]}",
+     SAM_ERR_FORMAT, "scene.json: deformers[0].amount: unknown key (expected one of: type, axis, center, "},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"type\": \"bend\", \"axis\": [1, 0, 0], "
+     "\"angle_deg\": 10, \"length\": 1}]}",
+     SAM_ERR_FORMAT, "scene.json: deformers[0].direction: missing (required for a bend deformer)"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"type\": \"bend\", \"axis\": [1, 0, 0], "
+     "\"direction\": [-2, 0, 0], \"angle_deg\": 10, \"length\": 1}]}",
+     SAM_ERR_FORMAT, "scene.json: deformers[0].direction: [-1, 0, 0] is parallel to the axis [1, 0, 0]"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"type\": \"twist\", \"axis\": [0, 0, 0], "
+     "\"angle_deg\": 10, \"length\": 1}]}",
+     SAM_ERR_FORMAT, "scene.json: deformers[0].axis: expected a non-zero direction, found [0, 0, 0]"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"type\": \"twist\", \"axis\": [0, 0, 1], "
+     "\"angle_deg\": 10, \"length\": 0}]}",
+     SAM_ERR_FORMAT, "scene.json: deformers[0].length: expected a number > 0 (finite), found 0"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"type\": \"squash\", \"axis\": [0, 0, 1], "
+     "\"amount\": -1}]}",
+     SAM_ERR_FORMAT, "scene.json: deformers[0].amount: expected a number in (-1, 1), found -1"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"type\": \"wave\", \"axis\": [0, 0, 1], "
+     "\"direction\": [0, 1, 0], \"amplitude\": 1, \"wavelength\": 1, \"period_s\": -2}]}",
+     SAM_ERR_FORMAT, "scene.json: deformers[0].period_s: expected a number >= 0 (finite), found -2"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [{\"type\": \"wave\", \"axis\": [0, 0, 1], "
+     "\"direction\": [0, 1, 0], \"wavelength\": 1}]}",
+     SAM_ERR_FORMAT, "scene.json: deformers[0].amplitude: missing (required for a wave deformer)"},
+    {"{\"sam\": \"head.sam\", \"deformers\": [1,2,3,4,5,6,7,8,9]}", SAM_ERR_FORMAT,
+     "scene.json: deformers: 9 deformers, more than the limit of 8"},
     /* the messages the contract quotes */
     {"{\"sam\": \"head.sam\", \"lights\": [{\"type\": \"point\", \"position\": [0,0,0]},"
      " {\"type\": \"point\", \"position\": [0,0,0], \"colour\": [1,1,1]}]}",

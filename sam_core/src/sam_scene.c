@@ -5,6 +5,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -241,6 +242,15 @@ static const char *key_path(char *buf, size_t n, const char *parent, const char 
     return buf;
 }
 
+/* "a, b, c" into buf (size n), cut short if it does not fit. */
+static void join_names(const char *const *names, size_t count, char *buf, size_t n)
+{
+    size_t len = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < count && len < n; ++i)
+        len += (size_t)snprintf(buf + len, n - len, "%s%s", i ? ", " : "", names[i]);
+}
+
 /* Rejects keys outside `allowed` and repeated keys in `object`. */
 static sam_status check_keys(const parser *p, const cJSON *object, const char *path,
                              const char *const *allowed, size_t count)
@@ -252,11 +262,8 @@ static sam_status check_keys(const parser *p, const cJSON *object, const char *p
         while (k < count && strcmp(child->string, allowed[k]) != 0)
             ++k;
         if (k == count) {
-            char list[256] = "";
-            size_t len = 0;
-            for (size_t i = 0; i < count && len < sizeof list; ++i)
-                len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", i ? ", " : "",
-                                        allowed[i]);
+            char list[256];
+            join_names(allowed, count, list, sizeof list);
             return fail_at(p, SAM_ERR_FORMAT, at, "unknown key (expected one of: %s)", list);
         }
         for (const cJSON *prev = object->child; prev != child; prev = prev->next) {
@@ -403,11 +410,26 @@ static sam_status get_enum(const parser *p, const cJSON *item, const char *path,
             return SAM_OK;
         }
     }
-    char list[128] = "";
-    size_t len = 0;
-    for (size_t i = 0; i < count && len < sizeof list; ++i)
-        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", i ? ", " : "", names[i]);
+    char list[256];
+    join_names(names, count, list, sizeof list);
     return fail_at(p, SAM_ERR_FORMAT, path, "unknown %s \"%.60s\" (expected %s)", what, s, list);
+}
+
+/* An object at `path` with a "type" key naming one of `names` (the kind
+ * `what` in messages). */
+static sam_status get_typed_object(const parser *p, const cJSON *item, const char *path, const char *what,
+                                   const char *const *names, size_t count, int *out)
+{
+    if (!cJSON_IsObject(item))
+        return fail_at(p, SAM_ERR_FORMAT, path, "expected an object, found %s", DESCRIBE(item));
+    char at[128];
+    key_path(at, sizeof at, path, "type");
+    const cJSON *type = cJSON_GetObjectItemCaseSensitive(item, "type");
+    if (type)
+        return get_enum(p, type, at, what, names, count, out);
+    char list[256];
+    join_names(names, count, list, sizeof list);
+    return fail_at(p, SAM_ERR_FORMAT, at, "missing (expected %s)", list);
 }
 
 /* Resolves a file reference and checks that it names an existing regular
@@ -599,16 +621,9 @@ static sam_status parse_light(const parser *p, const cJSON *item, int index, sam
                                             "intensity", "two_sided", "shadow"};
     char path[64], at[128];
     snprintf(path, sizeof path, "lights[%d]", index);
-    if (!cJSON_IsObject(item))
-        return fail_at(p, SAM_ERR_FORMAT, path, "expected an object, found %s", DESCRIBE(item));
-
-    const cJSON *type = cJSON_GetObjectItemCaseSensitive(item, "type");
-    key_path(at, sizeof at, path, "type");
-    if (!type)
-        return fail_at(p, SAM_ERR_FORMAT, at, "missing (expected point, spot, directional, area)");
     int t;
-    sam_status st = get_enum(p, type, at, "light type", light_type_names,
-                             COUNT_OF(light_type_names), &t);
+    sam_status st = get_typed_object(p, item, path, "light type", light_type_names,
+                                     COUNT_OF(light_type_names), &t);
     if (st != SAM_OK)
         return st;
     light->type = (sam_light_type)t;
@@ -834,7 +849,7 @@ static sam_status parse_screen_space(const parser *p, const cJSON *item,
         return st;
     const cJSON *v;
     if ((v = cJSON_GetObjectItemCaseSensitive(item, "kernel"))) {
-        int e;
+        int e = 0;
         if ((st = get_enum(p, v, "screen_space.kernel", "kernel", sss_kernel_names,
                            COUNT_OF(sss_kernel_names), &e)) != SAM_OK)
             return st;
@@ -879,12 +894,114 @@ static sam_status parse_texture_space(const parser *p, const cJSON *item,
     return SAM_OK;
 }
 
+/* A deformer's number keys: where each goes, whether it must be given,
+ * and its range (0 finite, 1 > 0, 2 >= 0, 3 in (-1, 1)). */
+typedef struct deformer_number {
+    const char *key;
+    size_t offset;
+    int required, range;
+} deformer_number;
+
+static sam_status get_deformer_number(const parser *p, const cJSON *item, const char *path, int range,
+                                      float *out)
+{
+    switch (range) {
+    case 1: return get_positive(p, item, path, out);
+    case 2: return get_non_negative(p, item, path, out);
+    case 3: return get_float(p, item, path, -1.0, 1, 1.0, 1, "in (-1, 1)", out);
+    default: return get_any_float(p, item, path, out);
+    }
+}
+
+static sam_status parse_deformer(const parser *p, const cJSON *item, int index, sam_deformer *d)
+{
+#define NUMBER(key, required, range) {#key, offsetof(sam_deformer, key), required, range}
+    static const deformer_number numbers[] = {
+        NUMBER(angle_deg, 1, 0), NUMBER(length, 1, 1),     NUMBER(amount, 1, 3), NUMBER(amplitude, 1, 0),
+        NUMBER(wavelength, 1, 1), NUMBER(speed, 0, 0), NUMBER(period_s, 0, 2)};
+#undef NUMBER
+    /* Per type: its keys, the first `vectors` of them the vectors after "type". */
+    static const char *const bend_keys[] = {"type", "axis", "direction", "center", "angle_deg", "length", "period_s"};
+    static const char *const twist_keys[] = {"type", "axis", "center", "angle_deg", "length", "period_s"};
+    static const char *const squash_keys[] = {"type", "axis", "center", "amount", "period_s"};
+    static const char *const wave_keys[] = {"type",       "axis",  "direction", "amplitude",
+                                            "wavelength", "speed", "period_s"};
+    static const struct {
+        const char *const *keys;
+        size_t count;
+    } types[] = {{bend_keys, COUNT_OF(bend_keys)},
+                 {twist_keys, COUNT_OF(twist_keys)},
+                 {squash_keys, COUNT_OF(squash_keys)},
+                 {wave_keys, COUNT_OF(wave_keys)}};
+    const char *names[COUNT_OF(types)];
+    for (size_t i = 0; i < COUNT_OF(types); ++i)
+        names[i] = sam_deformer_type_name((sam_deformer_type)i);
+    char path[64], at[128];
+    snprintf(path, sizeof path, "deformers[%d]", index);
+    int t;
+    sam_status st = get_typed_object(p, item, path, "deformer type", names, COUNT_OF(names), &t);
+    if (st != SAM_OK || (st = check_keys(p, item, path, types[t].keys, types[t].count)) != SAM_OK)
+        return st;
+    memset(d, 0, sizeof *d);
+    d->type = (sam_deformer_type)t;
+    const char *const *keys = types[t].keys;
+    for (size_t k = 1; k < types[t].count; ++k) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(item, keys[k]);
+        key_path(at, sizeof at, path, keys[k]);
+        if (!strcmp(keys[k], "axis") || !strcmp(keys[k], "direction") || !strcmp(keys[k], "center")) {
+            int center = !strcmp(keys[k], "center");
+            float *out = center ? d->center : !strcmp(keys[k], "axis") ? d->axis : d->direction;
+            if (!v && !center)
+                return fail_at(p, SAM_ERR_FORMAT, at, "missing (required for a %s deformer)", names[t]);
+            if (v && (st = center ? get_vec3(p, v, at, -INFINITY, out) : get_direction(p, v, at, out)) != SAM_OK)
+                return st;
+            continue;
+        }
+        size_t n = 0;
+        while (strcmp(numbers[n].key, keys[k]) != 0)
+            ++n;
+        if (!v && numbers[n].required)
+            return fail_at(p, SAM_ERR_FORMAT, at, "missing (required for a %s deformer)", names[t]);
+        if (v && (st = get_deformer_number(p, v, at, numbers[n].range,
+                                           (float *)((char *)d + numbers[n].offset))) != SAM_OK)
+            return st;
+    }
+    if (d->type == SAM_DEFORM_BEND) {
+        double a[3] = {d->axis[0], d->axis[1], d->axis[2]}, n[3] = {d->direction[0], d->direction[1], d->direction[2]};
+        double cross[3] = {a[1] * n[2] - a[2] * n[1], a[2] * n[0] - a[0] * n[2], a[0] * n[1] - a[1] * n[0]};
+        if (!(length3(cross) > 1e-3))
+            return fail_at(p, SAM_ERR_FORMAT, key_path(at, sizeof at, path, "direction"),
+                           "[%g, %g, %g] is parallel to the axis [%g, %g, %g]", d->direction[0], d->direction[1],
+                           d->direction[2], d->axis[0], d->axis[1], d->axis[2]);
+    }
+    return SAM_OK;
+}
+
+static sam_status parse_deformers(const parser *p, const cJSON *item, sam_scene *scene)
+{
+    if (!cJSON_IsArray(item))
+        return fail_at(p, SAM_ERR_FORMAT, "deformers", "expected an array of deformers, found %s", DESCRIBE(item));
+    int count = cJSON_GetArraySize(item);
+    if (count > SAM_DEFORM_MAX)
+        return fail_at(p, SAM_ERR_FORMAT, "deformers", "%d deformers, more than the limit of %d", count,
+                       SAM_DEFORM_MAX);
+    int i = 0;
+    for (const cJSON *e = item->child; e; e = e->next, ++i) {
+        sam_status st = parse_deformer(p, e, i, &scene->deformers[i]);
+        if (st != SAM_OK)
+            return st;
+        scene->deformer_count = (size_t)i + 1;
+    }
+    return SAM_OK;
+}
+
 static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scene)
 {
     static const char *const keys[] = {"mesh",         "sam",        "material",  "scale",
                                        "albedo",       "albedo_map", "lights",    "environment",
                                        "camera",       "resolution", "technique", "diffusion",
-                                       "screen_space", "texture_space", "tonemap", "exposure"};
+                                       "screen_space", "texture_space", "tonemap", "exposure",
+                                       "deformers"};
     if (!cJSON_IsObject(root))
         return sam_fail(p->err, SAM_ERR_FORMAT, "%s: expected a JSON object, found %s", p->name,
                         DESCRIBE(root));
@@ -940,7 +1057,7 @@ static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scen
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "resolution")) &&
         (st = parse_resolution(p, v, scene)) != SAM_OK)
         return st;
-    int e;
+    int e = 0;
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "technique"))) {
         if ((st = get_enum(p, v, "technique", "technique", technique_names,
                            COUNT_OF(technique_names), &e)) != SAM_OK)
@@ -968,6 +1085,9 @@ static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scen
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "exposure")) &&
         (st = get_float(p, v, "exposure", -32.0, 0, 32.0, 0, "in [-32, 32]", &scene->exposure)) !=
             SAM_OK)
+        return st;
+    if ((v = cJSON_GetObjectItemCaseSensitive(root, "deformers")) &&
+        (st = parse_deformers(p, v, scene)) != SAM_OK)
         return st;
     return SAM_OK;
 }
@@ -1186,6 +1306,30 @@ static cJSON *light_item(builder *b, const sam_light *l)
     return o;
 }
 
+static cJSON *deformer_item(builder *b, const sam_deformer *d)
+{
+    cJSON *o = cJSON_CreateObject();
+    add(b, o, "type", cJSON_CreateString(sam_deformer_type_name(d->type)));
+    add(b, o, "axis", vec3_item(b, d->axis));
+    if (d->type == SAM_DEFORM_BEND || d->type == SAM_DEFORM_WAVE)
+        add(b, o, "direction", vec3_item(b, d->direction));
+    if (d->type != SAM_DEFORM_WAVE)
+        add(b, o, "center", vec3_item(b, d->center));
+    if (d->type == SAM_DEFORM_BEND || d->type == SAM_DEFORM_TWIST) {
+        add(b, o, "angle_deg", number_item(d->angle_deg));
+        add(b, o, "length", number_item(d->length));
+    }
+    if (d->type == SAM_DEFORM_SQUASH)
+        add(b, o, "amount", number_item(d->amount));
+    if (d->type == SAM_DEFORM_WAVE) {
+        add(b, o, "amplitude", number_item(d->amplitude));
+        add(b, o, "wavelength", number_item(d->wavelength));
+        add(b, o, "speed", number_item(d->speed));
+    }
+    add(b, o, "period_s", number_item(d->period_s));
+    return o;
+}
+
 static cJSON *scene_item(builder *b, const sam_scene *s)
 {
     cJSON *root = cJSON_CreateObject();
@@ -1253,6 +1397,10 @@ static cJSON *scene_item(builder *b, const sam_scene *s)
     add(b, root, "texture_space", texture);
     add(b, root, "tonemap", cJSON_CreateString(sam_tonemap_name(s->tonemap)));
     add(b, root, "exposure", number_item(s->exposure));
+    cJSON *deformers = cJSON_CreateArray();
+    for (size_t i = 0; i < s->deformer_count && i < SAM_DEFORM_MAX; ++i)
+        append(b, deformers, deformer_item(b, &s->deformers[i]));
+    add(b, root, "deformers", deformers);
     return root;
 }
 

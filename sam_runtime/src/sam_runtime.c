@@ -260,7 +260,9 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
         (st = upload(rt, B_LIGHTS, NULL, sizeof(gpu_light), err)) != SAM_OK)
         goto done;
     if ((st = sam_gl_compute_program("translucency.comp", NULL, &rt->translucency_program, err)) != SAM_OK ||
-        (st = sam_gl_compute_program("irradiance.comp", NULL, &rt->irradiance_program, err)) != SAM_OK)
+        (st = sam_gl_compute_program("irradiance.comp", NULL, &rt->irradiance_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("deform.comp", NULL, &rt->deform_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("deform_normals.comp", NULL, &rt->deform_normals_program, err)) != SAM_OK)
         goto done;
     set_profile_uniforms(rt->translucency_program, profile);
     if ((st = sam_runtime_set_surface(rt, 0.3f, 0.18f, err)) != SAM_OK)
@@ -288,6 +290,12 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->translucency_program);
     if (rt->irradiance_program)
         glDeleteProgram(rt->irradiance_program);
+    if (rt->deform_program)
+        glDeleteProgram(rt->deform_program);
+    if (rt->deform_normals_program)
+        glDeleteProgram(rt->deform_normals_program);
+    if (rt->rest_buffer[0])
+        glDeleteBuffers(REST_COUNT, rt->rest_buffer);
     if (rt->shadow_program)
         glDeleteProgram(rt->shadow_program);
     if (rt->shade_program)
@@ -1082,6 +1090,25 @@ static sam_status read_vec4(sam_runtime *rt, int binding, float *rgb, sam_error 
     return SAM_OK;
 }
 
+sam_status sam_runtime_read_positions(sam_runtime *rt, float *xyz, sam_error *err)
+{
+    return read_vec4(rt, B_POSITIONS, xyz, err);
+}
+
+sam_status sam_runtime_read_normals(sam_runtime *rt, float *xyz, sam_error *err)
+{
+    return read_vec4(rt, B_NORMALS, xyz, err);
+}
+
+sam_status sam_runtime_read_fan_areas(sam_runtime *rt, float *mm2, sam_error *err)
+{
+    (void)err;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[B_FAN_AREAS]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)rt->vertex_count * sizeof(float), mm2);
+    return SAM_OK;
+}
+
 sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *err)
 {
     return read_vec4(rt, B_IRRADIANCE, rgb, err);
@@ -1090,6 +1117,106 @@ sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *e
 sam_status sam_runtime_read_translucency(sam_runtime *rt, float *rgb, sam_error *err)
 {
     return read_vec4(rt, B_TRANSLUCENCY, rgb, err);
+}
+
+/* The bytes of the buffers the rest pose keeps, in REST_* order. */
+static void rest_sizes(const sam_runtime *rt, GLsizeiptr bytes[REST_COUNT])
+{
+    bytes[REST_POSITIONS] = bytes[REST_NORMALS] = (GLsizeiptr)rt->vertex_count * 4 * sizeof(float);
+    bytes[REST_FAN_AREAS] = (GLsizeiptr)rt->vertex_count * sizeof(float);
+}
+
+static const int rest_binding[REST_COUNT] = {B_POSITIONS, B_NORMALS, B_FAN_AREAS};
+
+sam_status sam_runtime_set_deformers(sam_runtime *rt, const sam_deformer *deformers, size_t count,
+                                     sam_error *err)
+{
+    if (count > SAM_DEFORM_MAX || (count && !deformers))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: %zu deformers%s (at most %d)", count,
+                        count && !deformers ? " but none given" : "", SAM_DEFORM_MAX);
+    if (count && !rt->rest_buffer[0]) {
+        GLsizeiptr bytes[REST_COUNT];
+        rest_sizes(rt, bytes);
+        glGenBuffers(REST_COUNT, rt->rest_buffer);
+        for (int i = 0; i < REST_COUNT; ++i) {
+            glBindBuffer(GL_COPY_WRITE_BUFFER, rt->rest_buffer[i]);
+            glBufferData(GL_COPY_WRITE_BUFFER, bytes[i], NULL, GL_STATIC_DRAW);
+            glBindBuffer(GL_COPY_READ_BUFFER, rt->buffer[rest_binding[i]]);
+            glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes[i]);
+        }
+        if (glGetError() != GL_NO_ERROR) {
+            glDeleteBuffers(REST_COUNT, rt->rest_buffer);
+            memset(rt->rest_buffer, 0, sizeof rt->rest_buffer);
+            return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not keep the rest pose of %u vertices",
+                            rt->vertex_count);
+        }
+    }
+    if (count)
+        memcpy(rt->deformers, deformers, count * sizeof *deformers);
+    rt->deformer_count = count;
+    return SAM_OK;
+}
+
+sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
+{
+    if (!isfinite(time_s))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: deform time must be finite, got %g", time_s);
+    if (!rt->rest_buffer[0])
+        return SAM_OK; /* never deformed: the buffers hold the rest pose */
+    sam_deform_step steps[SAM_DEFORM_MAX];
+    glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_DEFORM]);
+    if (!sam_deform_prepare(rt->deformers, rt->deformer_count, time_s, steps)) {
+        /* A copy, not the passes, so the rest pose comes back bit for bit. */
+        GLsizeiptr bytes[REST_COUNT];
+        rest_sizes(rt, bytes);
+        for (int i = 0; i < REST_COUNT; ++i) {
+            glBindBuffer(GL_COPY_READ_BUFFER, rt->rest_buffer[i]);
+            glBindBuffer(GL_COPY_WRITE_BUFFER, rt->buffer[rest_binding[i]]);
+            glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes[i]);
+        }
+    } else {
+        GLint type[SAM_DEFORM_MAX];
+        float axis[SAM_DEFORM_MAX][3], direction[SAM_DEFORM_MAX][3], center[SAM_DEFORM_MAX][3],
+            param[SAM_DEFORM_MAX][3];
+        GLint used = 0;
+        for (size_t i = 0; i < rt->deformer_count; ++i) {
+            if (steps[i].identity)
+                continue;
+            type[used] = (GLint)steps[i].type;
+            memcpy(axis[used], steps[i].axis, sizeof axis[used]);
+            memcpy(direction[used], steps[i].direction, sizeof direction[used]);
+            memcpy(center[used], steps[i].center, sizeof center[used]);
+            memcpy(param[used], steps[i].param, sizeof param[used]);
+            used++;
+        }
+        GLuint p = rt->deform_program;
+        glUseProgram(p);
+        glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
+        glUniform1i(glGetUniformLocation(p, "u_step_count"), used);
+        glUniform1iv(glGetUniformLocation(p, "u_type"), used, type);
+        glUniform3fv(glGetUniformLocation(p, "u_axis"), used, &axis[0][0]);
+        glUniform3fv(glGetUniformLocation(p, "u_direction"), used, &direction[0][0]);
+        glUniform3fv(glGetUniformLocation(p, "u_center"), used, &center[0][0]);
+        glUniform3fv(glGetUniformLocation(p, "u_param"), used, &param[0][0]);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_POSITIONS, rt->buffer[B_POSITIONS]);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_SAMPLES, rt->rest_buffer[REST_POSITIONS]);
+        glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_SAMPLES, rt->buffer[B_SAMPLES]);
+        p = rt->deform_normals_program;
+        glUseProgram(p);
+        glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
+        glUniform1f(glGetUniformLocation(p, "u_mm2_per_unit2"), rt->mm_per_unit * rt->mm_per_unit);
+        for (int b = 0; b < B_COUNT; ++b)
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+        glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+    }
+    glEndQuery(GL_TIME_ELAPSED);
+    rt->query_used[SAM_PASS_DEFORM] = 1;
+    /* Positions and normals are vertex attributes of the draws as well. */
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+                    GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    return SAM_OK;
 }
 
 double sam_runtime_pass_ms(sam_runtime *rt, sam_pass pass)

@@ -5,6 +5,7 @@
 #define SAM_RUNTIME_INTERNAL_H
 
 #include "sam/sam_brdf.h"
+#include "sam/sam_deform.h"
 #include "sam/sam_runtime.h"
 #include "sam_mat4.h"
 
@@ -42,6 +43,11 @@ enum { TECHNIQUE_VERTEX = 0, TECHNIQUE_NONE = 1, TECHNIQUE_TRANSMITTANCE = 2, TE
 #define RHO_SIZE SAM_BRDF_RHO_DT_TABLE_SIZE
 #define SKIN_F0 0.028f
 
+/* The rest pose the deform pass starts from (copies of the first
+ * positions, normals and fan areas, made by the first
+ * sam_runtime_set_deformers). */
+enum { REST_POSITIONS, REST_NORMALS, REST_FAN_AREAS, REST_COUNT };
+
 /* Texture-space maps, kept between renders (all atlas_size^2 RGBA32F). */
 enum { ATLAS_IRRADIANCE, ATLAS_STRETCH, ATLAS_TEMP, ATLAS_LEVEL_A, ATLAS_LEVEL_B, ATLAS_SUM, ATLAS_COUNT };
 
@@ -51,6 +57,10 @@ struct sam_runtime {
     sam_profile profile;
     GLuint buffer[B_COUNT];
     GLuint translucency_program, irradiance_program;
+    GLuint deform_program, deform_normals_program;
+    GLuint rest_buffer[REST_COUNT]; /* 0 until the first sam_runtime_set_deformers */
+    sam_deformer deformers[SAM_DEFORM_MAX];
+    size_t deformer_count;
     GLuint query[SAM_PASS_COUNT];
     int query_used[SAM_PASS_COUNT];
     uint32_t light_count;

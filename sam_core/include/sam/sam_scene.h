@@ -42,6 +42,30 @@
  *        optional; atlas_size in 64..4096, texels_per_pixel in (0, 16]
  *   "tonemap": "aces" | "reinhard"                           default "aces"
  *   "exposure": EV, finite, in [-32, 32]                     default 0
+ *   "deformers": [deformer, ...]   default none; at most SAM_DEFORM_MAX,
+ *        applied in order to the rest positions (formulas in sam_deform.h)
+ *
+ * Deformers ("type" required; keys marked (required) must be given, the
+ * others default to the value shown; vectors are normalised on load):
+ *   {"type": "bend", "axis": [..] (required), "direction": [..] (required),
+ *    "center": [0,0,0], "angle_deg" (required), "length" (required),
+ *    "period_s": 0}
+ *        the axis line through center curls towards direction (not
+ *        parallel to axis) by angle_deg for every `length` model units
+ *   {"type": "twist", "axis": [..] (required), "center": [0,0,0],
+ *    "angle_deg" (required), "length" (required), "period_s": 0}
+ *        rotation about the axis line by angle_deg every `length` units
+ *   {"type": "squash", "axis": [..] (required), "center": [0,0,0],
+ *    "amount" (required), "period_s": 0}
+ *        scale 1 + amount along axis, 1 / sqrt(1 + amount) across it
+ *   {"type": "wave", "axis": [..] (required), "direction": [..] (required),
+ *    "amplitude" (required), "wavelength" (required), "speed": 0,
+ *    "period_s": 0}
+ *        displacement along direction, a sine travelling along axis
+ *   angle_deg, amplitude, speed: finite; length, wavelength: > 0 (model
+ *   units); amount in (-1, 1); period_s >= 0 (seconds). With period_s > 0
+ *   the strength (angle, amount, amplitude) is multiplied by
+ *   sin(2 pi t / period_s), so the animation repeats and starts at rest.
  *
  * Lights ("type" required; every other key optional unless marked):
  *   {"type": "point", "position": [..] (required), "color", "intensity", "shadow"}
@@ -81,6 +105,7 @@
 #define SAM_SCENE_H
 
 #include "sam/sam_common.h"
+#include "sam/sam_deform.h"
 #include "sam/sam_image.h" /* sam_tonemap */
 #include "sam/sam_profile.h"
 
@@ -206,6 +231,9 @@ typedef struct sam_scene {
     sam_diffusion_options diffusion_options;
     sam_tonemap tonemap;
     float exposure; /* EV */
+
+    sam_deformer deformers[SAM_DEFORM_MAX]; /* deformer_count used, applied in order */
+    size_t deformer_count;
 } sam_scene;
 
 /* Sets every field to its default: no mesh, no material, no lights, no

@@ -12,7 +12,8 @@
  *   binding 5  T           vec4 per vertex (rgb translucency, smoothed)
  *   binding 6  adjacency offsets, binding 7 adjacency entries (uint)
  *   binding 8  lights, binding 9 the rho_dt table
- * and compiles the passes. The irradiance pass computes L_d (eq. 4): each
+ * and compiles the passes. The deform pass (sam_runtime_deform) rewrites
+ * positions, normals and fan areas for an animated pose. The irradiance pass computes L_d (eq. 4): each
  * light's irradiance by the formulas of sam_light_irradiance times
  * rho_dt(N.L) = 1 - k (1 - table(N.L, m)) (d'Eon Sec. 6; k = pi rho_s, the
  * specular lobe's scale), plus the environment's SH-9 irradiance times the
@@ -44,6 +45,7 @@ typedef enum sam_pass {
     SAM_PASS_TRANSLUCENCY,   /* eq. 12 + smoothing */
     SAM_PASS_SHADE,          /* the forward shading pass */
     SAM_PASS_DIFFUSION,      /* screen or texture-space diffusion (atlas, blurs, sum; compose) */
+    SAM_PASS_DEFORM,         /* deformed positions, then normals and fan areas */
     SAM_PASS_COUNT
 } sam_pass;
 
@@ -57,6 +59,38 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
 void sam_runtime_destroy(sam_runtime *rt);
 
 uint32_t sam_runtime_vertex_count(const sam_runtime *rt);
+
+/* The deformers of an animated pose (copied; `count` <= SAM_DEFORM_MAX,
+ * each as sam_scene accepts them), replacing any earlier ones; 0 removes
+ * them. Nothing moves until sam_runtime_deform. The first call keeps the
+ * current positions, normals and fan areas on the GPU as the rest pose
+ * (36 bytes per vertex). Errors: SAM_ERR_INVALID_ARGUMENT (too many, NULL
+ * with count > 0), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_set_deformers(sam_runtime *rt, const sam_deformer *deformers, size_t count,
+                                     sam_error *err);
+
+/* Poses the object at time `time_s` (seconds): a compute pass writes the
+ * rest positions moved by the deformers (sam_deform.h; sam_deform_positions
+ * is its CPU reference), a second one every vertex's normal (the
+ * area-weighted sum of the cross products of consecutive ring neighbours
+ * in the adjacency buffer, normalised) and reduced fan area F'_i of eq. 16
+ * in mm^2 (sam_mesh_fan_areas' sum in float). Every later pass reads the
+ * new buffers: shadow maps, L_d, translucency (eq. 15 takes the new F'_b
+ * and distances), shading and the diffusion techniques. When no deformer
+ * moves anything at that time (none set, or all at strength 0) the rest
+ * positions, normals and fan areas are restored bit for bit. Not updated:
+ * the bounds (sam_runtime_bounds, shadow and camera ranges), the surface
+ * area and the curvature of pre-integrated shading stay the rest pose's,
+ * and the samples are not walked to better back-side vertices.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (time not finite). */
+sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err);
+
+/* Reads the current positions (model units) or unit normals (3 *
+ * vertex_count floats), or the fan areas (vertex_count floats, mm^2).
+ * Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_read_positions(sam_runtime *rt, float *xyz, sam_error *err);
+sam_status sam_runtime_read_normals(sam_runtime *rt, float *xyz, sam_error *err);
+sam_status sam_runtime_read_fan_areas(sam_runtime *rt, float *mm2, sam_error *err);
 
 /* The lights of a scene (copied; `count` <= SAM_SCENE_MAX_LIGHTS). Lights
  * with `shadow` get a shadow map: a 512^2 cube of distances for point

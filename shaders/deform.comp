@@ -1,0 +1,55 @@
+#version 430 core
+// Deformed positions from the rest positions: the deformers of
+// sam_deform.h, applied in order, with the formulas of sam_deform.c (its
+// CPU reference). Identity steps are left out by the caller, so with none
+// this pass does not run and the rest pose stays bit for bit.
+
+layout(local_size_x = 64) in;
+
+#define MAX_STEPS 8
+#define BEND 0
+#define TWIST 1
+#define SQUASH 2
+#define WAVE 3
+
+layout(std430, binding = 0) writeonly buffer Positions { vec4 positions[]; };
+// Bound to binding 2 for this pass only (the samples' slot otherwise).
+layout(std430, binding = 2) readonly buffer RestPositions { vec4 rest[]; };
+
+uniform uint u_vertex_count;
+uniform int u_step_count;
+uniform int u_type[MAX_STEPS];
+uniform vec3 u_axis[MAX_STEPS];
+uniform vec3 u_direction[MAX_STEPS];
+uniform vec3 u_center[MAX_STEPS];
+uniform vec3 u_param[MAX_STEPS]; // sam_deform_step.param
+
+vec3 deform(int i, vec3 p)
+{
+    vec3 a = u_axis[i], n = u_direction[i], v = p - u_center[i];
+    float u = dot(v, a);
+    if (u_type[i] == BEND) {
+        float w = dot(v, n), k = u_param[i].x, phi = k * u, sn = sin(phi), h = sin(0.5 * phi);
+        // sin(phi) / k and 2 sin^2(phi / 2) / k stay exact as k -> 0.
+        float along = sn / k - w * sn, across = w * cos(phi) + 2.0 * h * h / k;
+        return u_center[i] + (v - u * a - w * n) + along * a + across * n;
+    }
+    if (u_type[i] == TWIST) {
+        float phi = u_param[i].x * u;
+        return u_center[i] + v * cos(phi) + cross(a, v) * sin(phi) + a * (u * (1.0 - cos(phi)));
+    }
+    if (u_type[i] == SQUASH)
+        return u_center[i] + (u * u_param[i].x) * a + (v - u * a) * u_param[i].y;
+    return p + n * (u_param[i].x * sin(u_param[i].y * dot(p, a) + u_param[i].z));
+}
+
+void main()
+{
+    uint v = gl_GlobalInvocationID.x;
+    if (v >= u_vertex_count)
+        return;
+    vec3 p = rest[v].xyz;
+    for (int i = 0; i < u_step_count; ++i)
+        p = deform(i, p);
+    positions[v] = vec4(p, 1.0);
+}
