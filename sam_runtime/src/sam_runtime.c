@@ -262,9 +262,11 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
     if ((st = sam_gl_compute_program("translucency.comp", NULL, &rt->translucency_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("irradiance.comp", NULL, &rt->irradiance_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("deform.comp", NULL, &rt->deform_program, err)) != SAM_OK ||
-        (st = sam_gl_compute_program("deform_normals.comp", NULL, &rt->deform_normals_program, err)) != SAM_OK)
+        (st = sam_gl_compute_program("deform_normals.comp", NULL, &rt->deform_normals_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("walk.comp", NULL, &rt->walk_program, err)) != SAM_OK)
         goto done;
     set_profile_uniforms(rt->translucency_program, profile);
+    set_profile_uniforms(rt->walk_program, profile);
     if ((st = sam_runtime_set_surface(rt, 0.3f, 0.18f, err)) != SAM_OK)
         goto done;
 done:
@@ -294,6 +296,8 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->deform_program);
     if (rt->deform_normals_program)
         glDeleteProgram(rt->deform_normals_program);
+    if (rt->walk_program)
+        glDeleteProgram(rt->walk_program);
     if (rt->rest_buffer[0])
         glDeleteBuffers(REST_COUNT, rt->rest_buffer);
     if (rt->shadow_program)
@@ -332,6 +336,11 @@ void sam_runtime_destroy(sam_runtime *rt)
 uint32_t sam_runtime_vertex_count(const sam_runtime *rt)
 {
     return rt->vertex_count;
+}
+
+uint32_t sam_runtime_samples_per_vertex(const sam_runtime *rt)
+{
+    return rt->stride;
 }
 
 /* Point and area lights cast all round: a cube map; spot and directional
@@ -1066,6 +1075,7 @@ sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt,
     glUniform1ui(glGetUniformLocation(p, "u_samples"), samples && samples < rt->stride ? samples : rt->stride);
     glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
     glUniform1f(glGetUniformLocation(p, "u_alpha"), reset ? 1.0f : sam_runtime_smoothing_alpha(dt));
+    glUniform1i(glGetUniformLocation(p, "u_check_sides"), rt->posed);
     for (int b = 0; b < B_COUNT; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
     glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_TRANSLUCENCY]);
@@ -1124,9 +1134,10 @@ static void rest_sizes(const sam_runtime *rt, GLsizeiptr bytes[REST_COUNT])
 {
     bytes[REST_POSITIONS] = bytes[REST_NORMALS] = (GLsizeiptr)rt->vertex_count * 4 * sizeof(float);
     bytes[REST_FAN_AREAS] = (GLsizeiptr)rt->vertex_count * sizeof(float);
+    bytes[REST_SAMPLES] = (GLsizeiptr)rt->vertex_count * rt->stride * 4 * sizeof(uint32_t);
 }
 
-static const int rest_binding[REST_COUNT] = {B_POSITIONS, B_NORMALS, B_FAN_AREAS};
+static const int rest_binding[REST_COUNT] = {B_POSITIONS, B_NORMALS, B_FAN_AREAS, B_SAMPLES};
 
 sam_status sam_runtime_set_deformers(sam_runtime *rt, const sam_deformer *deformers, size_t count,
                                      sam_error *err)
@@ -1174,7 +1185,9 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
             glBindBuffer(GL_COPY_WRITE_BUFFER, rt->buffer[rest_binding[i]]);
             glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes[i]);
         }
+        rt->posed = 0;
     } else {
+        rt->posed = 1;
         GLint type[SAM_DEFORM_MAX];
         float axis[SAM_DEFORM_MAX][3], direction[SAM_DEFORM_MAX][3], center[SAM_DEFORM_MAX][3],
             param[SAM_DEFORM_MAX][3];
@@ -1216,6 +1229,43 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
     /* Positions and normals are vertex attributes of the draws as well. */
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                     GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    return SAM_OK;
+}
+
+sam_status sam_runtime_walk(sam_runtime *rt, sam_error *err)
+{
+    (void)err;
+    if (!rt->posed)
+        return SAM_OK; /* the builder's samples are exact at rest; the walk's estimates could only move them */
+    GLuint p = rt->walk_program;
+    glUseProgram(p);
+    glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
+    glUniform1ui(glGetUniformLocation(p, "u_stride"), rt->stride);
+    glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+    for (int b = 0; b < B_COUNT; ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+    glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_WALK]);
+    glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+    glEndQuery(GL_TIME_ELAPSED);
+    rt->query_used[SAM_PASS_WALK] = 1;
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    return SAM_OK;
+}
+
+sam_status sam_runtime_read_samples(sam_runtime *rt, uint32_t *index, float *kprime, sam_error *err)
+{
+    const size_t count = (size_t)rt->vertex_count * rt->stride;
+    uint32_t *raw = malloc(count * 4 * sizeof *raw);
+    if (!raw)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for %zu samples", count);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[B_SAMPLES]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(count * 4 * sizeof *raw), raw);
+    for (size_t i = 0; i < count; ++i) {
+        index[i] = raw[4 * i];
+        memcpy(kprime + 3 * i, raw + 4 * i + 1, 3 * sizeof(float));
+    }
+    free(raw);
     return SAM_OK;
 }
 

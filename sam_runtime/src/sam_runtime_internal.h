@@ -44,9 +44,10 @@ enum { TECHNIQUE_VERTEX = 0, TECHNIQUE_NONE = 1, TECHNIQUE_TRANSMITTANCE = 2, TE
 #define SKIN_F0 0.028f
 
 /* The rest pose the deform pass starts from (copies of the first
- * positions, normals and fan areas, made by the first
- * sam_runtime_set_deformers). */
-enum { REST_POSITIONS, REST_NORMALS, REST_FAN_AREAS, REST_COUNT };
+ * positions, normals, fan areas and samples, made by the first
+ * sam_runtime_set_deformers; the samples come back with the rest pose
+ * because the walk moves them). */
+enum { REST_POSITIONS, REST_NORMALS, REST_FAN_AREAS, REST_SAMPLES, REST_COUNT };
 
 /* Texture-space maps, kept between renders (all atlas_size^2 RGBA32F). */
 enum { ATLAS_IRRADIANCE, ATLAS_STRETCH, ATLAS_TEMP, ATLAS_LEVEL_A, ATLAS_LEVEL_B, ATLAS_SUM, ATLAS_COUNT };
@@ -57,8 +58,9 @@ struct sam_runtime {
     sam_profile profile;
     GLuint buffer[B_COUNT];
     GLuint translucency_program, irradiance_program;
-    GLuint deform_program, deform_normals_program;
+    GLuint deform_program, deform_normals_program, walk_program;
     GLuint rest_buffer[REST_COUNT]; /* 0 until the first sam_runtime_set_deformers */
+    int posed;                      /* 1 while the buffers hold a deformed pose, not the rest pose */
     sam_deformer deformers[SAM_DEFORM_MAX];
     size_t deformer_count;
     GLuint query[SAM_PASS_COUNT];

@@ -1,0 +1,117 @@
+#version 430 core
+// The sample walk of Maisch and Ropinski Sec. 3.4: poses change little
+// between frames, so a vertex's better back-side vertices are found in the
+// one-rings of its current samples. A ring neighbour c of sample s that is
+// on the back side at the pose (eq. 13-14) and not chosen yet replaces the
+// sample with the smallest approximated K when its own is larger.
+//
+// An adopted vertex takes the K' of the sample it replaces (of the sample
+// it was reached from when it fills an empty slot). K' (eq. 15) is the part
+// of K the point estimate F'_i R_d(|v_i - v_o|) misses; the first choice,
+// the K' of the sample it was reached from, hands the nearest sample's
+// large K' to all its neighbours, whose K is then overestimated: on a slab
+// (tests/test_gl_walk.c) T after a bend and back was 9.5% off the rest map
+// that way, 3.0% this way. So a slot keeps its K' and only moves: the
+// candidate wins when its F' R_d beats the slot's at the same K'.
+//
+// Each invocation reads other vertices' positions, normals and fan areas
+// and writes only its own samples, so there is no race and the order of
+// invocations does not matter; seam copies of one vertex carry the same
+// position, normal, ring and samples, so they stay identical. The samples
+// stay sorted by approximated K, best first, so a translucency pass using
+// fewer samples takes the best. Samples off the back side score 0 (the
+// translucency pass skips them) and are the first replaced.
+#include "profile.glsl"
+
+layout(local_size_x = 64) in;
+
+#define MAX_SAMPLES 64
+#define NO_SAMPLE 0xFFFFFFFFu
+
+struct Sample {
+    uint index;
+    float kr, kg, kb;
+};
+
+layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };
+layout(std430, binding = 2) buffer Samples { Sample samples[]; };
+layout(std430, binding = 3) readonly buffer FanAreas { float fan_area[]; };
+layout(std430, binding = 6) readonly buffer AdjOffsets { uint adj_offsets[]; };
+layout(std430, binding = 7) readonly buffer Adjacency { uint adjacency[]; };
+
+uniform uint u_vertex_count;
+uniform uint u_stride;
+uniform float u_mm_per_unit;
+
+Sample chosen[MAX_SAMPLES];
+float score[MAX_SAMPLES];
+
+bool back_side(uint i, vec3 p, vec3 n)
+{
+    return dot(positions[i].xyz - p, n) < 0.0 && dot(normals[i].xyz, n) < 0.0;
+}
+
+// The mean over R, G, B of K = K' F'_i R_d(|v_i - v_o|) (eq. 15).
+float approximate_k(uint i, vec3 kprime, vec3 p)
+{
+    vec3 k = kprime * fan_area[i] * profile_rd(u_mm_per_unit * distance(positions[i].xyz, p));
+    return (k.r + k.g + k.b) / 3.0;
+}
+
+void main()
+{
+    uint v = gl_GlobalInvocationID.x;
+    if (v >= u_vertex_count)
+        return;
+    vec3 p = positions[v].xyz, n = normals[v].xyz;
+    uint base = v * u_stride;
+    for (uint k = 0u; k < u_stride; ++k) {
+        chosen[k] = samples[base + k];
+        uint i = chosen[k].index;
+        score[k] = i == NO_SAMPLE ? -1.0
+                   : back_side(i, p, n) ? approximate_k(i, vec3(chosen[k].kr, chosen[k].kg, chosen[k].kb), p)
+                                        : 0.0;
+    }
+    // Walk from the samples as they were (read back from the buffer, which
+    // this invocation has not written yet), not from this frame's adoptions:
+    // one ring per frame.
+    for (uint k = 0u; k < u_stride; ++k) {
+        Sample from = samples[base + k];
+        if (from.index == NO_SAMPLE)
+            break;
+        vec3 kprime = vec3(from.kr, from.kg, from.kb);
+        for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
+            uint c = adjacency[a];
+            uint worst = 0u;
+            bool taken = false;
+            for (uint j = 0u; j < u_stride; ++j) {
+                taken = taken || chosen[j].index == c;
+                if (score[j] < score[worst])
+                    worst = j;
+            }
+            if (taken || !back_side(c, p, n))
+                continue;
+            vec3 kp = chosen[worst].index == NO_SAMPLE ? kprime
+                      : vec3(chosen[worst].kr, chosen[worst].kg, chosen[worst].kb);
+            float s = approximate_k(c, kp, p);
+            if (s > score[worst]) {
+                chosen[worst] = Sample(c, kp.r, kp.g, kp.b);
+                score[worst] = s;
+            }
+        }
+    }
+    // Insertion sort, best first; empty slots (score -1) end up last, as
+    // the translucency pass expects.
+    for (uint k = 1u; k < u_stride; ++k)
+        for (uint j = k; j > 0u && score[j] > score[j - 1u]; --j) {
+            Sample t = chosen[j];
+            chosen[j] = chosen[j - 1u];
+            chosen[j - 1u] = t;
+            float f = score[j];
+            score[j] = score[j - 1u];
+            score[j - 1u] = f;
+        }
+    for (uint k = 0u; k < u_stride; ++k)
+        samples[base + k] = chosen[k];
+}
