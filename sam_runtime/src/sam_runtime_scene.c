@@ -21,6 +21,8 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
     if (!rt || !scene)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "scene setup: NULL runtime or scene");
     sam_status st = sam_runtime_set_lights(rt, scene->lights, scene->light_count, err);
+    if (st == SAM_OK && scene->deformer_count)
+        st = sam_runtime_set_deformers(rt, scene->deformers, scene->deformer_count, err);
     if (st != SAM_OK)
         return st;
     float env_sh[9][3];

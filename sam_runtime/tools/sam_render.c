@@ -23,6 +23,10 @@ static void usage(FILE *out)
             "  --tonemap aces|reinhard, --exposure EV\n"
             "                         the PNG's tone curve and exposure (default: the scene's)\n"
             "  --frames N             frames to run the SAM passes before the picture (default 1)\n"
+            "  --animate N            render N frames of the scene's deformers instead: OUT_0000.exr,\n"
+            "                         OUT_0001.exr, ... (and PNGs likewise), the pose, the sample walk,\n"
+            "                         L_d and smoothed translucency updated every frame\n"
+            "  --fps F                frames per second of --animate (default 30; dt = 1/F)\n"
             "  --dt S                 frame time in seconds for temporal smoothing (default 1/60)\n"
             "  --technique sam|none|tsm|transmittance\n"
             "                         translucency technique (default: the scene's): spatial adjacency\n"
@@ -98,6 +102,43 @@ static sam_status write_vertices(const char *path, const float *ld, const float 
     return sam_atomic_commit(&f, err);
 }
 
+/* `path` with "_NNNN" before its extension for frame `index` of an
+ * animation; `path` itself when index < 0. */
+static sam_status numbered(const char *path, long index, char *out, size_t n, sam_error *err)
+{
+    int len;
+    if (index < 0) {
+        len = snprintf(out, n, "%s", path);
+    } else {
+        const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+        if (!dot || (slash && dot < slash))
+            dot = path + strlen(path);
+        len = snprintf(out, n, "%.*s_%04ld%s", (int)(dot - path), path, index, dot);
+    }
+    if (len < 0 || (size_t)len >= n)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "output path %s is too long", path);
+    return SAM_OK;
+}
+
+/* The linear EXR and, when `png` is not NULL, the tonemapped sRGB preview
+ * over a dark grey backdrop (the EXR keeps alpha). */
+static sam_status write_picture(const sam_image *img, const char *exr, const char *png, const char *tonemap,
+                                float exposure, const sam_scene *scene, sam_error *err)
+{
+    sam_status st = sam_image_write_exr(exr, img, SAM_EXR_FLOAT, err);
+    if (st != SAM_OK || !png)
+        return st;
+    static const float backdrop[3] = {0.02f, 0.02f, 0.02f};
+    sam_image preview;
+    sam_tonemap curve = tonemap ? (!strcmp(tonemap, "reinhard") ? SAM_TONEMAP_REINHARD : SAM_TONEMAP_ACES)
+                                : scene->tonemap;
+    st = sam_image_tonemap(img, curve, isnan(exposure) ? scene->exposure : exposure, backdrop, &preview, err);
+    if (st == SAM_OK)
+        st = sam_image_write_png(png, &preview, SAM_PNG_SRGB, err);
+    sam_image_destroy(&preview);
+    return st;
+}
+
 int main(int argc, char **argv)
 {
     const char *scene_path = NULL, *out = NULL, *png = NULL, *dump = NULL, *technique = NULL, *diffusion = NULL,
@@ -105,7 +146,9 @@ int main(int argc, char **argv)
     float exposure = NAN;
     long sss_samples = 0, atlas_size = 0;
     float texels_per_pixel = 0;
-    long frames = 1;
+    long frames = 1, animate = 0;
+    int frames_given = 0;
+    float fps = 30.0f;
     float dt = 1.0f / 60.0f;
     int translucency_only = 0;
     for (int i = 1; i < argc; ++i) {
@@ -184,9 +227,23 @@ int main(int argc, char **argv)
                         argv[i]);
                 return 2;
             }
+        } else if (!strcmp(a, "--animate")) {
+            animate = parse_count(argv[++i], 1, 100000);
+            if (animate < 0) {
+                fprintf(stderr, "sam_render: --animate must be a number of frames in 1..100000, got \"%s\"\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--fps")) {
+            char *end;
+            fps = strtof(argv[++i], &end);
+            if (*end || !(fps > 0 && fps <= 1000)) {
+                fprintf(stderr, "sam_render: --fps must be a number in (0, 1000], got \"%s\"\n", argv[i]);
+                return 2;
+            }
         } else if (!strcmp(a, "--frames")) {
             char *end;
             frames = strtol(argv[++i], &end, 10);
+            frames_given = 1;
             if (*end || frames < 1 || frames > 100000) {
                 fprintf(stderr, "sam_render: --frames must be in 1..100000, got \"%s\"\n", argv[i]);
                 return 2;
@@ -212,6 +269,10 @@ int main(int argc, char **argv)
         usage(stderr);
         return 2;
     }
+    if (animate && frames_given) {
+        fprintf(stderr, "sam_render: --frames is for still pictures; --animate renders one picture per frame\n");
+        return 2;
+    }
     static const char *const techniques[] = {"sam", "none", "tsm", "transmittance"};
     int use_technique = -1;
     for (int k = 0; technique && k < 4; ++k)
@@ -225,6 +286,11 @@ int main(int argc, char **argv)
     sam_scene scene;
     if (sam_scene_load(scene_path, &scene, &err) != SAM_OK)
         return fail(err.message);
+    if (animate && !scene.deformer_count) {
+        sam_scene_destroy(&scene);
+        fprintf(stderr, "sam_render: %s has no \"deformers\" to animate\n", scene_path);
+        return 1;
+    }
     /* techniques[] follows sam_technique's order. */
     sam_technique chosen = technique ? (sam_technique)use_technique : scene.technique;
     int use_sam = chosen == SAM_TECHNIQUE_SAM;
@@ -262,12 +328,6 @@ int main(int argc, char **argv)
         goto done;
     if (warning[0])
         fprintf(stderr, "sam_render: warning: %s\n", warning);
-    for (long f = 0; f < frames; ++f) {
-        if (sam_runtime_irradiance(rt, &err) != SAM_OK)
-            goto done;
-        if (use_sam && sam_runtime_translucency(rt, 0, dt, f == 0, &err) != SAM_OK)
-            goto done;
-    }
     sam_render_view view;
     sam_runtime_scene_view(rt, &scene, &view, warning, sizeof warning);
     if (chosen == SAM_TECHNIQUE_TSM && view.diffusion != 3) {
@@ -295,23 +355,31 @@ int main(int argc, char **argv)
         parse_optimizations(optimize, &view.options);
     if (texels_per_pixel > 0)
         view.options.texels_per_pixel = texels_per_pixel;
-    if (sam_runtime_render(rt, &view, &img, &err) != SAM_OK)
-        goto done;
-    if (sam_image_write_exr(out, &img, SAM_EXR_FLOAT, &err) != SAM_OK)
-        goto done;
-    if (png) {
-        /* Tonemapped, over a dark grey backdrop (the EXR keeps alpha). */
-        static const float backdrop[3] = {0.02f, 0.02f, 0.02f};
-        sam_image preview;
-        sam_tonemap curve = tonemap ? (!strcmp(tonemap, "reinhard") ? SAM_TONEMAP_REINHARD : SAM_TONEMAP_ACES)
-                                    : scene.tonemap;
-        if (sam_image_tonemap(&img, curve, isnan(exposure) ? scene.exposure : exposure, backdrop, &preview, &err) !=
-            SAM_OK)
+    /* A still picture is the pose at time 0 after `frames` passes; an
+     * animation one picture per frame, each frame a new pose. */
+    long pictures = animate ? animate : 1, passes = animate ? 1 : frames;
+    float step = animate ? 1.0f / fps : dt;
+    for (long picture = 0; picture < pictures; ++picture) {
+        for (long f = 0; f < passes; ++f) {
+            long frame = animate ? picture : f;
+            if (scene.deformer_count && (frame == 0 || animate) &&
+                (sam_runtime_deform(rt, (float)picture / fps, &err) != SAM_OK || sam_runtime_walk(rt, &err) != SAM_OK))
+                goto done;
+            if (sam_runtime_irradiance(rt, &err) != SAM_OK)
+                goto done;
+            if (use_sam && sam_runtime_translucency(rt, 0, step, frame == 0, &err) != SAM_OK)
+                goto done;
+        }
+        char exr_path[4096], png_path[4096];
+        if (numbered(out, animate ? picture : -1, exr_path, sizeof exr_path, &err) != SAM_OK ||
+            (png && numbered(png, animate ? picture : -1, png_path, sizeof png_path, &err) != SAM_OK))
             goto done;
-        sam_status st = sam_image_write_png(png, &preview, SAM_PNG_SRGB, &err);
-        sam_image_destroy(&preview);
-        if (st != SAM_OK)
+        sam_image_destroy(&img);
+        if (sam_runtime_render(rt, &view, &img, &err) != SAM_OK ||
+            write_picture(&img, exr_path, png ? png_path : NULL, tonemap, exposure, &scene, &err) != SAM_OK)
             goto done;
+        if (animate)
+            fprintf(stderr, "\rsam_render: frame %ld of %ld%s", picture + 1, animate, picture + 1 == animate ? "\n" : "");
     }
     if (dump) {
         ld = malloc((size_t)sam.vertex_count * 3 * sizeof *ld);
@@ -327,7 +395,8 @@ int main(int argc, char **argv)
     double diffusion_ms = sam_runtime_pass_ms(rt, SAM_PASS_DIFFUSION);
     fprintf(stderr, "sam_render: %s: %ux%u, %u vertices, %ld frame%s; GPU ms: irradiance %.3f, translucency %.3f, "
                     "shade %.3f, diffusion %.3f (%s)\n",
-            out, scene.width, scene.height, sam.vertex_count, frames, frames == 1 ? "" : "s",
+            out, scene.width, scene.height, sam.vertex_count, animate ? animate : frames,
+            (animate ? animate : frames) == 1 ? "" : "s",
             sam_runtime_pass_ms(rt, SAM_PASS_IRRADIANCE), use_sam ? sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY) : 0.0,
             sam_runtime_pass_ms(rt, SAM_PASS_SHADE), diffusion_ms > 0 ? diffusion_ms : 0.0,
             sam_gl_context_info(gl)->renderer);

@@ -113,5 +113,24 @@ printf '{"mesh": "ear.obj", "sam": "ear.sam", "material": "skin", "scale": {"mm_
 printf '{"mesh": "other.obj", "sam": "ear.sam", "material": "skin", "scale": {"mm_per_unit": 60}}' > "$tmp/other.json"
 expect_error 1 ".sam from another mesh" "$tmp/other.json"
 grep -q "was built from another mesh (ear.obj" "$tmp/err.txt" || fail "mismatch message: $(cat "$tmp/err.txt")"
+# --animate: one numbered picture per frame of the scene's deformers, each a new pose.
+cat > "$tmp/anim.json" <<JSON
+{"mesh": "ear.obj", "material": "skin", "scale": {"mm_per_unit": 60},
+ "lights": [{"type": "point", "position": [0.1, 0.0, -1.2], "intensity": 6.0}],
+ "deformers": [{"type": "bend", "axis": [0, 1, 0], "direction": [0, 0, 1], "angle_deg": 60, "length": 1.0,
+                "period_s": 0.4}],
+ "resolution": [48, 48]}
+JSON
+"$bin/sam_render" "$tmp/anim.json" -o "$tmp/anim.exr" --png "$tmp/anim.png" --animate 3 --fps 10 2> "$tmp/anim.txt" \
+  || fail "--animate: $(cat "$tmp/anim.txt")"
+for k in 0000 0001 0002; do
+  [ -s "$tmp/anim_$k.exr" ] && [ -s "$tmp/anim_$k.png" ] || fail "--animate wrote no frame $k: $(ls "$tmp")"
+done
+[ -e "$tmp/anim.exr" ] && fail "--animate also wrote the unnumbered name"
+cmp -s "$tmp/anim_0000.exr" "$tmp/anim_0001.exr" && fail "frames 0 and 1 of a bending ear are the same picture"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/bad.exr" --animate 2 2> "$tmp/err.txt" && fail "--animate without deformers"
+grep -q 'has no "deformers" to animate' "$tmp/err.txt" || fail "no-deformers message: $(cat "$tmp/err.txt")"
+expect_error 2 "--animate with --frames" "$tmp/anim.json" --animate 2 --frames 3
+expect_error 2 "bad --fps" "$tmp/anim.json" --animate 2 --fps 0
 "$bin/sam_render" --help | grep -q "usage: sam_render" || fail "--help"
 echo "sam_render cli: ok"

@@ -14,16 +14,17 @@
 extern "C" {
 #endif
 
-/* Gives `rt` the scene's lights, its environment (the lat-long map's SH-9
- * radiance, rotated and scaled as the scene says) and its albedo map.
+/* Gives `rt` the scene's lights, its deformers (posed by
+ * sam_runtime_deform), its environment (the lat-long map's SH-9 radiance,
+ * rotated and scaled as the scene says) and its albedo map.
  * `sh` (may be NULL) receives the environment's SH and `*has_environment`
  * (may be NULL) whether there is one, for CPU references that must light
  * the object alike. `warning` (size n, may be NULL) gets one line when
  * something of the scene is left out but the render can go on (an albedo
  * map on a mesh without UVs), else "".
  * Errors: those of sam_image_read_exr / sam_image_read_png (naming the
- * file), sam_light_sh9_from_latlong, sam_runtime_set_lights and
- * sam_runtime_set_albedo_map. */
+ * file), sam_light_sh9_from_latlong, sam_runtime_set_lights,
+ * sam_runtime_set_deformers and sam_runtime_set_albedo_map. */
 sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, float sh[9][3], int *has_environment,
                                    char *warning, size_t n, sam_error *err);
 
