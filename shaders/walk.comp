@@ -5,14 +5,13 @@
 // on the back side at the pose (eq. 13-14) and not chosen yet replaces the
 // sample with the smallest approximated K when its own is larger.
 //
-// An adopted vertex takes the K' of the sample it replaces (of the sample
-// it was reached from when it fills an empty slot). K' (eq. 15) is the part
-// of K the point estimate F'_i R_d(|v_i - v_o|) misses; the first choice,
-// the K' of the sample it was reached from, hands the nearest sample's
-// large K' to all its neighbours, whose K is then overestimated: on a slab
-// (tests/test_gl_walk.c) T after a bend and back was 9.5% off the rest map
-// that way, 3.0% this way. So a slot keeps its K' and only moves: the
-// candidate wins when its F' R_d beats the slot's at the same K'.
+// An adopted vertex gets K' = 1: its K is the point estimate F'_i R_d(|v_i -
+// v_o|), the one the builder ranks candidates by. K' (eq. 15) is the part of
+// K that estimate misses for one particular pair of fans; carried over to
+// another vertex it is meaningless. Handing on the K' of the replaced slot
+// or of the sample it was reached from did: on a twisted ear
+// (tests/test_gl_walk.c) a far sample's large K' landed on a near vertex and
+// T came out 5.6 times the reference's RMS, against 0.12 with K' = 1.
 //
 // Each invocation reads other vertices' positions, normals and fan areas
 // and writes only its own samples, so there is no race and the order of
@@ -80,7 +79,6 @@ void main()
         Sample from = samples[base + k];
         if (from.index == NO_SAMPLE)
             break;
-        vec3 kprime = vec3(from.kr, from.kg, from.kb);
         for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
             uint c = adjacency[a];
             uint worst = 0u;
@@ -92,8 +90,7 @@ void main()
             }
             if (taken || !back_side(c, p, n))
                 continue;
-            vec3 kp = chosen[worst].index == NO_SAMPLE ? kprime
-                      : vec3(chosen[worst].kr, chosen[worst].kg, chosen[worst].kb);
+            vec3 kp = vec3(1.0);
             float s = approximate_k(c, kp, p);
             if (s > score[worst]) {
                 chosen[worst] = Sample(c, kp.r, kp.g, kp.b);
