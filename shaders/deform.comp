@@ -1,8 +1,10 @@
 #version 430 core
-// Deformed positions from the rest positions: the deformers of
+// Deformed positions from the rest positions, or from the keyframe pose
+// interpolated at the time (sam_runtime_set_keyframes): the deformers of
 // sam_deform.h, applied in order, with the formulas of sam_deform.c (its
 // CPU reference). Identity steps are left out by the caller, so with none
-// this pass does not run and the rest pose stays bit for bit.
+// and no keyframe pose this pass does not run and the rest pose stays bit
+// for bit.
 
 layout(local_size_x = 64) in;
 
@@ -13,7 +15,9 @@ layout(local_size_x = 64) in;
 #define WAVE 3
 
 layout(std430, binding = 0) writeonly buffer Positions { vec4 positions[]; };
-// Bound to binding 2 for this pass only (the samples' slot otherwise).
+// Bound to bindings 1 and 2 for this pass only (the normals' and the
+// samples' slots otherwise). Keyframe k's vertex v is keys[k * count + v].
+layout(std430, binding = 1) readonly buffer KeyPositions { vec4 keys[]; };
 layout(std430, binding = 2) readonly buffer RestPositions { vec4 rest[]; };
 
 uniform uint u_vertex_count;
@@ -23,6 +27,15 @@ uniform vec3 u_axis[MAX_STEPS];
 uniform vec3 u_direction[MAX_STEPS];
 uniform vec3 u_center[MAX_STEPS];
 uniform vec3 u_param[MAX_STEPS]; // sam_deform_step.param
+// The keyframe pose: key a + (key b - key a) * w; key -1 is the rest pose.
+uniform int u_key_a;
+uniform int u_key_b;
+uniform float u_key_w;
+
+vec3 key(int k, uint v)
+{
+    return k < 0 ? rest[v].xyz : keys[uint(k) * u_vertex_count + v].xyz;
+}
 
 vec3 deform(int i, vec3 p)
 {
@@ -49,6 +62,10 @@ void main()
     if (v >= u_vertex_count)
         return;
     vec3 p = rest[v].xyz;
+    if (u_key_b >= 0) {
+        vec3 a = key(u_key_a, v);
+        p = a + (key(u_key_b, v) - a) * u_key_w;
+    }
     for (int i = 0; i < u_step_count; ++i)
         p = deform(i, p);
     positions[v] = vec4(p, 1.0);

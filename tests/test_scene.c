@@ -97,7 +97,8 @@ static const char full_scene[] =
     "     \"period_s\": 1.5},\n"
     "    {\"type\": \"wave\", \"axis\": [1, 0, 0], \"direction\": [0, 3, 4], \"amplitude\": 0.1,\n"
     "     \"wavelength\": 2, \"speed\": 0.5}\n"
-    "  ]\n"
+    "  ],\n"
+    "  \"keyframes\": [{\"mesh\": \"head.obj\", \"time_s\": 0.5}, {\"time_s\": 1.25, \"mesh\": \"sub/../head.obj\"}]\n"
     "}";
 
 static void assert_vec3(const float v[3], float x, float y, float z)
@@ -219,7 +220,15 @@ static void test_full_scene_loads(void **state)
     assert_float_equal(d[3].amplitude, 0.1f, 0.0f);
     assert_float_equal(d[3].wavelength, 2.0f, 0.0f);
     assert_float_equal(d[3].speed, 0.5f, 0.0f);
+    assert_int_equal(s.keyframe_count, 2);
+    char head[640];
+    dir_file(head, sizeof head, "head.obj");
+    assert_string_equal(s.keyframes[0].mesh, head);
+    assert_float_equal(s.keyframes[0].time_s, 0.5f, 0.0f);
+    assert_non_null(strstr(s.keyframes[1].mesh, "head.obj"));
+    assert_float_equal(s.keyframes[1].time_s, 1.25f, 0.0f);
     sam_scene_destroy(&s);
+    assert_null(s.keyframes);
     assert_null(s.lights);
     assert_null(s.albedo_map);
     sam_scene_destroy(&s); /* twice is harmless */
@@ -466,6 +475,11 @@ static void assert_scenes_equal(const sam_scene *a, const sam_scene *b)
         assert_same_floats(&x->speed, &y->speed, 1, "deformer speed");
         assert_same_floats(&x->period_s, &y->period_s, 1, "deformer period");
     }
+    assert_int_equal(a->keyframe_count, b->keyframe_count);
+    for (size_t i = 0; i < a->keyframe_count; ++i) {
+        assert_same_string(a->keyframes[i].mesh, b->keyframes[i].mesh);
+        assert_same_floats(&a->keyframes[i].time_s, &b->keyframes[i].time_s, 1, "keyframe time");
+    }
 }
 
 /* Writes `a` to `path` and checks that loading it gives `a` back. */
@@ -513,6 +527,7 @@ static void test_round_trip(void **state)
     a.diffusion_options.texels_per_pixel = nextafterf(0.3f, 1.0f);
     a.deformers[0].angle_deg = nextafterf(45.0f, 90.0f);
     a.deformers[3].speed = -1e-20f;
+    a.keyframes[1].time_s = nextafterf(0.5f, 1.0f);
     assert_round_trip(&a, out);
     sam_scene_destroy(&a);
 }
@@ -657,6 +672,24 @@ typedef struct error_case {
 } error_case;
 
 static const error_case error_cases[] = {
+    {"{\"sam\": \"head.sam\", \"keyframes\": {}}", SAM_ERR_FORMAT,
+     "scene.json: keyframes: expected an array of keyframes, found an object"},
+    {"{\"sam\": \"head.sam\", \"keyframes\": [3]}", SAM_ERR_FORMAT,
+     "scene.json: keyframes[0]: expected an object, found 3"},
+    {"{\"sam\": \"head.sam\", \"keyframes\": [{\"mesh\": \"head.obj\", \"time\": 1}]}", SAM_ERR_FORMAT,
+     "scene.json: keyframes[0].time: unknown key (expected one of: mesh, time_s)"},
+    {"{\"sam\": \"head.sam\", \"keyframes\": [{\"mesh\": \"head.obj\"}]}", SAM_ERR_FORMAT,
+     "scene.json: keyframes[0].time_s: missing"},
+    {"{\"sam\": \"head.sam\", \"keyframes\": [{\"time_s\": 1}]}", SAM_ERR_FORMAT,
+     "scene.json: keyframes[0].mesh: missing"},
+    {"{\"sam\": \"head.sam\", \"keyframes\": [{\"mesh\": \"head.obj\", \"time_s\": 0}]}", SAM_ERR_FORMAT,
+     "scene.json: keyframes[0].time_s: expected a number > 0 (finite), found 0"},
+    {"{\"sam\": \"head.sam\", \"keyframes\": [{\"mesh\": \"head.obj\", \"time_s\": 1}, "
+     "{\"mesh\": \"head.obj\", \"time_s\": 1}]}",
+     SAM_ERR_FORMAT, "scene.json: keyframes[1].time_s: expected a time after keyframes[0].time_s = 1, found 1"},
+    {"{\"sam\": \"head.sam\", \"keyframes\": [{\"mesh\": \"head.obj\", \"time_s\": 1}, "
+     "{\"mesh\": \"pose.obj\", \"time_s\": 2}]}",
+     SAM_ERR_IO, "scene.json: keyframes[1].mesh: file not found: @/pose.obj"},
     {"{\"sam\": \"head.sam\", \"deformers\": {}}", SAM_ERR_FORMAT,
      "scene.json: deformers: expected an array of deformers, found an object"},
     {"{\"sam\": \"head.sam\", \"deformers\": [{\"axis\": [1, 0, 0]}]}", SAM_ERR_FORMAT,
@@ -944,6 +977,7 @@ static void test_errors(void **state)
         assert_null(s.material);
         assert_null(s.environment.map);
         assert_null(s.albedo_map);
+        assert_null(s.keyframes);
     }
 }
 

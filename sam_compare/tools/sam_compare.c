@@ -798,8 +798,8 @@ int main(int argc, char **argv)
     if (prepare_dir(dir, force, &err) != SAM_OK)
         goto done;
     /* The truth reads the map's rest positions, so the runtime stays at rest too. */
-    if (s.scene.deformer_count)
-        say("warning: the scene's deformers are ignored: sam_compare compares the rest pose");
+    if (s.scene.deformer_count || s.scene.keyframe_count)
+        say("warning: the scene's deformers and keyframes are ignored: sam_compare compares the rest pose");
 
     say("[1/5] the map");
     progress_state bps = {"building the map", -1};

@@ -101,6 +101,9 @@ void sam_scene_destroy(sam_scene *scene)
     free(scene->albedo_map);
     free(scene->lights);
     free(scene->environment.map);
+    for (size_t i = 0; i < scene->keyframe_count; ++i)
+        free(scene->keyframes[i].mesh);
+    free(scene->keyframes);
     sam_scene_init(scene);
 }
 
@@ -995,13 +998,52 @@ static sam_status parse_deformers(const parser *p, const cJSON *item, sam_scene 
     return SAM_OK;
 }
 
+static sam_status parse_keyframes(const parser *p, const cJSON *item, sam_scene *scene)
+{
+    static const char *const keys[] = {"mesh", "time_s"};
+    if (!cJSON_IsArray(item))
+        return fail_at(p, SAM_ERR_FORMAT, "keyframes", "expected an array of keyframes, found %s", DESCRIBE(item));
+    int count = cJSON_GetArraySize(item);
+    if (count == 0)
+        return SAM_OK;
+    scene->keyframes = calloc((size_t)count, sizeof *scene->keyframes);
+    if (!scene->keyframes)
+        return out_of_memory(p);
+    int i = 0;
+    for (const cJSON *e = item->child; e; e = e->next, ++i) {
+        char path[64], at[96];
+        snprintf(path, sizeof path, "keyframes[%d]", i);
+        if (!cJSON_IsObject(e))
+            return fail_at(p, SAM_ERR_FORMAT, path, "expected an object, found %s", DESCRIBE(e));
+        sam_status st = check_keys(p, e, path, keys, COUNT_OF(keys));
+        if (st != SAM_OK)
+            return st;
+        sam_keyframe *k = &scene->keyframes[i];
+        for (size_t n = 0; n < COUNT_OF(keys); ++n) {
+            if (!cJSON_GetObjectItemCaseSensitive(e, keys[n]))
+                return fail_at(p, SAM_ERR_FORMAT, key_path(at, sizeof at, path, keys[n]), "missing");
+        }
+        if ((st = get_positive(p, cJSON_GetObjectItemCaseSensitive(e, "time_s"),
+                               key_path(at, sizeof at, path, "time_s"), &k->time_s)) != SAM_OK)
+            return st;
+        if (i > 0 && k->time_s <= k[-1].time_s)
+            return fail_at(p, SAM_ERR_FORMAT, at, "expected a time after keyframes[%d].time_s = %g, found %g", i - 1,
+                           k[-1].time_s, k->time_s);
+        if ((st = get_file(p, cJSON_GetObjectItemCaseSensitive(e, "mesh"), key_path(at, sizeof at, path, "mesh"),
+                           &k->mesh)) != SAM_OK)
+            return st;
+        scene->keyframe_count = (size_t)i + 1;
+    }
+    return SAM_OK;
+}
+
 static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scene)
 {
     static const char *const keys[] = {"mesh",         "sam",        "material",  "scale",
                                        "albedo",       "albedo_map", "lights",    "environment",
                                        "camera",       "resolution", "technique", "diffusion",
                                        "screen_space", "texture_space", "tonemap", "exposure",
-                                       "deformers"};
+                                       "deformers",    "keyframes"};
     if (!cJSON_IsObject(root))
         return sam_fail(p->err, SAM_ERR_FORMAT, "%s: expected a JSON object, found %s", p->name,
                         DESCRIBE(root));
@@ -1088,6 +1130,9 @@ static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scen
         return st;
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "deformers")) &&
         (st = parse_deformers(p, v, scene)) != SAM_OK)
+        return st;
+    if ((v = cJSON_GetObjectItemCaseSensitive(root, "keyframes")) &&
+        (st = parse_keyframes(p, v, scene)) != SAM_OK)
         return st;
     return SAM_OK;
 }
@@ -1401,6 +1446,14 @@ static cJSON *scene_item(builder *b, const sam_scene *s)
     for (size_t i = 0; i < s->deformer_count && i < SAM_DEFORM_MAX; ++i)
         append(b, deformers, deformer_item(b, &s->deformers[i]));
     add(b, root, "deformers", deformers);
+    cJSON *keyframes = cJSON_CreateArray();
+    for (size_t i = 0; i < s->keyframe_count; ++i) {
+        cJSON *k = cJSON_CreateObject();
+        add_path(b, k, "mesh", s->keyframes[i].mesh);
+        add(b, k, "time_s", number_item(s->keyframes[i].time_s));
+        append(b, keyframes, k);
+    }
+    add(b, root, "keyframes", keyframes);
     return root;
 }
 

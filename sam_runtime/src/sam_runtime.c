@@ -300,6 +300,9 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->walk_program);
     if (rt->rest_buffer[0])
         glDeleteBuffers(REST_COUNT, rt->rest_buffer);
+    if (rt->keyframe_buffer)
+        glDeleteBuffers(1, &rt->keyframe_buffer);
+    free(rt->keyframe_times);
     if (rt->shadow_program)
         glDeleteProgram(rt->shadow_program);
     if (rt->shade_program)
@@ -1139,33 +1142,127 @@ static void rest_sizes(const sam_runtime *rt, GLsizeiptr bytes[REST_COUNT])
 
 static const int rest_binding[REST_COUNT] = {B_POSITIONS, B_NORMALS, B_FAN_AREAS, B_SAMPLES};
 
+/* Keeps the current positions, normals, fan areas and samples as the rest
+ * pose, once: every pose is computed from it. */
+static sam_status keep_rest_pose(sam_runtime *rt, sam_error *err)
+{
+    if (rt->rest_buffer[0])
+        return SAM_OK;
+    GLsizeiptr bytes[REST_COUNT];
+    rest_sizes(rt, bytes);
+    glGenBuffers(REST_COUNT, rt->rest_buffer);
+    for (int i = 0; i < REST_COUNT; ++i) {
+        glBindBuffer(GL_COPY_WRITE_BUFFER, rt->rest_buffer[i]);
+        glBufferData(GL_COPY_WRITE_BUFFER, bytes[i], NULL, GL_STATIC_DRAW);
+        glBindBuffer(GL_COPY_READ_BUFFER, rt->buffer[rest_binding[i]]);
+        glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes[i]);
+    }
+    if (glGetError() != GL_NO_ERROR) {
+        glDeleteBuffers(REST_COUNT, rt->rest_buffer);
+        memset(rt->rest_buffer, 0, sizeof rt->rest_buffer);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not keep the rest pose of %u vertices",
+                        rt->vertex_count);
+    }
+    return SAM_OK;
+}
+
 sam_status sam_runtime_set_deformers(sam_runtime *rt, const sam_deformer *deformers, size_t count,
                                      sam_error *err)
 {
     if (count > SAM_DEFORM_MAX || (count && !deformers))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: %zu deformers%s (at most %d)", count,
                         count && !deformers ? " but none given" : "", SAM_DEFORM_MAX);
-    if (count && !rt->rest_buffer[0]) {
-        GLsizeiptr bytes[REST_COUNT];
-        rest_sizes(rt, bytes);
-        glGenBuffers(REST_COUNT, rt->rest_buffer);
-        for (int i = 0; i < REST_COUNT; ++i) {
-            glBindBuffer(GL_COPY_WRITE_BUFFER, rt->rest_buffer[i]);
-            glBufferData(GL_COPY_WRITE_BUFFER, bytes[i], NULL, GL_STATIC_DRAW);
-            glBindBuffer(GL_COPY_READ_BUFFER, rt->buffer[rest_binding[i]]);
-            glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes[i]);
-        }
-        if (glGetError() != GL_NO_ERROR) {
-            glDeleteBuffers(REST_COUNT, rt->rest_buffer);
-            memset(rt->rest_buffer, 0, sizeof rt->rest_buffer);
-            return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not keep the rest pose of %u vertices",
-                            rt->vertex_count);
-        }
-    }
+    sam_status st;
+    if (count && (st = keep_rest_pose(rt, err)) != SAM_OK)
+        return st;
     if (count)
         memcpy(rt->deformers, deformers, count * sizeof *deformers);
     rt->deformer_count = count;
     return SAM_OK;
+}
+
+sam_status sam_runtime_set_keyframes(sam_runtime *rt, const float *const *positions, const float *times,
+                                     size_t count, sam_error *err)
+{
+    if (count && (!positions || !times))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: %zu keyframes but no %s given", count,
+                        positions ? "times" : "positions");
+    for (size_t i = 0; i < count; ++i) {
+        if (!positions[i])
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: keyframe %zu has no positions", i);
+        if (!(isfinite(times[i]) && times[i] > 0.0f && (i == 0 || times[i] > times[i - 1])))
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                            "runtime: keyframe %zu at time %g: times must be finite, > 0 and increasing (previous %g)",
+                            i, times[i], i ? times[i - 1] : 0.0f);
+    }
+    const size_t nv = rt->vertex_count;
+    float *times_copy = count ? malloc(count * sizeof *times_copy) : NULL;
+    float *vec4s = count ? malloc(count * nv * 4 * sizeof *vec4s) : NULL;
+    if (count && (!times_copy || !vec4s)) {
+        free(times_copy);
+        free(vec4s);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for %zu keyframes of %zu vertices", count,
+                        nv);
+    }
+    sam_status st;
+    if (count && (st = keep_rest_pose(rt, err)) != SAM_OK) {
+        free(times_copy);
+        free(vec4s);
+        return st;
+    }
+    for (size_t i = 0; i < count; ++i) {
+        for (size_t v = 0; v < nv; ++v) {
+            memcpy(vec4s + (i * nv + v) * 4, positions[i] + 3 * v, 3 * sizeof(float));
+            vec4s[(i * nv + v) * 4 + 3] = 1.0f;
+        }
+    }
+    if (count)
+        memcpy(times_copy, times, count * sizeof *times_copy);
+    if (rt->keyframe_buffer)
+        glDeleteBuffers(1, &rt->keyframe_buffer);
+    rt->keyframe_buffer = 0;
+    free(rt->keyframe_times);
+    rt->keyframe_times = times_copy;
+    rt->keyframe_count = 0;
+    if (count) {
+        glGenBuffers(1, &rt->keyframe_buffer);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->keyframe_buffer);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)(count * nv * 4 * sizeof *vec4s), vec4s, GL_STATIC_DRAW);
+        free(vec4s);
+        if (glGetError() != GL_NO_ERROR) {
+            glDeleteBuffers(1, &rt->keyframe_buffer);
+            rt->keyframe_buffer = 0;
+            return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not keep %zu keyframes of %zu vertices",
+                            count, nv);
+        }
+    }
+    rt->keyframe_count = count;
+    return SAM_OK;
+}
+
+/* The keyframe pose at `time_s` as two keys and a weight: positions =
+ * key a + (key b - key a) * w, key -1 being the rest pose at time 0.
+ * Returns 0 when that is the rest pose itself. */
+static int keyframe_pose(const sam_runtime *rt, float time_s, GLint *a, GLint *b, float *w)
+{
+    *a = *b = -1;
+    *w = 0.0f;
+    if (!rt->keyframe_count || time_s <= 0.0f)
+        return 0;
+    const float *t = rt->keyframe_times;
+    size_t n = rt->keyframe_count;
+    if (time_s >= t[n - 1]) {
+        *a = *b = (GLint)(n - 1); /* after the last key the pose holds */
+        return 1;
+    }
+    size_t i = 0;
+    while (time_s >= t[i])
+        ++i; /* t[i - 1] <= time_s < t[i], t[-1] = 0 */
+    float t0 = i ? t[i - 1] : 0.0f;
+    *a = (GLint)i - 1;
+    *b = (GLint)i;
+    *w = (time_s - t0) / (t[i] - t0);
+    return 1;
 }
 
 sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
@@ -1175,8 +1272,11 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
     if (!rt->rest_buffer[0])
         return SAM_OK; /* never deformed: the buffers hold the rest pose */
     sam_deform_step steps[SAM_DEFORM_MAX];
+    GLint key_a, key_b;
+    float key_w;
+    int keyed = keyframe_pose(rt, time_s, &key_a, &key_b, &key_w);
     glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_DEFORM]);
-    if (!sam_deform_prepare(rt->deformers, rt->deformer_count, time_s, steps)) {
+    if (!sam_deform_prepare(rt->deformers, rt->deformer_count, time_s, steps) && !keyed) {
         /* A copy, not the passes, so the rest pose comes back bit for bit. */
         GLsizeiptr bytes[REST_COUNT];
         rest_sizes(rt, bytes);
@@ -1211,10 +1311,18 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
         glUniform3fv(glGetUniformLocation(p, "u_direction"), used, &direction[0][0]);
         glUniform3fv(glGetUniformLocation(p, "u_center"), used, &center[0][0]);
         glUniform3fv(glGetUniformLocation(p, "u_param"), used, &param[0][0]);
+        glUniform1i(glGetUniformLocation(p, "u_key_a"), key_a);
+        glUniform1i(glGetUniformLocation(p, "u_key_b"), key_b);
+        glUniform1f(glGetUniformLocation(p, "u_key_w"), key_w);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_POSITIONS, rt->buffer[B_POSITIONS]);
+        /* Without keyframes the shader never reads binding 1; the rest
+         * positions stand in so that every declared block is bound. */
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_NORMALS,
+                         rt->keyframe_buffer ? rt->keyframe_buffer : rt->rest_buffer[REST_POSITIONS]);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_SAMPLES, rt->rest_buffer[REST_POSITIONS]);
         glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_NORMALS, rt->buffer[B_NORMALS]);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_SAMPLES, rt->buffer[B_SAMPLES]);
         p = rt->deform_normals_program;
         glUseProgram(p);

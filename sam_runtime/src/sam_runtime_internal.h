@@ -59,10 +59,13 @@ struct sam_runtime {
     GLuint buffer[B_COUNT];
     GLuint translucency_program, irradiance_program;
     GLuint deform_program, deform_normals_program, walk_program;
-    GLuint rest_buffer[REST_COUNT]; /* 0 until the first sam_runtime_set_deformers */
+    GLuint rest_buffer[REST_COUNT]; /* 0 until the first sam_runtime_set_deformers or _set_keyframes */
     int posed;                      /* 1 while the buffers hold a deformed pose, not the rest pose */
     sam_deformer deformers[SAM_DEFORM_MAX];
     size_t deformer_count;
+    GLuint keyframe_buffer; /* keyframe_count poses of vertex_count vec4 positions, or 0 */
+    float *keyframe_times;  /* keyframe_count seconds, > 0, strictly increasing */
+    size_t keyframe_count;
     GLuint query[SAM_PASS_COUNT];
     int query_used[SAM_PASS_COUNT];
     uint32_t light_count;

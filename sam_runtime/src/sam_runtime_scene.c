@@ -1,9 +1,11 @@
 /* A scene file applied to a runtime (sam_runtime_scene.h). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "sam/sam_light.h"
+#include "sam/sam_mesh.h"
 #include "sam/sam_runtime_scene.h"
 
 static void set_warning(char *warning, size_t n, const char *text)
@@ -55,6 +57,60 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
             st = SAM_OK;
         }
     }
+    return st;
+}
+
+/* Refuses a keyframe mesh whose render vertices or triangles are not the
+ * .sam's: its positions would land on other vertices. */
+static sam_status check_topology(const char *path, const sam_mesh *mesh, const samfile_data *sam, sam_error *err)
+{
+    if (mesh->vertex_count != sam->vertex_count)
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: %u vertices, the rest mesh has %u", path, mesh->vertex_count,
+                        sam->vertex_count);
+    if (mesh->triangle_count != sam->triangle_count)
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: %u triangles, the rest mesh has %u", path, mesh->triangle_count,
+                        sam->triangle_count);
+    for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
+        const uint32_t *a = mesh->triangles + 3 * t, *b = sam->triangles + 3 * t;
+        if (memcmp(a, b, 3 * sizeof *a) != 0)
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: triangle %u is (%u, %u, %u), the rest mesh's is (%u, %u, %u)",
+                            path, t, a[0], a[1], a[2], b[0], b[1], b[2]);
+    }
+    return SAM_OK;
+}
+
+sam_status sam_runtime_scene_keyframes(sam_runtime *rt, const sam_scene *scene, const samfile_data *sam,
+                                       sam_error *err)
+{
+    if (!rt || !scene || !sam)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "scene keyframes: NULL runtime, scene or map");
+    const size_t count = scene->keyframe_count;
+    if (!count)
+        return sam_runtime_set_keyframes(rt, NULL, NULL, 0, err);
+    float **positions = calloc(count, sizeof *positions);
+    float *times = malloc(count * sizeof *times);
+    sam_status st = positions && times ? SAM_OK
+                                       : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "scene keyframes: out of memory for %zu",
+                                                  count);
+    for (size_t i = 0; i < count && st == SAM_OK; ++i) {
+        const char *path = scene->keyframes[i].mesh;
+        times[i] = scene->keyframes[i].time_s;
+        sam_mesh mesh;
+        if ((st = sam_mesh_load(path, &mesh, NULL, err)) != SAM_OK)
+            break;
+        if ((st = check_topology(path, &mesh, sam, err)) == SAM_OK) {
+            /* Taken over, not copied: the mesh's positions outlive it. */
+            positions[i] = mesh.positions;
+            mesh.positions = NULL;
+        }
+        sam_mesh_destroy(&mesh);
+    }
+    if (st == SAM_OK)
+        st = sam_runtime_set_keyframes(rt, (const float *const *)positions, times, count, err);
+    for (size_t i = 0; positions && i < count; ++i)
+        free(positions[i]);
+    free(positions);
+    free(times);
     return st;
 }
 

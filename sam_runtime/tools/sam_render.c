@@ -23,7 +23,7 @@ static void usage(FILE *out)
             "  --tonemap aces|reinhard, --exposure EV\n"
             "                         the PNG's tone curve and exposure (default: the scene's)\n"
             "  --frames N             frames to run the SAM passes before the picture (default 1)\n"
-            "  --animate N            render N frames of the scene's deformers instead: OUT_0000.exr,\n"
+            "  --animate N            render N frames of the scene's deformers and keyframes instead: OUT_0000.exr,\n"
             "                         OUT_0001.exr, ... (and PNGs likewise), the pose, the sample walk,\n"
             "                         L_d and smoothed translucency updated every frame\n"
             "  --fps F                frames per second of --animate (default 30; dt = 1/F)\n"
@@ -286,9 +286,9 @@ int main(int argc, char **argv)
     sam_scene scene;
     if (sam_scene_load(scene_path, &scene, &err) != SAM_OK)
         return fail(err.message);
-    if (animate && !scene.deformer_count) {
+    if (animate && !scene.deformer_count && !scene.keyframe_count) {
         sam_scene_destroy(&scene);
-        fprintf(stderr, "sam_render: %s has no \"deformers\" to animate\n", scene_path);
+        fprintf(stderr, "sam_render: %s has no \"deformers\" or \"keyframes\" to animate\n", scene_path);
         return 1;
     }
     /* techniques[] follows sam_technique's order. */
@@ -324,7 +324,8 @@ int main(int argc, char **argv)
     char warning[512];
     if (sam_gl_context_create_headless(&gl, &err) != SAM_OK ||
         sam_runtime_create(&sam, &profile, mm_per_unit, &rt, &err) != SAM_OK ||
-        sam_runtime_scene_setup(rt, &scene, NULL, NULL, warning, sizeof warning, &err) != SAM_OK)
+        sam_runtime_scene_setup(rt, &scene, NULL, NULL, warning, sizeof warning, &err) != SAM_OK ||
+        sam_runtime_scene_keyframes(rt, &scene, &sam, &err) != SAM_OK)
         goto done;
     if (warning[0])
         fprintf(stderr, "sam_render: warning: %s\n", warning);
@@ -362,7 +363,7 @@ int main(int argc, char **argv)
     for (long picture = 0; picture < pictures; ++picture) {
         for (long f = 0; f < passes; ++f) {
             long frame = animate ? picture : f;
-            if (scene.deformer_count && (frame == 0 || animate) &&
+            if ((scene.deformer_count || scene.keyframe_count) && (frame == 0 || animate) &&
                 (sam_runtime_deform(rt, (float)picture / fps, &err) != SAM_OK || sam_runtime_walk(rt, &err) != SAM_OK))
                 goto done;
             if (sam_runtime_irradiance(rt, &err) != SAM_OK)

@@ -129,7 +129,22 @@ done
 [ -e "$tmp/anim.exr" ] && fail "--animate also wrote the unnumbered name"
 cmp -s "$tmp/anim_0000.exr" "$tmp/anim_0001.exr" && fail "frames 0 and 1 of a bending ear are the same picture"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/bad.exr" --animate 2 2> "$tmp/err.txt" && fail "--animate without deformers"
-grep -q 'has no "deformers" to animate' "$tmp/err.txt" || fail "no-deformers message: $(cat "$tmp/err.txt")"
+grep -q 'has no "deformers" or "keyframes" to animate' "$tmp/err.txt" || fail "no-deformers message: $(cat "$tmp/err.txt")"
+# --animate with a keyframe: the same sphere at another size has the rest mesh's topology.
+"$bin/sam_meshgen" sphere -o "$tmp/sphere.obj" --resolution 8 --size 1 > /dev/null 2>&1 || fail "meshgen sphere"
+"$bin/sam_meshgen" sphere -o "$tmp/pose.obj" --resolution 8 --size 1.4 > /dev/null 2>&1 || fail "meshgen pose"
+cat > "$tmp/keys.json" <<JSON
+{"mesh": "sphere.obj", "material": "skin", "scale": {"mm_per_unit": 30},
+ "lights": [{"type": "point", "position": [0.2, 0.3, -2.0], "intensity": 6.0}],
+ "keyframes": [{"mesh": "pose.obj", "time_s": 0.1}], "resolution": [32, 32]}
+JSON
+"$bin/sam_render" "$tmp/keys.json" -o "$tmp/keys.exr" --animate 2 --fps 10 2> "$tmp/keys.txt" \
+  || fail "--animate keyframes: $(cat "$tmp/keys.txt")"
+[ -s "$tmp/keys_0000.exr" ] && [ -s "$tmp/keys_0001.exr" ] || fail "--animate keyframes wrote no frames: $(ls "$tmp")"
+cmp -s "$tmp/keys_0000.exr" "$tmp/keys_0001.exr" && fail "frames 0 and 1 of a growing sphere are the same picture"
+"$bin/sam_meshgen" sphere -o "$tmp/pose.obj" --resolution 12 --size 1.4 --force > /dev/null 2>&1 || fail "meshgen pose 12"
+"$bin/sam_render" "$tmp/keys.json" -o "$tmp/bad.exr" --animate 2 2> "$tmp/err.txt" && fail "a keyframe of another topology"
+grep -q 'pose.obj: .* vertices, the rest mesh has' "$tmp/err.txt" || fail "topology message: $(cat "$tmp/err.txt")"
 expect_error 2 "--animate with --frames" "$tmp/anim.json" --animate 2 --frames 3
 expect_error 2 "bad --fps" "$tmp/anim.json" --animate 2 --fps 0
 "$bin/sam_render" --help | grep -q "usage: sam_render" || fail "--help"

@@ -44,6 +44,15 @@
  *   "exposure": EV, finite, in [-32, 32]                     default 0
  *   "deformers": [deformer, ...]   default none; at most SAM_DEFORM_MAX,
  *        applied in order to the rest positions (formulas in sam_deform.h)
+ *   "keyframes": [{"mesh": "pose1.obj", "time_s": 0.5}, ...]   default none
+ *        poses of the object over time, each a mesh with the rest mesh's
+ *        topology (the same render vertices and triangles after
+ *        sam_mesh_load; checked when a runtime loads them,
+ *        sam_runtime_scene_keyframes). Both keys required; time_s > 0 and
+ *        strictly increasing. The rest mesh is the pose at time 0; between
+ *        two keys the positions are interpolated linearly; after the last
+ *        key the animation holds its pose (before time 0, the rest pose).
+ *        The deformers apply on top of the interpolated positions.
  *
  * Deformers ("type" required; keys marked (required) must be given, the
  * others default to the value shown; vectors are normalised on load):
@@ -90,7 +99,8 @@
  *   light irradiance color * intensity, an area light radiance
  *   color * intensity.
  *
- * Relative paths (mesh, sam, albedo map, environment map, profile file)
+ * Relative paths (mesh, sam, albedo map, environment map, profile file,
+ * keyframe meshes)
  * resolve against the scene file's directory; the scene stores absolute
  * paths, and each referenced file must exist when the scene is loaded.
  *
@@ -204,6 +214,12 @@ typedef struct sam_camera {
     float far_plane;  /* > near_plane, or 0 = automatic */
 } sam_camera;
 
+/* One pose of "keyframes". */
+typedef struct sam_keyframe {
+    char *mesh;   /* absolute path of a mesh with the rest mesh's topology */
+    float time_s; /* > 0, larger than the previous keyframe's */
+} sam_keyframe;
+
 typedef struct sam_scene {
     char *mesh_path; /* absolute; at least one of mesh_path and sam_path is non-NULL */
     char *sam_path;
@@ -234,12 +250,16 @@ typedef struct sam_scene {
 
     sam_deformer deformers[SAM_DEFORM_MAX]; /* deformer_count used, applied in order */
     size_t deformer_count;
+
+    sam_keyframe *keyframes; /* keyframe_count entries, times strictly increasing, or NULL */
+    size_t keyframe_count;
 } sam_scene;
 
 /* Sets every field to its default: no mesh, no material, no lights, no
  * environment, no camera. Frees nothing: call it on a new scene only. A
  * caller building a scene by hand sets mesh_path etc. to malloc'd strings
- * and `lights` to a malloc'd array; sam_scene_destroy frees them. */
+ * and `lights` and `keyframes` (with their `mesh` strings) to malloc'd
+ * arrays; sam_scene_destroy frees them. */
 void sam_scene_init(sam_scene *scene);
 
 /* Reads and parses the scene file at `path`. On success the caller owns

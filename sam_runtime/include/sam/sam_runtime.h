@@ -67,22 +67,41 @@ uint32_t sam_runtime_samples_per_vertex(const sam_runtime *rt);
 
 /* The deformers of an animated pose (copied; `count` <= SAM_DEFORM_MAX,
  * each as sam_scene accepts them), replacing any earlier ones; 0 removes
- * them. Nothing moves until sam_runtime_deform. The first call keeps the
- * current positions, normals, fan areas and samples on the GPU as the rest
- * pose (36 + 16 n bytes per vertex, n samples). Errors: SAM_ERR_INVALID_ARGUMENT (too many, NULL
+ * them. Nothing moves until sam_runtime_deform. The first call (of this or
+ * sam_runtime_set_keyframes) keeps the current positions, normals, fan
+ * areas and samples on the GPU as the rest pose (36 + 16 n bytes per
+ * vertex, n samples). Errors: SAM_ERR_INVALID_ARGUMENT (too many, NULL
  * with count > 0), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_set_deformers(sam_runtime *rt, const sam_deformer *deformers, size_t count,
                                      sam_error *err);
 
+/* The keyframes of an animated pose (copied), replacing any earlier ones;
+ * 0 removes them. `positions[i]` is keyframe i's 3 * vertex_count
+ * positions in model units, render vertices in the .sam's order (the
+ * caller checks that they belong to the same mesh:
+ * sam_runtime_scene_keyframes does); `times[i]` its time in seconds,
+ * finite, > 0 and strictly increasing. The rest pose is the key at time 0;
+ * sam_runtime_deform interpolates linearly between the two keys around its
+ * time, holds the last key after it and the rest pose before 0. Nothing
+ * moves until sam_runtime_deform. Keeps the rest pose as
+ * sam_runtime_set_deformers does, plus 16 bytes per vertex and keyframe.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL arrays with count > 0, a NULL
+ * keyframe, times out of order or <= 0: naming the keyframe and time),
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_set_keyframes(sam_runtime *rt, const float *const *positions, const float *times,
+                                     size_t count, sam_error *err);
+
 /* Poses the object at time `time_s` (seconds): a compute pass writes the
- * rest positions moved by the deformers (sam_deform.h; sam_deform_positions
+ * rest positions (or, with keyframes, the keyframe pose interpolated at
+ * that time) moved by the deformers (sam_deform.h; sam_deform_positions
  * is its CPU reference), a second one every vertex's normal (the
  * area-weighted sum of the cross products of consecutive ring neighbours
  * in the adjacency buffer, normalised) and reduced fan area F'_i of eq. 16
  * in mm^2 (sam_mesh_fan_areas' sum in float). Every later pass reads the
  * new buffers: shadow maps, L_d, translucency (eq. 15 takes the new F'_b
  * and distances), shading and the diffusion techniques. When no deformer
- * moves anything at that time (none set, or all at strength 0) the rest
+ * moves anything at that time (none set, or all at strength 0) and the
+ * keyframe pose is the rest pose (no keyframes, or time_s <= 0) the rest
  * positions, normals and fan areas are restored bit for bit. Not updated:
  * the bounds (sam_runtime_bounds, shadow and camera ranges), the surface
  * area and the curvature of pre-integrated shading stay the rest pose's.

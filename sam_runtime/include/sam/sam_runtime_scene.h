@@ -16,7 +16,8 @@ extern "C" {
 
 /* Gives `rt` the scene's lights, its deformers (posed by
  * sam_runtime_deform), its environment (the lat-long map's SH-9 radiance,
- * rotated and scaled as the scene says) and its albedo map.
+ * rotated and scaled as the scene says) and its albedo map. Keyframes need
+ * the .sam as well: sam_runtime_scene_keyframes.
  * `sh` (may be NULL) receives the environment's SH and `*has_environment`
  * (may be NULL) whether there is one, for CPU references that must light
  * the object alike. `warning` (size n, may be NULL) gets one line when
@@ -27,6 +28,19 @@ extern "C" {
  * sam_runtime_set_deformers and sam_runtime_set_albedo_map. */
 sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, float sh[9][3], int *has_environment,
                                    char *warning, size_t n, sam_error *err);
+
+/* Loads the scene's keyframe meshes (sam_mesh_load) and gives them to `rt`
+ * (sam_runtime_set_keyframes); `sam` is the map `rt` was created from. A
+ * scene without keyframes removes any earlier ones. Each mesh must have the
+ * rest mesh's topology: as many render vertices as the .sam and the same
+ * triangles (TRI), in the same order.
+ * Errors: sam_mesh_load's (naming the file), SAM_ERR_FORMAT for a mesh of
+ * another topology, naming the file and the first difference ("pose1.obj:
+ * 1030 vertices, the rest mesh has 1032", "pose1.obj: triangle 17 is
+ * (4, 9, 12), the rest mesh's is (4, 9, 13)"), sam_runtime_set_keyframes',
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_scene_keyframes(sam_runtime *rt, const sam_scene *scene, const samfile_data *sam,
+                                       sam_error *err);
 
 /* The scene's view: its resolution, camera (or, without one, the bounding
  * sphere framed from +Z with a 40 degree field of view), albedo and
