@@ -237,20 +237,20 @@ static sam_status write_difference(const compare_state *s, const char *name, con
     return st;
 }
 
-/* Renders the current view with `technique`, or with `override` as the
+/* Renders `view` on `rt` with `technique`, or with `override` as the
  * translucency when not NULL: full shading and translucency only. */
-static sam_status render_pair(compare_state *s, sam_technique technique, const sam_image *override, sam_image *full,
-                              sam_image *translucency, sam_error *err)
+static sam_status render_pair(sam_runtime *rt, const sam_render_view *view, sam_technique technique,
+                              const sam_image *override, sam_image *full, sam_image *translucency, sam_error *err)
 {
-    sam_render_view v = s->view;
+    sam_render_view v = *view;
     v.technique = technique;
     v.translucency = override;
     v.front = 1;
-    sam_status st = sam_runtime_render(s->rt, &v, full, err);
+    sam_status st = sam_runtime_render(rt, &v, full, err);
     if (st != SAM_OK)
         return st;
     v.front = 0;
-    st = sam_runtime_render(s->rt, &v, translucency, err);
+    st = sam_runtime_render(rt, &v, translucency, err);
     if (st != SAM_OK)
         sam_image_destroy(full);
     return st;
@@ -282,9 +282,9 @@ static sam_status evaluate_truth(compare_state *s, const sam_image *positions, c
     char what[64];
     snprintf(what, sizeof what, "ground truth (%llu samples)", (unsigned long long)samples);
     progress_state ps = {what, -1};
-    sam_truth_settings settings = {0};
+    sam_truth_settings settings;
+    sam_truth_default_settings(&settings);
     settings.sample_count = samples;
-    settings.seed = 1;
     settings.far_field_tolerance = s->truth_tolerance;
     settings.progress = truth_progress;
     settings.progress_user = &ps;
@@ -315,27 +315,57 @@ done:
     return st;
 }
 
-/* Scores a technique's images against the truth's. */
-static sam_status score(const compare_state *s, const sam_image *full, const sam_image *translucency,
-                        const sam_image *truth_full, const sam_image *truth_translucency, float truth_max,
-                        sam_image_comparison *all, sam_image_comparison *norm, sam_error *err)
+/* The truth as every score sees it, made once per truth: its display
+ * image, its translucency normalised by its maximum, and its alpha as the
+ * object's mask. */
+typedef struct reference {
+    const sam_image *mask;
+    float max;
+    sam_image shown, norm;
+} reference;
+
+static void reference_destroy(reference *ref)
 {
-    sam_image a = {0}, b = {0}, c = {0}, d = {0};
+    sam_image_destroy(&ref->shown);
+    sam_image_destroy(&ref->norm);
+}
+
+static sam_status reference_make(const compare_state *s, const sam_image *full, const sam_image *translucency,
+                                 float max, reference *ref, sam_error *err)
+{
+    memset(ref, 0, sizeof *ref);
+    ref->mask = full;
+    ref->max = max;
+    sam_status st = display(s, full, &ref->shown, err);
+    if (st == SAM_OK)
+        st = normalised(translucency, max, &ref->norm, err);
+    if (st != SAM_OK)
+        reference_destroy(ref);
+    return st;
+}
+
+/* Scores a render pair against `ref`. Its display and normalised images go
+ * to `shown` and `norm` when not NULL (the caller destroys them). */
+static sam_status score(const compare_state *s, const reference *ref, const sam_image *full,
+                        const sam_image *translucency, sam_image_comparison *all, sam_image_comparison *normal,
+                        sam_image *shown, sam_image *norm, sam_error *err)
+{
+    sam_image a = {0}, b = {0};
     sam_status st = display(s, full, &a, err);
     if (st == SAM_OK)
-        st = display(s, truth_full, &b, err);
+        st = sam_image_compare_srgb8(&a, &ref->shown, ref->mask, all, err);
     if (st == SAM_OK)
-        st = sam_image_compare_srgb8(&a, &b, truth_full, all, err);
+        st = normalised(translucency, ref->max, &b, err);
     if (st == SAM_OK)
-        st = normalised(translucency, truth_max, &c, err);
-    if (st == SAM_OK)
-        st = normalised(truth_translucency, truth_max, &d, err);
-    if (st == SAM_OK)
-        st = sam_image_compare_srgb8(&c, &d, truth_full, norm, err);
-    sam_image_destroy(&a);
-    sam_image_destroy(&b);
-    sam_image_destroy(&c);
-    sam_image_destroy(&d);
+        st = sam_image_compare_srgb8(&b, &ref->norm, ref->mask, normal, err);
+    if (st == SAM_OK && shown)
+        *shown = a;
+    else
+        sam_image_destroy(&a);
+    if (st == SAM_OK && norm)
+        *norm = b;
+    else
+        sam_image_destroy(&b);
     return st;
 }
 
@@ -352,16 +382,15 @@ static void blit(sam_image *row, const sam_image *img, uint32_t x0)
  * the techniques in the report's order): row.png of the full shading,
  * translucency_row.png of the normalised translucency. */
 static sam_status write_images(const compare_state *s, technique_result *results, const sam_image *truth_full,
-                               const sam_image *truth_translucency, float truth_max, sam_error *err)
+                               const sam_image *truth_translucency, const reference *ref, sam_error *err)
 {
+    /* shown[0] and norm[0] are the reference's; the caller owns them. */
     sam_image shown[MAX_TECHNIQUES + 1], norm[MAX_TECHNIQUES + 1], row = {0}, row_t = {0};
     memset(shown, 0, sizeof shown);
     memset(norm, 0, sizeof norm);
-    sam_status st = display(s, truth_full, &shown[0], err);
-    if (st == SAM_OK)
-        st = normalised(truth_translucency, truth_max, &norm[0], err);
-    if (st == SAM_OK)
-        st = write_pair(s, "truth", truth_full, &shown[0], err);
+    shown[0] = ref->shown;
+    norm[0] = ref->norm;
+    sam_status st = write_pair(s, "truth", truth_full, &shown[0], err);
     if (st == SAM_OK)
         st = write_pair(s, "truth_translucency", truth_translucency, &norm[0], err);
     int count = 1;
@@ -372,17 +401,12 @@ static sam_status write_images(const compare_state *s, technique_result *results
         char name[128];
         sam_image *a = &shown[count], *b = &norm[count];
         ++count;
-        st = score(s, &r->full, &r->translucency, truth_full, truth_translucency, truth_max, &r->all, &r->normalised,
-                   err);
-        if (st == SAM_OK)
-            st = display(s, &r->full, a, err);
+        st = score(s, ref, &r->full, &r->translucency, &r->all, &r->normalised, a, b, err);
         if (st == SAM_OK)
             st = write_pair(s, technique_names[t], &r->full, a, err);
         snprintf(name, sizeof name, "%s_diff4", technique_names[t]);
         if (st == SAM_OK)
             st = write_difference(s, name, a, &shown[0], err);
-        if (st == SAM_OK)
-            st = normalised(&r->translucency, truth_max, b, err);
         snprintf(name, sizeof name, "%s_translucency", technique_names[t]);
         if (st == SAM_OK)
             st = write_pair(s, name, &r->translucency, b, err);
@@ -412,7 +436,7 @@ static sam_status write_images(const compare_state *s, technique_result *results
         if (st == SAM_OK)
             st = sam_image_write_png(path, &row_t, SAM_PNG_SRGB, err);
     }
-    for (int i = 0; i <= MAX_TECHNIQUES; ++i) {
+    for (int i = 1; i <= MAX_TECHNIQUES; ++i) {
         sam_image_destroy(&shown[i]);
         sam_image_destroy(&norm[i]);
     }
@@ -631,8 +655,8 @@ static sam_status plot_sweep(const compare_state *s, const sweep_point *sweep, i
 }
 
 /* Rebuilds the map with N samples per vertex for each N and scores SAM. */
-static sam_status run_sweep(compare_state *s, const long *ns, int count, const sam_image *truth_full,
-                            const sam_image *truth_translucency, float truth_max, sweep_point *out, sam_error *err)
+static sam_status run_sweep(const compare_state *s, const long *ns, int count, const reference *ref,
+                            sweep_point *out, sam_error *err)
 {
     for (int i = 0; i < count; ++i) {
         char what[64];
@@ -657,15 +681,10 @@ static sam_status run_sweep(compare_state *s, const long *ns, int count, const s
             st = sam_runtime_irradiance(rt, err);
         if (st == SAM_OK)
             st = sam_runtime_translucency(rt, 0, 0.0f, 1, err);
-        if (st == SAM_OK) {
-            sam_runtime *kept = s->rt;
-            s->rt = rt;
-            st = render_pair(s, SAM_TECHNIQUE_SAM, NULL, &full, &translucency, err);
-            s->rt = kept;
-        }
         if (st == SAM_OK)
-            st = score(s, &full, &translucency, truth_full, truth_translucency, truth_max, &out[i].all,
-                       &out[i].normalised, err);
+            st = render_pair(rt, &s->view, SAM_TECHNIQUE_SAM, NULL, &full, &translucency, err);
+        if (st == SAM_OK)
+            st = score(s, ref, &full, &translucency, &out[i].all, &out[i].normalised, NULL, NULL, err);
         out[i].n = ns[i];
         if (st == SAM_OK)
             say("sweep: N = %ld: RMSE %.4f, translucency RMSE %.4f", ns[i], out[i].all.rmse, out[i].normalised.rmse);
@@ -778,8 +797,9 @@ int main(int argc, char **argv)
     sam_error err;
     int code = 1;
     sam_gl_context *gl = NULL;
-    sam_image positions = {0}, normals = {0}, truth_override = {0}, truth_full = {0}, truth_translucency = {0};
-    sam_image candidate = {0}, candidate_full = {0}, candidate_translucency = {0};
+    sam_image positions = {0}, normals = {0}, truth_full = {0}, truth_translucency = {0};
+    reference truth_ref = {0};
+    sam_image candidate_full = {0}, candidate_translucency = {0};
     truth_step steps[MAX_DOUBLINGS + 1];
     int step_count = 0, converged = 0;
     sweep_point sweep[MAX_SWEEP];
@@ -830,7 +850,7 @@ int main(int argc, char **argv)
         technique_result *r = &results[t];
         if (!r->requested)
             continue;
-        sam_status st = render_pair(&s, (sam_technique)t, NULL, &r->full, &r->translucency, &err);
+        sam_status st = render_pair(s.rt, &s.view, (sam_technique)t, NULL, &r->full, &r->translucency, &err);
         if (st == SAM_ERR_UNSUPPORTED) {
             snprintf(r->reason, sizeof r->reason, "%s", err.message);
             say("%s unavailable: %s", technique_names[t], r->reason);
@@ -867,29 +887,36 @@ int main(int argc, char **argv)
     uint64_t samples = truth_samples ? (uint64_t)truth_samples : SAM_TRUTH_MIN_SAMPLES;
     for (;;) {
         truth_step *step = &steps[step_count];
-        if (evaluate_truth(&s, &positions, &normals, samples, &candidate, &step->samples, &step->seconds, &err) !=
-                SAM_OK ||
-            render_pair(&s, SAM_TECHNIQUE_SAM, &candidate, &candidate_full, &candidate_translucency, &err) != SAM_OK)
+        sam_image override = {0};
+        sam_status st = evaluate_truth(&s, &positions, &normals, samples, &override, &step->samples, &step->seconds,
+                                       &err);
+        if (st == SAM_OK)
+            st = render_pair(s.rt, &s.view, SAM_TECHNIQUE_SAM, &override, &candidate_full, &candidate_translucency,
+                             &err);
+        sam_image_destroy(&override);
+        if (st != SAM_OK)
             goto done;
         float candidate_max = max_value(&candidate_translucency);
         sam_image_comparison all, norm;
         step->sam_psnr_db = step->sam_psnr_normalised_db = NAN;
         if (sam_r->available && candidate_max > 0) {
-            if (score(&s, &sam_r->full, &sam_r->translucency, &candidate_full, &candidate_translucency, candidate_max,
-                      &all, &norm, &err) != SAM_OK)
+            reference candidate_ref;
+            if (reference_make(&s, &candidate_full, &candidate_translucency, candidate_max, &candidate_ref, &err) !=
+                SAM_OK)
+                goto done;
+            st = score(&s, &candidate_ref, &sam_r->full, &sam_r->translucency, &all, &norm, NULL, NULL, &err);
+            reference_destroy(&candidate_ref);
+            if (st != SAM_OK)
                 goto done;
             step->sam_psnr_db = all.psnr_db;
             step->sam_psnr_normalised_db = norm.psnr_db;
         }
         say("ground truth with %llu samples: %.2f s; SAM PSNR %.2f dB, translucency %.2f dB",
             (unsigned long long)step->samples, step->seconds, step->sam_psnr_db, step->sam_psnr_normalised_db);
-        sam_image_destroy(&truth_override);
         sam_image_destroy(&truth_full);
         sam_image_destroy(&truth_translucency);
-        truth_override = candidate;
         truth_full = candidate_full;
         truth_translucency = candidate_translucency;
-        memset(&candidate, 0, sizeof candidate);
         memset(&candidate_full, 0, sizeof candidate_full);
         memset(&candidate_translucency, 0, sizeof candidate_translucency);
         ++step_count;
@@ -918,15 +945,16 @@ int main(int argc, char **argv)
     }
 
     say("[4/5] images and scores");
-    if (score(&s, &truth_full, &truth_translucency, &truth_full, &truth_translucency, truth_max, &self.all,
-              &self.normalised, &err) != SAM_OK ||
-        write_images(&s, results, &truth_full, &truth_translucency, truth_max, &err) != SAM_OK)
+    if (reference_make(&s, &truth_full, &truth_translucency, truth_max, &truth_ref, &err) != SAM_OK ||
+        score(&s, &truth_ref, &truth_full, &truth_translucency, &self.all, &self.normalised, NULL, NULL, &err) !=
+            SAM_OK ||
+        write_images(&s, results, &truth_full, &truth_translucency, &truth_ref, &err) != SAM_OK)
         goto done;
 
     int monotonic = 1;
     if (sweep_count) {
         say("[5/5] samples sweep");
-        if (run_sweep(&s, sweep_n, sweep_count, &truth_full, &truth_translucency, truth_max, sweep, &err) != SAM_OK)
+        if (run_sweep(&s, sweep_n, sweep_count, &truth_ref, sweep, &err) != SAM_OK)
             goto done;
         for (int i = 1; i < sweep_count; ++i)
             if (sweep_n[i] > sweep_n[i - 1] && sweep[i].all.rmse > sweep[i - 1].all.rmse)
@@ -948,10 +976,9 @@ done:
     }
     sam_image_destroy(&positions);
     sam_image_destroy(&normals);
-    sam_image_destroy(&truth_override);
+    reference_destroy(&truth_ref);
     sam_image_destroy(&truth_full);
     sam_image_destroy(&truth_translucency);
-    sam_image_destroy(&candidate);
     sam_image_destroy(&candidate_full);
     sam_image_destroy(&candidate_translucency);
     sam_runtime_destroy(s.rt);
