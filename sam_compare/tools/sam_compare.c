@@ -698,20 +698,29 @@ static sam_status run_sweep(const compare_state *s, const long *ns, int count, c
     return SAM_OK;
 }
 
-/* DIR: created when missing; one that already holds a report is kept
- * unless --force, so a finished comparison is not overwritten by accident. */
-static sam_status prepare_dir(const char *dir, int force, sam_error *err)
+/* DIR is checked before any work: one that already holds a report is kept
+ * unless --force, so a finished comparison is not overwritten by accident.
+ * It is created only when the first image is ready (create_dir), so a run
+ * that fails before that leaves nothing behind. */
+static sam_status check_dir(const char *dir, int force, sam_error *err)
 {
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-        return sam_fail(err, SAM_ERR_IO, "cannot create %s: %s", dir, strerror(errno));
     struct stat sb;
-    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
+    if (stat(dir, &sb) != 0)
+        return errno == ENOENT ? SAM_OK : sam_fail(err, SAM_ERR_IO, "%s: %s", dir, strerror(errno));
+    if (!S_ISDIR(sb.st_mode))
         return sam_fail(err, SAM_ERR_IO, "%s is not a directory", dir);
     char report[4096];
     sam_status st = join_path(report, sizeof report, dir, "report.json", err);
     if (st == SAM_OK && !force && access(report, F_OK) == 0)
         st = sam_fail(err, SAM_ERR_IO, "%s already holds a report (report.json); give --force to overwrite it", dir);
     return st;
+}
+
+static sam_status create_dir(const char *dir, sam_error *err)
+{
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return sam_fail(err, SAM_ERR_IO, "cannot create %s: %s", dir, strerror(errno));
+    return SAM_OK;
 }
 
 int main(int argc, char **argv)
@@ -815,7 +824,7 @@ int main(int argc, char **argv)
         sam_scene_destroy(&s.scene);
         return 2;
     }
-    if (prepare_dir(dir, force, &err) != SAM_OK)
+    if (check_dir(dir, force, &err) != SAM_OK)
         goto done;
     /* The truth reads the map's rest positions, so the runtime stays at rest too. */
     if (s.scene.deformer_count || s.scene.keyframe_count)
@@ -945,7 +954,7 @@ int main(int argc, char **argv)
     }
 
     say("[4/5] images and scores");
-    if (reference_make(&s, &truth_full, &truth_translucency, truth_max, &truth_ref, &err) != SAM_OK ||
+    if (create_dir(dir, &err) != SAM_OK || reference_make(&s, &truth_full, &truth_translucency, truth_max, &truth_ref, &err) != SAM_OK ||
         score(&s, &truth_ref, &truth_full, &truth_translucency, &self.all, &self.normalised, NULL, NULL, &err) !=
             SAM_OK ||
         write_images(&s, results, &truth_full, &truth_translucency, &truth_ref, &err) != SAM_OK)

@@ -70,5 +70,11 @@ expect_error "bad sweep" "$tmp/scene.json" --out "$tmp/x" --samples-sweep 3,0
 expect_error "bad tolerance" "$tmp/scene.json" --out "$tmp/x" --truth-tolerance 0.7
 expect_error "missing scene" "$tmp/nope.json" --out "$tmp/x"
 expect_error "no --out" "$tmp/scene.json"
+# A run that fails before its first image leaves no output folder.
+printf 'SAMFjunk' > "$tmp/bad.sam"
+printf '{"sam": "bad.sam", "material": "skin", "scale": {"mm_per_unit": 10}, "resolution": [32, 32]}' > "$tmp/bad.json"
+expect_error "corrupted .sam" "$tmp/bad.json" --out "$tmp/badout"
+grep -q "bad.sam: truncated" "$tmp/err.txt" || fail "corrupted .sam message: $(cat "$tmp/err.txt")"
+[ -e "$tmp/badout" ] && fail "a failed run left $tmp/badout"
 "$bin/sam_compare" --help | grep -q "usage: sam_compare" || fail "--help"
 echo "ok"
