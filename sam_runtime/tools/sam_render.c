@@ -286,7 +286,8 @@ int main(int argc, char **argv)
     sam_scene scene;
     if (sam_scene_load(scene_path, &scene, &err) != SAM_OK)
         return fail(err.message);
-    if (animate && !scene.deformer_count && !scene.keyframe_count) {
+    const int posed = scene.deformer_count || scene.keyframe_count;
+    if (animate && !posed) {
         sam_scene_destroy(&scene);
         fprintf(stderr, "sam_render: %s has no \"deformers\" or \"keyframes\" to animate\n", scene_path);
         return 1;
@@ -363,7 +364,7 @@ int main(int argc, char **argv)
     for (long picture = 0; picture < pictures; ++picture) {
         for (long f = 0; f < passes; ++f) {
             long frame = animate ? picture : f;
-            if ((scene.deformer_count || scene.keyframe_count) && (frame == 0 || animate) &&
+            if (posed && (frame == 0 || animate) &&
                 (sam_runtime_deform(rt, (float)picture / fps, &err) != SAM_OK || sam_runtime_walk(rt, &err) != SAM_OK))
                 goto done;
             if (sam_runtime_irradiance(rt, &err) != SAM_OK)
