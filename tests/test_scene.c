@@ -448,6 +448,7 @@ static void assert_scenes_equal(const sam_scene *a, const sam_scene *b)
     assert_int_equal(a->width, b->width);
     assert_int_equal(a->height, b->height);
     assert_int_equal(a->technique, b->technique);
+    assert_int_equal(a->samples_per_vertex, b->samples_per_vertex);
     assert_int_equal(a->diffusion, b->diffusion);
     const sam_diffusion_options *x = &a->diffusion_options, *y = &b->diffusion_options;
     assert_int_equal(x->sss_kernel, y->sss_kernel);
@@ -556,7 +557,8 @@ static void test_write_hand_built_scene(void **state)
     a.lights[1].normal[2] = -1.0f;
     a.lights[1].area = 0.5f;
     a.technique = SAM_TECHNIQUE_TRANSMITTANCE;
-    a.diffusion = SAM_DIFFUSION_PREINTEGRATED;
+    a.diffusion = SAM_DIFFUSION_NONE;
+    a.samples_per_vertex = 2;
     dir_file(out, sizeof out, "hand.json");
     if (sam_scene_write(out, &a, &err) != SAM_OK)
         fail_msg("%s", err.message);
@@ -898,7 +900,9 @@ static const error_case error_cases[] = {
      "scene.json: technique: unknown technique \"magic\" (expected sam, none, tsm, transmittance)"},
     {"{\"sam\": \"head.sam\", \"diffusion\": \"SCREEN\"}", SAM_ERR_FORMAT,
      "scene.json: diffusion: unknown diffusion \"SCREEN\" (expected screen, texture, "
-     "preintegrated)"},
+     "preintegrated, none)"},
+    {"{\"sam\": \"head.sam\", \"samples_per_vertex\": 65}", SAM_ERR_FORMAT,
+     "scene.json: samples_per_vertex: expected an integer in [0, 64], found 65"},
     {"{\"sam\": \"head.sam\", \"tonemap\": null}", SAM_ERR_FORMAT,
      "scene.json: tonemap: expected a non-empty string, found null"},
     {"{\"sam\": \"head.sam\", \"exposure\": 40}", SAM_ERR_FORMAT,

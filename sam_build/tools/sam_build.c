@@ -55,41 +55,6 @@ static void usage(FILE *out)
             d.samples_per_vertex, d.mc_samples, d.radius_tolerance, (unsigned long long)d.seed);
 }
 
-typedef struct progress_view {
-    double start;
-    int tty, quiet, last_decile;
-    int open_line; /* a carriage-return bar is on screen without its newline */
-} progress_view;
-
-static int show_progress(void *user, uint64_t done, uint64_t total)
-{
-    progress_view *v = user;
-    if (interrupted)
-        return 1;
-    if (v->quiet || total == 0)
-        return 0;
-    double elapsed = sam_seconds() - v->start, frac = (double)done / (double)total;
-    double eta = frac > 0 ? elapsed * (1 - frac) / frac : 0;
-    if (v->tty) {
-        char bar[41];
-        int fill = (int)(frac * 40);
-        for (int i = 0; i < 40; ++i)
-            bar[i] = i < fill ? '=' : (i == fill ? '>' : ' ');
-        bar[40] = 0;
-        fprintf(stderr, "\r[%s] %3d%% %llu/%llu vertices, %.1f s, ETA %.1f s   ", bar, (int)(frac * 100),
-                (unsigned long long)done, (unsigned long long)total, elapsed, eta);
-        v->open_line = done != total;
-        if (done == total)
-            fputc('\n', stderr);
-    } else if ((int)(frac * 10) > v->last_decile) {
-        /* Logs get a line per 10%, not a carriage-return bar. */
-        v->last_decile = (int)(frac * 10);
-        fprintf(stderr, "sam_build: %3d%% (%llu/%llu vertices), %.1f s, ETA %.1f s\n", v->last_decile * 10,
-                (unsigned long long)done, (unsigned long long)total, elapsed, eta);
-    }
-    return 0;
-}
-
 static int parse_float(const char *opt, const char *s, float *out)
 {
     char *end;
@@ -243,7 +208,8 @@ int main(int argc, char **argv)
     }
     char sha[65];
     int code = 1;
-    progress_view view = {sam_seconds(), isatty(2), quiet, 0, 0};
+    sam_build_progress_bar view;
+    sam_build_progress_bar_init(&view, "sam_build", quiet, &interrupted);
     sam_build_context *ctx = NULL;
     sam_build_result result;
     memset(&result, 0, sizeof result);
@@ -257,7 +223,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "sam_build: %s: %u vertices (%u welded), %s at %g mm per unit, N=%u, search radius %.3g mm\n",
                 mesh_path, mesh.vertex_count, mesh.topo_count, profile.name, mm_per_unit, settings.samples_per_vertex,
                 sam_profile_radius(&profile, settings.radius_tolerance));
-    if (sam_build_run(ctx, show_progress, &view, &result, &err) != SAM_OK)
+    if (sam_build_run(ctx, sam_build_progress_bar_update, &view, &result, &err) != SAM_OK)
         goto done;
     sam_build_source source = {mesh_path, sha};
     if (sam_build_to_samfile(ctx, &result, &source, &data, &err) != SAM_OK ||

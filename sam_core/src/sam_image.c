@@ -943,6 +943,22 @@ sam_status sam_image_tonemap(const sam_image *hdr, sam_tonemap curve, float expo
     return SAM_OK;
 }
 
+sam_status sam_image_write_picture(const sam_image *hdr, const char *exr, const char *png, sam_tonemap curve,
+                                   float exposure_ev, sam_error *err)
+{
+    sam_status st = sam_image_write_exr(exr, hdr, SAM_EXR_FLOAT, err);
+    if (st != SAM_OK || !png)
+        return st;
+    static const float backdrop[3] = {SAM_IMAGE_PICTURE_BACKDROP, SAM_IMAGE_PICTURE_BACKDROP,
+                                      SAM_IMAGE_PICTURE_BACKDROP};
+    sam_image preview;
+    st = sam_image_tonemap(hdr, curve, exposure_ev, backdrop, &preview, err);
+    if (st == SAM_OK)
+        st = sam_image_write_png(png, &preview, SAM_PNG_SRGB, err);
+    sam_image_destroy(&preview);
+    return st;
+}
+
 /* RMSE of `values` values whose squared errors sum to `sum`, and its PSNR
  * in dB for 8-bit samples; 0 and INFINITY for a zero sum. */
 static void rmse_psnr(uint64_t sum, uint64_t values, double *rmse, double *psnr_db)

@@ -21,7 +21,7 @@
 
 static const char *const light_type_names[] = {"point", "spot", "directional", "area"};
 static const char *const technique_names[] = {"sam", "none", "tsm", "transmittance"};
-static const char *const diffusion_names[] = {"screen", "texture", "preintegrated"};
+static const char *const diffusion_names[] = {"screen", "texture", "preintegrated", "none"};
 static const char *const tonemap_names[] = {"aces", "reinhard"};
 static const char *const sss_kernel_names[] = {"fit2d", "marginal", "eq1"};
 #define COUNT_OF(a) (sizeof(a) / sizeof((a)[0]))
@@ -1043,7 +1043,7 @@ static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scen
                                        "albedo",       "albedo_map", "lights",    "environment",
                                        "camera",       "resolution", "technique", "diffusion",
                                        "screen_space", "texture_space", "tonemap", "exposure",
-                                       "deformers",    "keyframes"};
+                                       "deformers",    "keyframes",  "samples_per_vertex"};
     if (!cJSON_IsObject(root))
         return sam_fail(p->err, SAM_ERR_FORMAT, "%s: expected a JSON object, found %s", p->name,
                         DESCRIBE(root));
@@ -1106,6 +1106,9 @@ static sam_status parse_root(const parser *p, const cJSON *root, sam_scene *scen
             return st;
         scene->technique = (sam_technique)e;
     }
+    if ((v = cJSON_GetObjectItemCaseSensitive(root, "samples_per_vertex")) &&
+        (st = get_uint(p, v, "samples_per_vertex", 0, 64, 0, &scene->samples_per_vertex)) != SAM_OK)
+        return st;
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "diffusion"))) {
         if ((st = get_enum(p, v, "diffusion", "diffusion", diffusion_names,
                            COUNT_OF(diffusion_names), &e)) != SAM_OK)
@@ -1427,6 +1430,7 @@ static cJSON *scene_item(builder *b, const sam_scene *s)
     append(b, res, cJSON_CreateNumber(s->height));
     add(b, root, "resolution", res);
     add(b, root, "technique", cJSON_CreateString(sam_technique_name(s->technique)));
+    add(b, root, "samples_per_vertex", cJSON_CreateNumber(s->samples_per_vertex));
     add(b, root, "diffusion", cJSON_CreateString(sam_diffusion_name(s->diffusion)));
     const sam_diffusion_options *o = &s->diffusion_options;
     cJSON *screen = cJSON_CreateObject();

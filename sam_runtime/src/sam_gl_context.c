@@ -34,6 +34,44 @@ static sam_status fail_egl(sam_gl_context *c, sam_error *err, const char *what)
     return st;
 }
 
+sam_status sam_gl_check_current(int debug, sam_gl_info *i, sam_error *err)
+{
+    memset(i, 0, sizeof *i);
+    snprintf(i->renderer, sizeof i->renderer, "%s", (const char *)glGetString(GL_RENDERER));
+    snprintf(i->version, sizeof i->version, "%s", (const char *)glGetString(GL_VERSION));
+    glGetIntegerv(GL_MAJOR_VERSION, &i->major);
+    glGetIntegerv(GL_MINOR_VERSION, &i->minor);
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &i->max_ssbo_size);
+    glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &i->max_compute_invocations);
+    if (i->major * 10 + i->minor < 43)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "GL: %s offers OpenGL %d.%d; the runtime needs 4.3", i->renderer,
+                        i->major, i->minor);
+    if (i->max_ssbo_size < NEED_SSBO_SIZE || i->max_compute_invocations < NEED_COMPUTE_INVOCATIONS)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                        "GL: %s allows %d-byte storage blocks and %d compute invocations per group; the "
+                        "runtime needs %d and %d",
+                        i->renderer, i->max_ssbo_size, i->max_compute_invocations, NEED_SSBO_SIZE,
+                        NEED_COMPUTE_INVOCATIONS);
+    if (debug) {
+        glEnable(GL_DEBUG_OUTPUT);
+        glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+        glDebugMessageCallback(debug_message, NULL);
+        i->debug_output = 1;
+    }
+    return SAM_OK;
+}
+
+int sam_gl_debug_requested(void)
+{
+    const char *env = getenv("SAM_GL_DEBUG");
+#ifndef NDEBUG
+    (void)env;
+    return 1;
+#else
+    return env && env[0] == '1';
+#endif
+}
+
 sam_status sam_gl_context_create_headless(sam_gl_context **out, sam_error *err)
 {
     *out = NULL;
@@ -55,13 +93,7 @@ sam_status sam_gl_context_create_headless(sam_gl_context **out, sam_error *err)
         return fail_egl(c, err, "cannot open a surfaceless EGL display");
     if (!eglBindAPI(EGL_OPENGL_API))
         return fail_egl(c, err, "EGL cannot bind desktop OpenGL");
-    int debug = 0;
-#ifndef NDEBUG
-    debug = 1;
-#endif
-    const char *env = getenv("SAM_GL_DEBUG");
-    if (env && env[0] == '1')
-        debug = 1;
+    int debug = sam_gl_debug_requested();
     const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3,
                               EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                               EGL_CONTEXT_OPENGL_DEBUG, debug ? EGL_TRUE : EGL_FALSE, EGL_NONE};
@@ -70,33 +102,10 @@ sam_status sam_gl_context_create_headless(sam_gl_context **out, sam_error *err)
         return fail_egl(c, err, "no OpenGL 4.3 core context (the driver offers less)");
     if (!eglMakeCurrent(c->display, EGL_NO_SURFACE, EGL_NO_SURFACE, c->context))
         return fail_egl(c, err, "cannot make the surfaceless context current");
-    sam_gl_info *i = &c->info;
-    snprintf(i->renderer, sizeof i->renderer, "%s", (const char *)glGetString(GL_RENDERER));
-    snprintf(i->version, sizeof i->version, "%s", (const char *)glGetString(GL_VERSION));
-    glGetIntegerv(GL_MAJOR_VERSION, &i->major);
-    glGetIntegerv(GL_MINOR_VERSION, &i->minor);
-    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &i->max_ssbo_size);
-    glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &i->max_compute_invocations);
-    if (i->major * 10 + i->minor < 43) {
-        sam_status st = sam_fail(err, SAM_ERR_UNSUPPORTED, "GL: %s offers OpenGL %d.%d; the runtime needs 4.3",
-                                 i->renderer, i->major, i->minor);
+    sam_status st = sam_gl_check_current(debug, &c->info, err);
+    if (st != SAM_OK) {
         sam_gl_context_destroy(c);
         return st;
-    }
-    if (i->max_ssbo_size < NEED_SSBO_SIZE || i->max_compute_invocations < NEED_COMPUTE_INVOCATIONS) {
-        sam_status st = sam_fail(err, SAM_ERR_UNSUPPORTED,
-                                 "GL: %s allows %d-byte storage blocks and %d compute invocations per group; the "
-                                 "runtime needs %d and %d",
-                                 i->renderer, i->max_ssbo_size, i->max_compute_invocations, NEED_SSBO_SIZE,
-                                 NEED_COMPUTE_INVOCATIONS);
-        sam_gl_context_destroy(c);
-        return st;
-    }
-    if (debug) {
-        glEnable(GL_DEBUG_OUTPUT);
-        glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-        glDebugMessageCallback(debug_message, NULL);
-        i->debug_output = 1;
     }
     *out = c;
     return SAM_OK;

@@ -942,9 +942,9 @@ static void draw_view(sam_runtime *rt, const sam_render_view *view, const sam_ma
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err)
+sam_status sam_runtime_render_texture(sam_runtime *rt, const sam_render_view *view, GLuint *texture, sam_error *err)
 {
-    memset(out, 0, sizeof *out);
+    *texture = 0;
     sam_status st = check_view(rt, view, err);
     if (st == SAM_OK && view->diffusion == 2)
         st = ensure_preintegrated(rt, err);
@@ -984,12 +984,29 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
         rt->query_used[SAM_PASS_DIFFUSION] = 1;
         result = rt->view_tex[3];
     }
-    /* GL's rows run bottom-up; images top-down. */
-    st = sam_runtime_read_texture(result, view->width, view->height, view->width, view->height, 1, out, err);
+    *texture = result;
 done:
     if (override_tex)
         glDeleteTextures(1, &override_tex);
     return st;
+}
+
+sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err)
+{
+    memset(out, 0, sizeof *out);
+    GLuint result;
+    sam_status st = sam_runtime_render_texture(rt, view, &result, err);
+    /* GL's rows run bottom-up; images top-down. */
+    if (st == SAM_OK)
+        st = sam_runtime_read_texture(result, view->width, view->height, view->width, view->height, 1, out, err);
+    return st;
+}
+
+void sam_runtime_view_projection(const sam_runtime *rt, const sam_render_view *view, float m[16])
+{
+    sam_mat4 proj, vp;
+    view_matrices(rt, view, &proj, &vp);
+    memcpy(m, vp.m, sizeof vp.m);
 }
 
 sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *view, sam_gbuffer_space space,

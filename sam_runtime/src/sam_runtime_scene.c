@@ -127,6 +127,7 @@ void sam_runtime_scene_view(const sam_runtime *rt, const sam_scene *scene, sam_r
     /* sam_render_view.diffusion: 0 none, 1 screen, 2 pre-integrated, 3 texture */
     view->diffusion = scene->diffusion == SAM_DIFFUSION_PREINTEGRATED ? 2
                       : scene->diffusion == SAM_DIFFUSION_TEXTURE    ? 3
+                      : scene->diffusion == SAM_DIFFUSION_NONE       ? 0
                                                                      : 1;
     char reason[160];
     if (view->diffusion == 3 && !sam_runtime_uv_status(rt, reason, sizeof reason)) {

@@ -120,25 +120,6 @@ static sam_status numbered(const char *path, long index, char *out, size_t n, sa
     return SAM_OK;
 }
 
-/* The linear EXR and, when `png` is not NULL, the tonemapped sRGB preview
- * over a dark grey backdrop (the EXR keeps alpha). */
-static sam_status write_picture(const sam_image *img, const char *exr, const char *png, const char *tonemap,
-                                float exposure, const sam_scene *scene, sam_error *err)
-{
-    sam_status st = sam_image_write_exr(exr, img, SAM_EXR_FLOAT, err);
-    if (st != SAM_OK || !png)
-        return st;
-    static const float backdrop[3] = {0.02f, 0.02f, 0.02f};
-    sam_image preview;
-    sam_tonemap curve = tonemap ? (!strcmp(tonemap, "reinhard") ? SAM_TONEMAP_REINHARD : SAM_TONEMAP_ACES)
-                                : scene->tonemap;
-    st = sam_image_tonemap(img, curve, isnan(exposure) ? scene->exposure : exposure, backdrop, &preview, err);
-    if (st == SAM_OK)
-        st = sam_image_write_png(png, &preview, SAM_PNG_SRGB, err);
-    sam_image_destroy(&preview);
-    return st;
-}
-
 int main(int argc, char **argv)
 {
     const char *scene_path = NULL, *out = NULL, *png = NULL, *dump = NULL, *technique = NULL, *diffusion = NULL,
@@ -295,12 +276,12 @@ int main(int argc, char **argv)
     /* techniques[] follows sam_technique's order. */
     sam_technique chosen = technique ? (sam_technique)use_technique : scene.technique;
     int use_sam = chosen == SAM_TECHNIQUE_SAM;
-    if (diffusion && strcmp(diffusion, "none"))
+    if (diffusion)
         scene.diffusion = !strcmp(diffusion, "screen")          ? SAM_DIFFUSION_SCREEN
                           : !strcmp(diffusion, "preintegrated") ? SAM_DIFFUSION_PREINTEGRATED
+                          : !strcmp(diffusion, "none")          ? SAM_DIFFUSION_NONE
                                                                 : SAM_DIFFUSION_TEXTURE;
-    int no_diffusion = diffusion && !strcmp(diffusion, "none");
-    if (chosen == SAM_TECHNIQUE_TSM && (no_diffusion || scene.diffusion != SAM_DIFFUSION_TEXTURE)) {
+    if (chosen == SAM_TECHNIQUE_TSM && scene.diffusion != SAM_DIFFUSION_TEXTURE) {
         sam_scene_destroy(&scene);
         return fail("the tsm technique needs texture-space diffusion (--diffusion texture or the scene's "
                     "\"diffusion\": \"texture\")");
@@ -341,8 +322,6 @@ int main(int argc, char **argv)
     }
     if (warning[0])
         fprintf(stderr, "sam_render: warning: %s\n", warning);
-    if (no_diffusion)
-        view.diffusion = 0;
     view.front = !translucency_only;
     view.technique = chosen;
     if (kernel)
@@ -357,6 +336,8 @@ int main(int argc, char **argv)
         parse_optimizations(optimize, &view.options);
     if (texels_per_pixel > 0)
         view.options.texels_per_pixel = texels_per_pixel;
+    sam_tonemap curve = tonemap ? (!strcmp(tonemap, "reinhard") ? SAM_TONEMAP_REINHARD : SAM_TONEMAP_ACES)
+                                : scene.tonemap;
     /* A still picture is the pose at time 0 after `frames` passes; an
      * animation one picture per frame, each frame a new pose. */
     long pictures = animate ? animate : 1, passes = animate ? 1 : frames;
@@ -369,7 +350,7 @@ int main(int argc, char **argv)
                 goto done;
             if (sam_runtime_irradiance(rt, &err) != SAM_OK)
                 goto done;
-            if (use_sam && sam_runtime_translucency(rt, 0, step, frame == 0, &err) != SAM_OK)
+            if (use_sam && sam_runtime_translucency(rt, scene.samples_per_vertex, step, frame == 0, &err) != SAM_OK)
                 goto done;
         }
         char exr_path[4096], png_path[4096];
@@ -378,7 +359,8 @@ int main(int argc, char **argv)
             goto done;
         sam_image_destroy(&img);
         if (sam_runtime_render(rt, &view, &img, &err) != SAM_OK ||
-            write_picture(&img, exr_path, png ? png_path : NULL, tonemap, exposure, &scene, &err) != SAM_OK)
+            sam_image_write_picture(&img, exr_path, png ? png_path : NULL, curve,
+                                    isnan(exposure) ? scene.exposure : exposure, &err) != SAM_OK)
             goto done;
         if (animate)
             fprintf(stderr, "\rsam_render: frame %ld of %ld%s", picture + 1, animate, picture + 1 == animate ? "\n" : "");

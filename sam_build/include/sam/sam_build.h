@@ -29,6 +29,8 @@
 #ifndef SAM_BUILD_H
 #define SAM_BUILD_H
 
+#include <signal.h>
+
 #include "sam/sam_common.h"
 #include "sam/sam_mesh.h"
 #include "sam/sam_profile.h"
@@ -55,6 +57,25 @@ typedef struct sam_build_settings {
  * vertices done and the total. Returning non-zero cancels the build, which
  * then fails with SAM_ERR_INVALID_ARGUMENT "cancelled". May be NULL. */
 typedef int (*sam_build_progress_fn)(void *user, uint64_t done, uint64_t total);
+
+/* A progress display on stderr for sam_build_progress_fn: a carriage-return
+ * bar with the vertex count, elapsed time and ETA on a terminal, a line per
+ * 10% in a log (stderr not a terminal), nothing when quiet. */
+typedef struct sam_build_progress_bar {
+    const char *tool;               /* names the log lines; the caller keeps it */
+    double start;                   /* sam_seconds() at init */
+    int tty, quiet, last_decile;
+    int open_line;                  /* a bar is on screen without its newline: print one before a message */
+    volatile sig_atomic_t *cancel;  /* non-zero cancels the build (a signal handler's flag); may be NULL */
+} sam_build_progress_bar;
+
+/* Starts the clock; `tool` is not copied. */
+void sam_build_progress_bar_init(sam_build_progress_bar *bar, const char *tool, int quiet,
+                                 volatile sig_atomic_t *cancel);
+
+/* A sam_build_progress_fn: `user` is a sam_build_progress_bar. Returns
+ * non-zero (cancel) once *cancel is set. */
+int sam_build_progress_bar_update(void *user, uint64_t done, uint64_t total);
 
 /* Per topological vertex results, N entries each, best first. */
 typedef struct sam_build_result {

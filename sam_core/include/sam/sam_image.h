@@ -135,6 +135,19 @@ typedef enum sam_tonemap {
 sam_status sam_image_tonemap(const sam_image *hdr, sam_tonemap curve, float exposure_ev,
                              const float backdrop[3], sam_image *out, sam_error *err);
 
+/* The backdrop sam_image_write_picture composites a render's background
+ * over: a dark grey, so a black object stays visible. */
+#define SAM_IMAGE_PICTURE_BACKDROP 0.02f
+
+/* A render as the tools write it: the linear HDR image `hdr` to `exr`
+ * (float EXR, alpha kept) and, when `png` is not NULL, its display version
+ * (sam_image_tonemap with `curve` and `exposure_ev` over the grey
+ * SAM_IMAGE_PICTURE_BACKDROP) to `png` as sRGB; each written atomically.
+ * Errors: those of sam_image_write_exr, sam_image_tonemap and
+ * sam_image_write_png (the EXR may exist when the PNG fails). */
+sam_status sam_image_write_picture(const sam_image *hdr, const char *exr, const char *png, sam_tonemap curve,
+                                   float exposure_ev, sam_error *err);
+
 /* How far apart two display images are as 8-bit sRGB. Errors are in 8-bit
  * levels (0..255) over the 3 colour channels; PSNR = 20 log10(255 / rmse). */
 typedef struct sam_image_comparison {

@@ -34,7 +34,9 @@
  *        object's bounds.
  *   "resolution": [width, height]  integers in 1..16384; default [1280, 720]
  *   "technique": "sam" | "none" | "tsm" | "transmittance"   default "sam"
- *   "diffusion": "screen" | "texture" | "preintegrated"     default "screen"
+ *   "samples_per_vertex": N  the SAM samples each vertex sums, 1..64 (more than
+ *        the .sam holds means all); default 0 = all
+ *   "diffusion": "screen" | "texture" | "preintegrated" | "none"   default "screen"
  *   "screen_space": {"kernel": "fit2d" | "marginal" | "eq1", "samples": 17}
  *        optional; samples odd in 9..33 (sam_diffusion_options)
  *   "texture_space": {"atlas_size": 1024, "culled": false, "depth_sized": false,
@@ -168,7 +170,8 @@ typedef enum sam_technique {
 typedef enum sam_diffusion {
     SAM_DIFFUSION_SCREEN = 0,       /* separable screen-space blur */
     SAM_DIFFUSION_TEXTURE = 1,      /* texture-space sum of Gaussians */
-    SAM_DIFFUSION_PREINTEGRATED = 2 /* Penner's pre-integrated lookup */
+    SAM_DIFFUSION_PREINTEGRATED = 2, /* Penner's pre-integrated lookup */
+    SAM_DIFFUSION_NONE = 3           /* no surface diffusion: per-pixel shading only */
 } sam_diffusion;
 
 /* The screen-space kernel's fit to the profile (sam_profile.h): the
@@ -243,6 +246,7 @@ typedef struct sam_scene {
 
     uint32_t width, height; /* 1..SAM_SCENE_MAX_RESOLUTION */
     sam_technique technique;
+    uint32_t samples_per_vertex; /* SAM samples a vertex sums, 1..64; 0 = all the .sam holds */
     sam_diffusion diffusion;
     sam_diffusion_options diffusion_options;
     sam_tonemap tonemap;

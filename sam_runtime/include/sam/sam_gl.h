@@ -47,6 +47,17 @@ typedef struct sam_gl_info {
  * needs), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_gl_context_create_headless(sam_gl_context **ctx, sam_error *err);
 
+/* Checks the context current on this thread, made by anyone (a window
+ * toolkit's, say), as sam_gl_context_create_headless checks its own: GL 4.3
+ * core and the limits the runtime needs; fills `info` and, with `debug`,
+ * turns GL debug output on (messages to stderr).
+ * Errors: SAM_ERR_UNSUPPORTED naming the renderer and what it lacks. */
+sam_status sam_gl_check_current(int debug, sam_gl_info *info, sam_error *err);
+
+/* 1 when GL debug output is wanted: a build without NDEBUG, or
+ * SAM_GL_DEBUG=1 in the environment. */
+int sam_gl_debug_requested(void);
+
 /* Releases the context (NULL is fine). */
 void sam_gl_context_destroy(sam_gl_context *ctx);
 

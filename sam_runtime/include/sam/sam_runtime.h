@@ -281,6 +281,21 @@ typedef struct sam_render_view {
  * SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_image *out, sam_error *err);
 
+/* sam_runtime_render without the read-back, for a caller that shows the
+ * picture on the GPU (a viewer): `*texture` gets the runtime's RGBA32F
+ * texture holding the same linear HDR image, view->width x view->height,
+ * row 0 at the BOTTOM as GL keeps it. The runtime owns the texture; it stays
+ * valid until the next render, a render of another size, or
+ * sam_runtime_destroy. On error `*texture` is 0. Errors as
+ * sam_runtime_render. */
+sam_status sam_runtime_render_texture(sam_runtime *rt, const sam_render_view *view, GLuint *texture,
+                                      sam_error *err);
+
+/* The view's view-projection matrix as sam_runtime_render uses it
+ * (column-major, model units to clip space; `view` as checked by the
+ * render: a size and field of view in range). */
+void sam_runtime_view_projection(const sam_runtime *rt, const sam_render_view *view, float m[16]);
+
 /* Where sam_runtime_gbuffer samples the surface. */
 typedef enum sam_gbuffer_space {
     SAM_GBUFFER_SCREEN = 0, /* the view's pixels */
