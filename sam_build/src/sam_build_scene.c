@@ -64,7 +64,14 @@ sam_status sam_build_scene_object(const sam_scene *scene, const sam_build_settin
     *profile = scene->profile;
     *mm_per_unit = scene->scale_kind == SAM_SCALE_SIZE_MM ? (float)(scene->scale_value / sam_mesh_diagonal(&mesh))
                                                           : scene->scale_value;
-    sam_build_source source = {scene->mesh_path, NULL};
+    /* The hash lets a saved copy of this map be checked against the mesh
+     * later (a viewer's cache, a screenshot's scene). */
+    char hex[65];
+    if ((st = sam_sha256_file(scene->mesh_path, hex, err)) != SAM_OK) {
+        sam_mesh_destroy(&mesh);
+        return st;
+    }
+    sam_build_source source = {scene->mesh_path, hex};
     st = sam_build_samfile(&mesh, profile, *mm_per_unit, settings, &source, progress, user, sam, built_seconds, err);
     sam_mesh_destroy(&mesh);
     return st;

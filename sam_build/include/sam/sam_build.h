@@ -185,7 +185,8 @@ sam_status sam_build_info_read(const samfile_data *data, const char *name, sam_b
  * names one too, by the SHA-256 INFO records), its material and scale taken
  * from the scene where given, else from INFO; a scene naming only a mesh has
  * its map built with `settings` (NULL: the defaults, N = 3) and the scene's
- * material and scale, `progress` as in sam_build_run (may be NULL).
+ * material and scale, `progress` as in sam_build_run (may be NULL), and
+ * INFO recording the mesh's path and SHA-256 so a saved copy can be checked.
  * `*built_seconds` (may be NULL) gets the build time, 0 when read.
  * On success the caller frees `sam` with samfile_free; on failure it is
  * zeroed. Errors: those of samfile_read, sam_build_info_read, sam_mesh_load

@@ -1,0 +1,72 @@
+"""Reads 8-bit PNGs (the files the tools write) with the standard library,
+for the command-line tests: `python3 png.py psnr A B`, `python3 png.py
+differ A B` (pixels that differ), `python3 png.py count A R G B TOL`
+(pixels within TOL of a colour)."""
+import math
+import struct
+import sys
+import zlib
+
+
+def read(path):
+    data = open(path, "rb").read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise SystemExit(f"{path}: not a PNG")
+    pos, idat, width = 8, b"", None
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            width, height, depth, colour, _, _, interlace = struct.unpack(">IIBBBBB", body)
+            if depth != 8 or colour not in (2, 6) or interlace:
+                raise SystemExit(f"{path}: only 8-bit RGB/RGBA, non-interlaced PNGs are read here")
+            channels = 3 if colour == 2 else 4
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw, stride = zlib.decompress(idat), width * channels
+    rows, prev = [], bytearray(stride)
+    for y in range(height):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - channels] if i >= channels else 0
+            b, c = prev[i], prev[i - channels] if i >= channels else 0
+            if f == 1:
+                line[i] = (line[i] + a) & 255
+            elif f == 2:
+                line[i] = (line[i] + b) & 255
+            elif f == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append([tuple(line[x * channels:x * channels + 3]) for x in range(width)])
+        prev = line
+    return rows
+
+
+def pixels(path):
+    return [p for row in read(path) for p in row]
+
+
+def main():
+    cmd = sys.argv[1]
+    if cmd in ("psnr", "differ"):
+        a, b = pixels(sys.argv[2]), pixels(sys.argv[3])
+        if len(a) != len(b):
+            raise SystemExit("sizes differ")
+        if cmd == "differ":
+            print(sum(p != q for p, q in zip(a, b)))
+            return
+        se = sum((x - y) ** 2 for p, q in zip(a, b) for x, y in zip(p, q))
+        print("inf" if se == 0 else f"{20 * math.log10(255 / math.sqrt(se / (3 * len(a)))):.2f}")
+    elif cmd == "count":
+        want, tol = [int(v) for v in sys.argv[3:6]], int(sys.argv[6])
+        print(sum(all(abs(x - w) <= tol for x, w in zip(p, want)) for p in pixels(sys.argv[2])))
+    else:
+        raise SystemExit(f"unknown command {cmd}")
+
+
+if __name__ == "__main__":
+    main()
