@@ -310,14 +310,12 @@ static sam_status bare_scene(const char *input, int is_sam, const char *material
     return st;
 }
 
-/* Lights for a scene that has none: a point light behind the object (as
+/* Lights for a bare mesh or .sam: a point light behind the object (as
  * seen from the camera) that shines through its thin parts, and a dim one
  * in front so its shape reads. */
 static sam_status default_lights(viewer *v, sam_error *err)
 {
     sam_scene *s = &v->scene;
-    if (s->light_count)
-        return SAM_OK;
     s->lights = calloc(2, sizeof *s->lights);
     if (!s->lights)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory");
@@ -1360,7 +1358,7 @@ int main(int argc, char **argv)
     v.posed = v.scene.deformer_count || v.scene.keyframe_count;
     v.uv_ok = sam_runtime_uv_status(v.rt, NULL, 0);
     char warning[512];
-    if (default_lights(&v, &err) != SAM_OK ||
+    if ((!is_scene && default_lights(&v, &err) != SAM_OK) ||
         sam_runtime_scene_setup(v.rt, &v.scene, NULL, NULL, warning, sizeof warning, &err) != SAM_OK ||
         sam_runtime_scene_keyframes(v.rt, &v.scene, &v.sam, &err) != SAM_OK || make_programs(&v, &err) != SAM_OK ||
         load_images(&v, o.truth, &err) != SAM_OK)
