@@ -4,7 +4,8 @@
  * and every requested technique with the same front lighting and surface
  * diffusion, writes the images, their differences x4, and a report with
  * PSNR and RMSE; optionally rebuilds the map for several sample counts N
- * and plots RMSE against N with gnuplot.
+ * and plots RMSE against N with gnuplot. On an animated scene it plays the
+ * animation and compares chosen frames, each against a truth of its pose.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
@@ -23,6 +24,11 @@
 
 #define MAX_TECHNIQUES 4
 #define MAX_SWEEP 16
+/* --frames: how many frames one run compares, and the last frame it plays to. */
+#define MAX_FRAMES 16
+#define MAX_FRAME 100000
+/* sam_render --animate's default, so the same --frames are the same poses. */
+#define DEFAULT_FPS 30.0f
 /* Doublings of the truth's samples before giving up on 0.5 dB: from the
  * library's smallest count to its largest. */
 #define MAX_DOUBLINGS 6
@@ -44,6 +50,8 @@ static void usage(FILE *out)
             "  row.png, translucency_row.png             the truth, then each technique, side by side\n"
             "  report.md, report.json                    PSNR and RMSE per technique\n"
             "  rmse_vs_samples.png, sweep.dat            with --samples-sweep\n"
+            "With --frames, each frame's files go to DIR/frame_NNNN/ and DIR/report.md, report.json\n"
+            "list every frame's scores.\n"
             "\n"
             "options:\n"
             "  --techniques LIST      comma-separated from sam, tsm, transmittance, none\n"
@@ -59,6 +67,14 @@ static void usage(FILE *out)
             "  --truth-tolerance X    far-field tolerance of the truth's sum, in [0, 0.5): distant\n"
             "                         groups of samples count as one where that errs by about X of\n"
             "                         their share (default 0.01; 0 sums every sample)\n"
+            "  --frames LIST          for a scene with deformers or keyframes: compare these frames\n"
+            "                         (comma-separated, increasing, each 0..100000, at most 16), each\n"
+            "                         against a ground truth of its pose. Every frame from 0 to the last\n"
+            "                         is played as sam_render --animate plays it (the pose at t = frame / F,\n"
+            "                         the sample walk, L_d, T smoothed with dt = 1/F), so SAM is scored as\n"
+            "                         a viewer sees it. Without --frames an animated scene compares\n"
+            "                         frame 0, the pose at t = 0\n"
+            "  --fps F                frames per second of --frames (default 30, as sam_render --animate)\n"
             "  --force                write into a DIR that already holds a report\n"
             "  -h, --help             this text\n"
             "PSNR is computed on the tonemapped 8-bit sRGB images over the object's pixels, over\n"
@@ -133,7 +149,8 @@ typedef struct technique_result {
 } technique_result;
 
 typedef struct compare_state {
-    const char *dir;
+    const char *root; /* --out */
+    const char *dir;  /* where this pose's files go: root, or root/frame_NNNN */
     sam_scene scene;
     samfile_data sam;
     sam_profile profile;
@@ -145,6 +162,9 @@ typedef struct compare_state {
     float sh[9][3];
     int has_environment;
     sam_truth_scene truth_scene;
+    int animated;     /* the scene has deformers or keyframes */
+    long frame;       /* the frame compared, when animated */
+    float fps;
 } compare_state;
 
 static float rho_dt_of(const void *user, float n_dot_l)
@@ -489,6 +509,9 @@ static sam_status write_reports(const compare_state *s, const char *scene_path, 
     static const char *const diffusion_names[4] = {"none", "screen", "preintegrated", "texture"};
     fprintf(f.fp, "{\n  \"scene\": \"%s\",\n  \"resolution\": [%u, %u],\n  \"vertices\": %u,\n", sam_path_basename(scene_path),
             s->view.width, s->view.height, s->sam.vertex_count);
+    if (s->animated)
+        fprintf(f.fp, "  \"frame\": %ld,\n  \"time_s\": %.6g,\n  \"fps\": %g,\n", s->frame,
+                (double)((float)s->frame / s->fps), (double)s->fps);
     fprintf(f.fp, "  \"samples_per_vertex\": %u,\n  \"map_build_seconds\": %.3f,\n  \"diffusion\": \"%s\",\n",
             s->sam.samples_per_vertex, s->build_seconds, diffusion_names[s->view.diffusion]);
     fprintf(f.fp, "  \"truth\": {\"samples\": %llu, \"seconds\": %.3f, \"space\": \"%s\", \"translucency_max\": %.6g, "
@@ -555,6 +578,11 @@ static sam_status write_reports(const compare_state *s, const char *scene_path, 
     fprintf(f.fp, "# sam_compare: %s\n\n", sam_path_basename(scene_path));
     fprintf(f.fp, "%ux%u, %u vertices, N = %u back-side samples per vertex, %s diffusion.\n\n", s->view.width,
             s->view.height, s->sam.vertex_count, s->sam.samples_per_vertex, diffusion_names[s->view.diffusion]);
+    if (s->animated)
+        fprintf(f.fp, "Frame %ld of the animation at %g fps (t = %.4g s): the pose, the truth and every technique "
+                      "at that time; the frames before it were played as `sam_render --animate` plays them (the "
+                      "sample walk every frame, T smoothed with dt = 1/fps).\n\n",
+                s->frame, (double)s->fps, (double)((float)s->frame / s->fps));
     fprintf(f.fp, "Ground truth: %llu surface samples, %.2f s, evaluated per %s, far-field tolerance %g. Doubling "
                   "the samples:\n\n",
             (unsigned long long)final->samples, final->seconds, space, (double)s->truth_tolerance);
@@ -723,11 +751,280 @@ static sam_status create_dir(const char *dir, sam_error *err)
     return SAM_OK;
 }
 
+/* What an animation's summary keeps of one compared frame. */
+typedef struct pose_summary {
+    long frame;
+    uint64_t truth_samples;
+    int converged;
+    technique_result techniques[MAX_TECHNIQUES]; /* scores only: their images are freed */
+} pose_summary;
+
+/* Compares the runtime's current pose (L_d and T as the caller left them):
+ * renders every requested technique, builds the truth from the posed
+ * positions and normals the runtime holds, and writes images, scores and
+ * the reports into s->dir (creating s->root and s->dir on the first
+ * image). The techniques' images are freed before it returns. */
+static sam_status compare_pose(compare_state *s, const char *scene_path, technique_result *results,
+                               uint64_t first_samples, const long *sweep_n, int sweep_count, pose_summary *summary,
+                               sam_error *err)
+{
+    sam_status st = SAM_OK;
+    sam_image positions = {0}, normals = {0}, truth_full = {0}, truth_translucency = {0};
+    sam_image candidate_full = {0}, candidate_translucency = {0};
+    reference truth_ref = {0};
+    truth_step steps[MAX_DOUBLINGS + 1];
+    int step_count = 0, converged = 0;
+    sweep_point sweep[MAX_SWEEP];
+    technique_result self;
+    memset(&self, 0, sizeof self);
+    size_t nv = s->sam.vertex_count;
+    float *pose = malloc(nv * 6 * sizeof *pose);
+    if (!pose) {
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory for the pose of %zu vertices", nv);
+        goto done;
+    }
+
+    say("[2/5] the techniques");
+    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
+        technique_result *r = &results[t];
+        r->available = 0;
+        if (!r->requested)
+            continue;
+        sam_status rs = render_pair(s->rt, &s->view, (sam_technique)t, NULL, &r->full, &r->translucency, err);
+        if (rs == SAM_ERR_UNSUPPORTED) {
+            snprintf(r->reason, sizeof r->reason, "%s", err->message);
+            say("%s unavailable: %s", technique_names[t], r->reason);
+            continue;
+        }
+        if ((st = rs) != SAM_OK)
+            goto done;
+        r->available = 1;
+    }
+
+    say("[3/5] the ground truth");
+    sam_gbuffer_space space = s->view.diffusion == 3 ? SAM_GBUFFER_ATLAS : SAM_GBUFFER_SCREEN;
+    const char *space_name = space == SAM_GBUFFER_ATLAS ? "atlas texel" : "pixel";
+    if ((st = sam_runtime_gbuffer(s->rt, &s->view, space, &positions, &normals, err)) != SAM_OK)
+        goto done;
+    /* The truth samples the surface the runtime shows: its current
+     * positions and normals (the deformed pose), the .sam's triangles. */
+    if ((st = sam_runtime_read_positions(s->rt, pose, err)) != SAM_OK ||
+        (st = sam_runtime_read_normals(s->rt, pose + 3 * nv, err)) != SAM_OK)
+        goto done;
+    s->truth_scene.positions = pose;
+    s->truth_scene.normals = pose + 3 * nv;
+    /* Double the samples until the SAM scores move by under 0.5 dB: the
+     * truth is then converged for what the report measures. */
+    const technique_result *sam_r = &results[0];
+    uint64_t samples = first_samples;
+    for (;;) {
+        truth_step *step = &steps[step_count];
+        sam_image override = {0};
+        st = evaluate_truth(s, &positions, &normals, samples, &override, &step->samples, &step->seconds, err);
+        if (st == SAM_OK)
+            st = render_pair(s->rt, &s->view, SAM_TECHNIQUE_SAM, &override, &candidate_full, &candidate_translucency,
+                             err);
+        sam_image_destroy(&override);
+        if (st != SAM_OK)
+            goto done;
+        float candidate_max = max_value(&candidate_translucency);
+        sam_image_comparison all, norm;
+        step->sam_psnr_db = step->sam_psnr_normalised_db = NAN;
+        if (sam_r->available && candidate_max > 0) {
+            reference candidate_ref;
+            if ((st = reference_make(s, &candidate_full, &candidate_translucency, candidate_max, &candidate_ref,
+                                     err)) != SAM_OK)
+                goto done;
+            st = score(s, &candidate_ref, &sam_r->full, &sam_r->translucency, &all, &norm, NULL, NULL, err);
+            reference_destroy(&candidate_ref);
+            if (st != SAM_OK)
+                goto done;
+            step->sam_psnr_db = all.psnr_db;
+            step->sam_psnr_normalised_db = norm.psnr_db;
+        }
+        say("ground truth with %llu samples: %.2f s; SAM PSNR %.2f dB, translucency %.2f dB",
+            (unsigned long long)step->samples, step->seconds, step->sam_psnr_db, step->sam_psnr_normalised_db);
+        sam_image_destroy(&truth_full);
+        sam_image_destroy(&truth_translucency);
+        truth_full = candidate_full;
+        truth_translucency = candidate_translucency;
+        memset(&candidate_full, 0, sizeof candidate_full);
+        memset(&candidate_translucency, 0, sizeof candidate_translucency);
+        ++step_count;
+        if (step_count > 1) {
+            const truth_step *prev = &steps[step_count - 2];
+            double d1 = fabs(step->sam_psnr_db - prev->sam_psnr_db);
+            double d2 = fabs(step->sam_psnr_normalised_db - prev->sam_psnr_normalised_db);
+            /* Without SAM in the run (or no translucency at all) there is
+             * nothing to converge for: one doubling is all we check. */
+            if (!(d1 >= CONVERGED_DB) && !(d2 >= CONVERGED_DB)) {
+                converged = 1;
+                break;
+            }
+        }
+        if (step_count == MAX_DOUBLINGS + 1) {
+            say("warning: the ground truth still moves by 0.5 dB or more after %d doublings; the report says so",
+                MAX_DOUBLINGS);
+            break;
+        }
+        samples = 2 * step->samples;
+    }
+    float truth_max = max_value(&truth_translucency);
+    if (!(truth_max > 0)) {
+        say("warning: the ground truth has no translucency in view; normalised scores use 1");
+        truth_max = 1.0f;
+    }
+
+    say("[4/5] images and scores");
+    if ((st = create_dir(s->root, err)) != SAM_OK || (s->dir != s->root && (st = create_dir(s->dir, err)) != SAM_OK) ||
+        (st = reference_make(s, &truth_full, &truth_translucency, truth_max, &truth_ref, err)) != SAM_OK ||
+        (st = score(s, &truth_ref, &truth_full, &truth_translucency, &self.all, &self.normalised, NULL, NULL, err)) !=
+            SAM_OK ||
+        (st = write_images(s, results, &truth_full, &truth_translucency, &truth_ref, err)) != SAM_OK)
+        goto done;
+
+    int monotonic = 1;
+    if (sweep_count) {
+        say("[5/5] samples sweep");
+        if ((st = run_sweep(s, sweep_n, sweep_count, &truth_ref, sweep, err)) != SAM_OK)
+            goto done;
+        for (int i = 1; i < sweep_count; ++i)
+            if (sweep_n[i] > sweep_n[i - 1] && sweep[i].all.rmse > sweep[i - 1].all.rmse)
+                monotonic = 0;
+    }
+    if ((st = write_reports(s, scene_path, results, &self, steps, step_count, converged, truth_max, space_name, sweep,
+                            sweep_count, monotonic, err)) != SAM_OK)
+        goto done;
+    if (sweep_count && (st = plot_sweep(s, sweep, sweep_count, err)) != SAM_OK)
+        goto done;
+    say("wrote %s/report.md", s->dir);
+    summary->frame = s->frame;
+    summary->truth_samples = steps[step_count - 1].samples;
+    summary->converged = converged;
+done:
+    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
+        sam_image_destroy(&results[t].full);
+        sam_image_destroy(&results[t].translucency);
+    }
+    if (st == SAM_OK)
+        memcpy(summary->techniques, results, sizeof summary->techniques);
+    s->truth_scene.positions = s->truth_scene.normals = NULL;
+    free(pose);
+    sam_image_destroy(&positions);
+    sam_image_destroy(&normals);
+    reference_destroy(&truth_ref);
+    sam_image_destroy(&truth_full);
+    sam_image_destroy(&truth_translucency);
+    sam_image_destroy(&candidate_full);
+    sam_image_destroy(&candidate_translucency);
+    return st;
+}
+
+/* " a / b / c |": a technique's PSNRs on differing pixels, all pixels and
+ * the normalised translucency, as the README's tables give them. */
+static void md_scores(FILE *f, const technique_result *r)
+{
+    if (!r->requested)
+        return;
+    if (!r->available) {
+        fprintf(f, " unavailable |");
+        return;
+    }
+    const double v[3] = {r->all.psnr_differing_db, r->all.psnr_db, r->normalised.psnr_db};
+    for (int i = 0; i < 3; ++i)
+        fprintf(f, isfinite(v[i]) ? "%s%.2f" : "%sinf", i ? " / " : " ", v[i]);
+    fprintf(f, " |");
+}
+
+/* The frame folder's name: frame_NNNN, like sam_render --animate's numbers. */
+static void frame_dir_name(char *out, size_t n, long frame)
+{
+    snprintf(out, n, "frame_%04ld", frame);
+}
+
+/* DIR/report.json and report.md of an animation: every compared frame's
+ * scores side by side; each frame's full report is in its folder. Written
+ * last, so a run that stops halfway leaves no report.json and is not taken
+ * for a finished one. */
+static sam_status write_summary(const compare_state *s, const char *scene_path, const pose_summary *poses, int count,
+                                sam_error *err)
+{
+    char path[4096], name[32];
+    sam_atomic_file f;
+    sam_status st = join_path(path, sizeof path, s->root, "report.json", err);
+    if (st == SAM_OK)
+        st = sam_atomic_open(&f, path, err);
+    if (st != SAM_OK)
+        return st;
+    fprintf(f.fp, "{\n  \"scene\": \"%s\",\n  \"fps\": %g,\n  \"frames\": [", sam_path_basename(scene_path),
+            (double)s->fps);
+    for (int i = 0; i < count; ++i) {
+        const pose_summary *p = &poses[i];
+        frame_dir_name(name, sizeof name, p->frame);
+        fprintf(f.fp, "%s\n    {\"frame\": %ld, \"time_s\": %.6g, \"dir\": \"%s\", \"truth_samples\": %llu, "
+                      "\"truth_converged\": %s, \"techniques\": [",
+                i ? "," : "", p->frame, (double)((float)p->frame / s->fps), name,
+                (unsigned long long)p->truth_samples, p->converged ? "true" : "false");
+        int first = 1;
+        for (int t = 0; t < MAX_TECHNIQUES; ++t) {
+            const technique_result *r = &p->techniques[t];
+            if (!r->requested)
+                continue;
+            fprintf(f.fp, "%s{\"name\": \"%s\", \"available\": %s", first ? "" : ", ", technique_names[t],
+                    r->available ? "true" : "false");
+            first = 0;
+            if (r->available) {
+                fprintf(f.fp, ", \"psnr_db\": ");
+                json_number(f.fp, r->all.psnr_db);
+                fprintf(f.fp, ", \"psnr_differing_db\": ");
+                json_number(f.fp, r->all.psnr_differing_db);
+                fprintf(f.fp, ", \"psnr_translucency_db\": ");
+                json_number(f.fp, r->normalised.psnr_db);
+            }
+            fprintf(f.fp, "}");
+        }
+        fprintf(f.fp, "]}");
+    }
+    fprintf(f.fp, "\n  ]\n}\n");
+    if ((st = sam_atomic_commit(&f, err)) != SAM_OK)
+        return st;
+
+    if ((st = join_path(path, sizeof path, s->root, "report.md", err)) != SAM_OK ||
+        (st = sam_atomic_open(&f, path, err)) != SAM_OK)
+        return st;
+    fprintf(f.fp, "# sam_compare: %s, animated\n\n", sam_path_basename(scene_path));
+    fprintf(f.fp, "Each frame is the pose at t = frame / %g s, played from frame 0 as `sam_render --animate` plays "
+                  "it (the sample walk every frame, T smoothed with dt = 1/fps), and compared against a ground truth "
+                  "of that pose. Each frame's images and full report are in its folder. PSNR in dB: differing "
+                  "pixels / all object pixels / translucency normalised by the truth's maximum.\n\n",
+            (double)s->fps);
+    fprintf(f.fp, "| frame | t (s) | truth samples |");
+    for (int t = 0; t < MAX_TECHNIQUES; ++t)
+        if (poses[0].techniques[t].requested)
+            fprintf(f.fp, " %s |", technique_names[t]);
+    fprintf(f.fp, "\n| --- | --- | --- |");
+    for (int t = 0; t < MAX_TECHNIQUES; ++t)
+        if (poses[0].techniques[t].requested)
+            fprintf(f.fp, " --- |");
+    fprintf(f.fp, "\n");
+    for (int i = 0; i < count; ++i) {
+        const pose_summary *p = &poses[i];
+        frame_dir_name(name, sizeof name, p->frame);
+        fprintf(f.fp, "| [%ld](%s/report.md) | %.4g | %llu%s |", p->frame, name, (double)((float)p->frame / s->fps),
+                (unsigned long long)p->truth_samples, p->converged ? "" : " (not converged)");
+        for (int t = 0; t < MAX_TECHNIQUES; ++t)
+            md_scores(f.fp, &p->techniques[t]);
+        fprintf(f.fp, "\n");
+    }
+    return sam_atomic_commit(&f, err);
+}
+
 int main(int argc, char **argv)
 {
-    const char *scene_path = NULL, *dir = NULL, *techniques = "sam,none,tsm,transmittance", *sweep_list = NULL;
+    const char *scene_path = NULL, *dir = NULL, *techniques = "sam,none,tsm,transmittance", *sweep_list = NULL,
+               *frame_list = NULL;
     long map_samples = 0, truth_samples = 0;
-    float truth_tolerance = 0.01f;
+    float truth_tolerance = 0.01f, fps = 0;
     int force = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -746,6 +1043,15 @@ int main(int argc, char **argv)
             techniques = argv[++i];
         } else if (!strcmp(a, "--samples-sweep")) {
             sweep_list = argv[++i];
+        } else if (!strcmp(a, "--frames")) {
+            frame_list = argv[++i];
+        } else if (!strcmp(a, "--fps")) {
+            char *end;
+            fps = strtof(argv[++i], &end);
+            if (*end || end == argv[i] || !(fps > 0 && fps <= 1000)) {
+                fprintf(stderr, "sam_compare: --fps must be a number in (0, 1000], got \"%s\"\n", argv[i]);
+                return 2;
+            }
         } else if (!strcmp(a, "--truth-tolerance")) {
             char *end;
             truth_tolerance = strtof(argv[++i], &end);
@@ -798,37 +1104,64 @@ int main(int argc, char **argv)
                 MAX_SWEEP, sweep_list);
         return 2;
     }
+    /* Without --frames the one pose compared is frame 0 (t = 0). */
+    long frames[MAX_FRAMES] = {0};
+    int frame_count = 1;
+    if (frame_list) {
+        if (!parse_int_list(frame_list, 0, MAX_FRAME, frames, MAX_FRAMES, &frame_count)) {
+            fprintf(stderr,
+                    "sam_compare: --frames takes up to %d comma-separated frame numbers in 0..%d, got \"%s\"\n",
+                    MAX_FRAMES, MAX_FRAME, frame_list);
+            return 2;
+        }
+        for (int i = 1; i < frame_count; ++i)
+            if (frames[i] <= frames[i - 1]) {
+                fprintf(stderr, "sam_compare: --frames must increase, got %ld after %ld in \"%s\"\n", frames[i],
+                        frames[i - 1], frame_list);
+                return 2;
+            }
+        if (sweep_count) {
+            fprintf(stderr, "sam_compare: --samples-sweep rebuilds the rest pose's map; give it without --frames\n");
+            return 2;
+        }
+    } else if (fps > 0) {
+        fprintf(stderr, "sam_compare: --fps sets the times of --frames; give --frames too\n");
+        return 2;
+    }
 
     compare_state s;
     memset(&s, 0, sizeof s);
-    s.dir = dir;
+    s.root = s.dir = dir;
     s.truth_tolerance = truth_tolerance;
+    s.fps = fps > 0 ? fps : DEFAULT_FPS;
     sam_error err;
     int code = 1;
     sam_gl_context *gl = NULL;
-    sam_image positions = {0}, normals = {0}, truth_full = {0}, truth_translucency = {0};
-    reference truth_ref = {0};
-    sam_image candidate_full = {0}, candidate_translucency = {0};
-    truth_step steps[MAX_DOUBLINGS + 1];
-    int step_count = 0, converged = 0;
-    sweep_point sweep[MAX_SWEEP];
-    technique_result self;
-    memset(&self, 0, sizeof self);
+    pose_summary poses[MAX_FRAMES];
+    memset(poses, 0, sizeof poses);
     char warning[512];
     if (sam_scene_load(scene_path, &s.scene, &err) != SAM_OK) {
         say("%s", err.message);
         return 1;
     }
+    s.animated = s.scene.deformer_count || s.scene.keyframe_count;
     if (sweep_count && !s.scene.mesh_path) {
         say("%s: --samples-sweep rebuilds the map, so the scene must name a mesh", scene_path);
         sam_scene_destroy(&s.scene);
         return 2;
     }
+    if (frame_list && !s.animated) {
+        say("%s has no \"deformers\" or \"keyframes\": --frames compares frames of an animation (give it without "
+            "--frames to compare the scene)",
+            scene_path);
+        sam_scene_destroy(&s.scene);
+        return 2;
+    }
     if (check_dir(dir, force, &err) != SAM_OK)
         goto done;
-    /* The truth reads the map's rest positions, so the runtime stays at rest too. */
-    if (s.scene.deformer_count || s.scene.keyframe_count)
-        say("warning: the scene's deformers and keyframes are ignored: sam_compare compares the rest pose");
+    if (s.animated && !frame_list)
+        say("note: the scene is animated; comparing frame 0, the pose at t = 0 (--frames LIST [--fps F] picks "
+            "the frames)");
 
     say("[1/5] the map");
     progress_state bps = {"building the map", -1};
@@ -841,7 +1174,8 @@ int main(int argc, char **argv)
         goto done;
     if (sam_gl_context_create_headless(&gl, &err) != SAM_OK ||
         sam_runtime_create(&s.sam, &s.profile, s.mm_per_unit, &s.rt, &err) != SAM_OK ||
-        sam_runtime_scene_setup(s.rt, &s.scene, s.sh, &s.has_environment, warning, sizeof warning, &err) != SAM_OK)
+        sam_runtime_scene_setup(s.rt, &s.scene, s.sh, &s.has_environment, warning, sizeof warning, &err) != SAM_OK ||
+        sam_runtime_scene_keyframes(s.rt, &s.scene, &s.sam, &err) != SAM_OK)
         goto done;
     if (warning[0])
         say("warning: %s", warning);
@@ -851,33 +1185,7 @@ int main(int argc, char **argv)
     /* Lossy texture-space optimisations would change the picture under comparison. */
     s.view.options.culled = 0;
     s.view.options.depth_sized = 0;
-    if (sam_runtime_irradiance(s.rt, &err) != SAM_OK || sam_runtime_translucency(s.rt, 0, 0.0f, 1, &err) != SAM_OK)
-        goto done;
-
-    say("[2/5] the techniques");
-    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
-        technique_result *r = &results[t];
-        if (!r->requested)
-            continue;
-        sam_status st = render_pair(s.rt, &s.view, (sam_technique)t, NULL, &r->full, &r->translucency, &err);
-        if (st == SAM_ERR_UNSUPPORTED) {
-            snprintf(r->reason, sizeof r->reason, "%s", err.message);
-            say("%s unavailable: %s", technique_names[t], r->reason);
-            continue;
-        }
-        if (st != SAM_OK)
-            goto done;
-        r->available = 1;
-    }
-
-    say("[3/5] the ground truth");
-    sam_gbuffer_space space = s.view.diffusion == 3 ? SAM_GBUFFER_ATLAS : SAM_GBUFFER_SCREEN;
-    const char *space_name = space == SAM_GBUFFER_ATLAS ? "atlas texel" : "pixel";
-    if (sam_runtime_gbuffer(s.rt, &s.view, space, &positions, &normals, &err) != SAM_OK)
-        goto done;
     s.truth_scene.vertex_count = s.sam.vertex_count;
-    s.truth_scene.positions = s.sam.positions;
-    s.truth_scene.normals = s.sam.normals;
     s.truth_scene.triangle_count = s.sam.triangle_count;
     s.truth_scene.triangles = s.sam.triangles;
     s.truth_scene.mm_per_unit = s.mm_per_unit;
@@ -888,108 +1196,47 @@ int main(int argc, char **argv)
     s.truth_scene.environment_rho_dt = sam_runtime_environment_rho_dt(s.rt);
     s.truth_scene.rho_dt = rho_dt_of;
     s.truth_scene.rho_dt_user = s.rt;
-    /* Double the samples until the SAM scores move by under 0.5 dB: the
-     * truth is then converged for what the report measures. */
-    const technique_result *sam_r = &results[0];
     /* A query costs one test per sample in reach, so start small and let
      * the doublings find the count that the scores no longer notice. */
-    uint64_t samples = truth_samples ? (uint64_t)truth_samples : SAM_TRUTH_MIN_SAMPLES;
-    for (;;) {
-        truth_step *step = &steps[step_count];
-        sam_image override = {0};
-        sam_status st = evaluate_truth(&s, &positions, &normals, samples, &override, &step->samples, &step->seconds,
-                                       &err);
-        if (st == SAM_OK)
-            st = render_pair(s.rt, &s.view, SAM_TECHNIQUE_SAM, &override, &candidate_full, &candidate_translucency,
-                             &err);
-        sam_image_destroy(&override);
-        if (st != SAM_OK)
-            goto done;
-        float candidate_max = max_value(&candidate_translucency);
-        sam_image_comparison all, norm;
-        step->sam_psnr_db = step->sam_psnr_normalised_db = NAN;
-        if (sam_r->available && candidate_max > 0) {
-            reference candidate_ref;
-            if (reference_make(&s, &candidate_full, &candidate_translucency, candidate_max, &candidate_ref, &err) !=
-                SAM_OK)
-                goto done;
-            st = score(&s, &candidate_ref, &sam_r->full, &sam_r->translucency, &all, &norm, NULL, NULL, &err);
-            reference_destroy(&candidate_ref);
-            if (st != SAM_OK)
-                goto done;
-            step->sam_psnr_db = all.psnr_db;
-            step->sam_psnr_normalised_db = norm.psnr_db;
-        }
-        say("ground truth with %llu samples: %.2f s; SAM PSNR %.2f dB, translucency %.2f dB",
-            (unsigned long long)step->samples, step->seconds, step->sam_psnr_db, step->sam_psnr_normalised_db);
-        sam_image_destroy(&truth_full);
-        sam_image_destroy(&truth_translucency);
-        truth_full = candidate_full;
-        truth_translucency = candidate_translucency;
-        memset(&candidate_full, 0, sizeof candidate_full);
-        memset(&candidate_translucency, 0, sizeof candidate_translucency);
-        ++step_count;
-        if (step_count > 1) {
-            const truth_step *prev = &steps[step_count - 2];
-            double d1 = fabs(step->sam_psnr_db - prev->sam_psnr_db);
-            double d2 = fabs(step->sam_psnr_normalised_db - prev->sam_psnr_normalised_db);
-            /* Without SAM in the run (or no translucency at all) there is
-             * nothing to converge for: one doubling is all we check. */
-            if (!(d1 >= CONVERGED_DB) && !(d2 >= CONVERGED_DB)) {
-                converged = 1;
-                break;
-            }
-        }
-        if (step_count == MAX_DOUBLINGS + 1) {
-            say("warning: the ground truth still moves by 0.5 dB or more after %d doublings; the report says so",
-                MAX_DOUBLINGS);
-            break;
-        }
-        samples = 2 * step->samples;
-    }
-    float truth_max = max_value(&truth_translucency);
-    if (!(truth_max > 0)) {
-        say("warning: the ground truth has no translucency in view; normalised scores use 1");
-        truth_max = 1.0f;
-    }
+    uint64_t first_samples = truth_samples ? (uint64_t)truth_samples : SAM_TRUTH_MIN_SAMPLES;
 
-    say("[4/5] images and scores");
-    if (create_dir(dir, &err) != SAM_OK || reference_make(&s, &truth_full, &truth_translucency, truth_max, &truth_ref, &err) != SAM_OK ||
-        score(&s, &truth_ref, &truth_full, &truth_translucency, &self.all, &self.normalised, NULL, NULL, &err) !=
-            SAM_OK ||
-        write_images(&s, results, &truth_full, &truth_translucency, &truth_ref, &err) != SAM_OK)
-        goto done;
-
-    int monotonic = 1;
-    if (sweep_count) {
-        say("[5/5] samples sweep");
-        if (run_sweep(&s, sweep_n, sweep_count, &truth_ref, sweep, &err) != SAM_OK)
+    /* Every frame up to the last one compared is played as sam_render
+     * --animate plays it: the pose at t = frame / fps, the sample walk, L_d,
+     * and T smoothed with dt = 1 / fps (reset at frame 0). The walk moves
+     * samples one ring per frame and T carries its history, so a frame is
+     * only what a viewer sees when every frame before it has run. */
+    char frame_dir[4096];
+    for (long f = 0, next = 0; next < frame_count; ++f) {
+        if (s.animated &&
+            (sam_runtime_deform(s.rt, (float)f / s.fps, &err) != SAM_OK || sam_runtime_walk(s.rt, &err) != SAM_OK))
             goto done;
-        for (int i = 1; i < sweep_count; ++i)
-            if (sweep_n[i] > sweep_n[i - 1] && sweep[i].all.rmse > sweep[i - 1].all.rmse)
-                monotonic = 0;
+        if (sam_runtime_irradiance(s.rt, &err) != SAM_OK ||
+            sam_runtime_translucency(s.rt, 0, 1.0f / s.fps, f == 0, &err) != SAM_OK)
+            goto done;
+        if (f != frames[next])
+            continue;
+        s.frame = f;
+        if (frame_list) {
+            char name[32];
+            frame_dir_name(name, sizeof name, f);
+            if (join_path(frame_dir, sizeof frame_dir, dir, name, &err) != SAM_OK)
+                goto done;
+            s.dir = frame_dir;
+            say("frame %ld (t = %.4g s), %d of %d", f, (double)((float)f / s.fps), (int)next + 1, frame_count);
+        }
+        if (compare_pose(&s, scene_path, results, first_samples, sweep_n, sweep_count, &poses[next], &err) != SAM_OK)
+            goto done;
+        ++next;
     }
-    if (write_reports(&s, scene_path, results, &self, steps, step_count, converged, truth_max, space_name, sweep, sweep_count, monotonic,
-                      &err) != SAM_OK)
-        goto done;
-    if (sweep_count && plot_sweep(&s, sweep, sweep_count, &err) != SAM_OK)
-        goto done;
-    say("wrote %s/report.md", dir);
+    if (frame_list) {
+        if (write_summary(&s, scene_path, poses, frame_count, &err) != SAM_OK)
+            goto done;
+        say("wrote %s/report.md", dir);
+    }
     code = 0;
 done:
     if (code)
         say("%s", err.message);
-    for (int t = 0; t < MAX_TECHNIQUES; ++t) {
-        sam_image_destroy(&results[t].full);
-        sam_image_destroy(&results[t].translucency);
-    }
-    sam_image_destroy(&positions);
-    sam_image_destroy(&normals);
-    reference_destroy(&truth_ref);
-    sam_image_destroy(&truth_full);
-    sam_image_destroy(&truth_translucency);
-    sam_image_destroy(&candidate_full);
-    sam_image_destroy(&candidate_translucency);
     sam_runtime_destroy(s.rt);
     sam_gl_context_destroy(gl);
     samfile_free(&s.sam);

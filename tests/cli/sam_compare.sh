@@ -3,6 +3,7 @@
 # and both reports are written, the report's numbers agree with each other
 # (the truth against itself is an exact match, PSNR = 20 log10(255 / RMSE),
 # `none` scores below `sam` on a back-lit slab), the samples sweep plots,
+# an animated slab compares chosen frames against truths of their poses,
 # and bad input gives one error line. Args: BIN SRC TMP
 set -u
 bin=$1 src=$2 tmp=$3
@@ -56,6 +57,101 @@ print("truth %d samples %.2f s; PSNR sam %s none %s transmittance %s dB; sweep R
     truth["samples"], truth["seconds"], sam["psnr_db"], none["psnr_db"], t["transmittance"]["psnr_db"],
     [round(p["rmse"], 3) for p in pts]))
 PY
+# An animated scene: the slab bends up (period 0.8 s) and --frames 0,2 at 10 fps compares the rest pose and
+# the full bend (t = 0.2 s), each against a truth of its own pose, in frame_0000/ and frame_0002/.
+sed 's/^ "camera"/ "deformers": [{"type": "bend", "axis": [1, 0, 0], "direction": [0, 1, 0], "angle_deg": 120,\
+                "length": 1.0, "period_s": 0.8}],\
+ "camera"/' "$tmp/scene.json" > "$tmp/anim.json"
+grep -q deformers "$tmp/anim.json" || fail "the animated scene has no deformers"
+start=$(date +%s)
+"$bin/sam_compare" "$tmp/anim.json" --out "$tmp/anim" --frames 0,2 --fps 10 --techniques sam,none \
+  2> "$tmp/anim_log.txt" || fail "sam_compare --frames: $(cat "$tmp/anim_log.txt")"
+echo "sam_compare --frames 0,2 took $(( $(date +%s) - start )) s"
+grep -q "ignored" "$tmp/anim_log.txt" && fail "still says the deformers are ignored: $(cat "$tmp/anim_log.txt")"
+for k in 0000 0002; do
+  for f in truth truth_translucency sam sam_translucency none; do
+    [ -s "$tmp/anim/frame_$k/$f.exr" ] && [ -s "$tmp/anim/frame_$k/$f.png" ] \
+      || fail "frame $k has no $f: $(ls "$tmp/anim/frame_$k")"
+  done
+  [ -s "$tmp/anim/frame_$k/report.json" ] || fail "frame $k has no report.json"
+done
+[ -e "$tmp/anim/frame_0001" ] && fail "compared frame 1, which was not asked for"
+[ -e "$tmp/anim/truth.exr" ] && fail "--frames also wrote the single-pose layout"
+python3 - "$tmp/anim" "$tmp/out/report.json" <<'PY' || fail "the animated comparison is inconsistent"
+import json, math, struct, sys, zlib
+anim, static = sys.argv[1], json.load(open(sys.argv[2]))
+
+def png(path):
+    """The 8-bit RGB(A) bytes of a non-interlaced PNG, as sam_image_write_png writes them."""
+    d = open(path, "rb").read()
+    pos, idat = 8, b""
+    while pos < len(d):
+        n, kind = struct.unpack(">I4s", d[pos:pos + 8])
+        body = d[pos + 8:pos + 8 + n]
+        pos += 12 + n
+        if kind == b"IHDR":
+            w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
+        elif kind == b"IDAT":
+            idat += body
+    assert depth == 8 and ctype in (2, 6), (path, depth, ctype)
+    bpp = 3 if ctype == 2 else 4
+    raw, stride, rows, prev = zlib.decompress(idat), w * bpp, [], bytearray(w * bpp)
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a, b, c = line[i - bpp] if i >= bpp else 0, prev[i], prev[i - bpp] if i >= bpp else 0
+            if f == 1:
+                line[i] = (line[i] + a) & 255
+            elif f == 2:
+                line[i] = (line[i] + b) & 255
+            elif f == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(bytes(line))
+        prev = line
+    return b"".join(rows)
+
+def psnr(x, y):
+    rmse = math.sqrt(sum((p - q) ** 2 for p, q in zip(x, y)) / len(x))
+    return 20 * math.log10(255 / rmse) if rmse else math.inf
+
+summary = json.load(open(anim + "/report.json"))
+assert summary["fps"] == 10 and [f["frame"] for f in summary["frames"]] == [0, 2], summary
+assert [f["dir"] for f in summary["frames"]] == ["frame_0000", "frame_0002"], summary
+frames = {k: json.load(open("%s/frame_%04d/report.json" % (anim, k))) for k in (0, 2)}
+for k, r in frames.items():
+    assert r["frame"] == k and abs(r["time_s"] - k / 10) < 1e-6, r
+    assert r["truth"]["self_psnr_db"] is None, r["truth"]
+t0 = {x["name"]: x for x in frames[0]["techniques"]}
+t2 = {x["name"]: x for x in frames[2]["techniques"]}
+# Frame 0 is the rest pose: the same comparison as the static scene's.
+ts = {x["name"]: x for x in static["techniques"]}
+for name in ("sam", "none"):
+    assert abs(t0[name]["psnr_db"] - ts[name]["psnr_db"]) < 1e-3, (name, t0[name], ts[name])
+# The pose changed the truth.
+truth0, truth2 = png(anim + "/frame_0000/truth.png"), png(anim + "/frame_0002/truth.png")
+assert psnr(truth0, truth2) < 35, psnr(truth0, truth2)
+# At the bend SAM scores above `none`, and against the truth of its own pose far above the stale
+# comparison with the rest pose's truth (whole images).
+assert t2["sam"]["psnr_db"] > t2["none"]["psnr_db"] + 3, (t2["sam"], t2["none"])
+assert t2["sam"]["psnr_translucency_db"] > t2["none"]["psnr_translucency_db"] + 3, (t2["sam"], t2["none"])
+sam2 = png(anim + "/frame_0002/sam.png")
+posed, stale = psnr(sam2, truth2), psnr(sam2, truth0)
+assert posed > stale + 3, (posed, stale)
+print("bent slab, frame 2: PSNR sam %.2f none %.2f dB; whole image against the posed truth %.2f, against the "
+      "rest truth %.2f dB; the two truths %.2f dB apart" % (t2["sam"]["psnr_db"], t2["none"]["psnr_db"],
+      posed, stale, psnr(truth0, truth2)))
+PY
+# Without --frames an animated scene compares frame 0 in the single-pose layout, and says how to pick frames.
+"$bin/sam_compare" "$tmp/anim.json" --out "$tmp/anim0" --techniques sam 2> "$tmp/anim0_log.txt" \
+  || fail "animated scene without --frames: $(cat "$tmp/anim0_log.txt")"
+grep -q "comparing frame 0.*--frames LIST" "$tmp/anim0_log.txt" \
+  || fail "no note on --frames: $(cat "$tmp/anim0_log.txt")"
+[ -s "$tmp/anim0/truth.exr" ] && grep -q '"frame": 0,' "$tmp/anim0/report.json" \
+  || fail "frame 0 layout: $(ls "$tmp/anim0")"
 # A finished comparison is not overwritten without --force.
 "$bin/sam_compare" "$tmp/scene.json" --out "$tmp/out" --techniques none 2> "$tmp/err.txt" && fail "overwrote a report"
 grep -q "already holds a report" "$tmp/err.txt" || fail "no refusal message: $(cat "$tmp/err.txt")"
@@ -70,6 +166,17 @@ expect_error "bad sweep" "$tmp/scene.json" --out "$tmp/x" --samples-sweep 3,0
 expect_error "bad tolerance" "$tmp/scene.json" --out "$tmp/x" --truth-tolerance 0.7
 expect_error "missing scene" "$tmp/nope.json" --out "$tmp/x"
 expect_error "no --out" "$tmp/scene.json"
+expect_error "--frames, static scene" "$tmp/scene.json" --out "$tmp/x" --frames 0,2
+grep -q 'scene.json has no "deformers" or "keyframes"' "$tmp/err.txt" \
+  || fail "static --frames message: $(cat "$tmp/err.txt")"
+expect_error "bad frame" "$tmp/anim.json" --out "$tmp/x" --frames 0,x
+grep -q '"0,x"' "$tmp/err.txt" || fail "bad --frames message: $(cat "$tmp/err.txt")"
+expect_error "frames out of order" "$tmp/anim.json" --out "$tmp/x" --frames 4,2
+grep -q "got 2 after 4" "$tmp/err.txt" || fail "order message: $(cat "$tmp/err.txt")"
+expect_error "bad fps" "$tmp/anim.json" --out "$tmp/x" --frames 2 --fps 0
+expect_error "--fps alone" "$tmp/anim.json" --out "$tmp/x" --fps 24
+expect_error "--frames with a sweep" "$tmp/anim.json" --out "$tmp/x" --frames 2 --samples-sweep 3
+[ -e "$tmp/x" ] && fail "a refused run left $tmp/x"
 # A run that fails before its first image leaves no output folder.
 printf 'SAMFjunk' > "$tmp/bad.sam"
 printf '{"sam": "bad.sam", "material": "skin", "scale": {"mm_per_unit": 10}, "resolution": [32, 32]}' > "$tmp/bad.json"
