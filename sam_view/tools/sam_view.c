@@ -63,6 +63,8 @@ static void usage(FILE *out)
             "                       ~/.cache/sam_view)\n"
             "  --no-cache           build without reading or writing the cache\n"
             "  --script FILE        timed key and mouse events (see README: sam_view)\n"
+            "  --fps F              a fixed clock: every frame advances time by 1/F, however long it\n"
+            "                       took (frame-exact scripts and animation); default: the wall clock\n"
             "  -h, --help           this help\n"
             "\n"
             "mouse:\n"
@@ -1101,13 +1103,15 @@ static int check_reset(viewer *v)
     return status != GL_NO_ERROR;
 }
 
-static void run(viewer *v, const sam_view_event *events, size_t event_count)
+/* With `fps` > 0 the clock advances 1/fps per frame whatever the frame
+ * took, so a script's events and the animation land on exact frames. */
+static void run(viewer *v, const sam_view_event *events, size_t event_count, float fps)
 {
     size_t next = 0;
-    double start = glfwGetTime(), last = start;
-    while (!glfwWindowShouldClose(v->window)) {
+    double start = fps > 0 ? 0 : glfwGetTime(), last = start;
+    for (long frame = 0; !glfwWindowShouldClose(v->window); ++frame) {
         glfwPollEvents();
-        double now = glfwGetTime();
+        double now = fps > 0 ? (double)frame / fps : glfwGetTime();
         /* Events at or before now run in order; a screenshot ends the batch
          * so the next one sees a new frame. */
         while (next < event_count && events[next].time_s <= now - start && !glfwWindowShouldClose(v->window)) {
@@ -1126,7 +1130,7 @@ static void run(viewer *v, const sam_view_event *events, size_t event_count)
         int width, height;
         glfwGetFramebufferSize(v->window, &width, &height);
         if (width > 0 && height > 0) {
-            refresh_readout(v, now);
+            refresh_readout(v, glfwGetTime());
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             draw_frame(v, width, height, 1);
         }
@@ -1138,7 +1142,7 @@ static void run(viewer *v, const sam_view_event *events, size_t event_count)
 
 typedef struct options {
     const char *input, *material, *environment, *truth, *shot, *cache, *script;
-    float size_mm;
+    float size_mm, fps;
     int width, height, no_cache;
 } options;
 
@@ -1174,6 +1178,13 @@ static int parse_options(int argc, char **argv, options *o)
             o->size_mm = strtof(argv[++i], &end);
             if (*end || !(o->size_mm > 0) || !isfinite(o->size_mm)) {
                 fprintf(stderr, "sam_view: --size-mm must be a positive number, got \"%s\"\n", argv[i]);
+                return 0;
+            }
+        } else if (!strcmp(a, "--fps")) {
+            char *end;
+            o->fps = strtof(argv[++i], &end);
+            if (*end || !(o->fps > 0 && o->fps <= 1000)) {
+                fprintf(stderr, "sam_view: --fps must be a number in (0, 1000], got \"%s\"\n", argv[i]);
                 return 0;
             }
         } else if (!strcmp(a, "--size")) {
@@ -1385,7 +1396,7 @@ int main(int argc, char **argv)
     glfwGetCursorPos(v.window, &v.cursor_x, &v.cursor_y);
     if (!events)
         fprintf(stderr, "sam_view: press H for help\n");
-    run(&v, events, event_count);
+    run(&v, events, event_count, o.fps);
     code = v.lost ? 1 : 0;
 done:
     if (code && !v.lost)

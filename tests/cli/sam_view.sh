@@ -53,6 +53,20 @@ psnr=$(png psnr "$tmp/final.png" "$tmp/r.png")
 "$bin/sam_render" "$tmp/none.json" -o "$tmp/n.exr" --png "$tmp/n.png" 2>/dev/null || fail "sam_render of none.json"
 [ "$(png psnr "$tmp/none.png" "$tmp/n.png")" = inf ] || fail "none.json does not reproduce none.png"
 head -c 24 "$tmp/small.png" | od -An -tx1 | tr -d ' \n' | grep -q "000000c800000096" || fail "resize: small.png is not 200x150"
+# A bending slab on the fixed clock (--fps 10): SPACE plays it, and two
+# frames later (t = 0.2 s, the full bend of a 0.8 s period) the picture has changed.
+"$bin/sam_meshgen" slab -o "$tmp/slab.obj" --resolution 16 --thickness 0.06 > /dev/null || fail "meshgen slab"
+cat > "$tmp/bend.json" <<JSON
+{"mesh": "slab.obj", "material": "skin", "scale": {"mm_per_unit": 40},
+ "lights": [{"type": "point", "position": [0.0, -1.2, 0.3], "intensity": 2.0, "shadow": true}],
+ "deformers": [{"type": "bend", "axis": [1, 0, 0], "direction": [0, 1, 0], "angle_deg": 120, "length": 1.0,
+                "period_s": 0.8}],
+ "camera": {"position": [0.0, 1.3, 0.6], "target": [0.0, 0.0, 0.0], "fov_deg": 50}}
+JSON
+printf '0 screenshot %s/rest\n0 key SPACE\n0.2 screenshot %s/bent\n0.2 quit\n' "$tmp" "$tmp" > "$tmp/play.txt"
+view "$tmp/bend.json" --size 96x80 --fps 10 --cache "$tmp/cache" --script "$tmp/play.txt" 2> "$tmp/log3.txt" \
+  || fail "animated run: $(cat "$tmp/log3.txt")"
+[ "$(png differ "$tmp/rest.png" "$tmp/bent.png")" -gt 300 ] || fail "playing did not move the slab"
 # A second run uses the cached map; a lost context ends with a message.
 printf '0.0 lose-context\n' > "$tmp/lose.txt"
 view "$tmp/ear.obj" --size 64x64 --cache "$tmp/cache" --script "$tmp/lose.txt" 2> "$tmp/log2.txt"; rc=$?
