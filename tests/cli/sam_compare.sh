@@ -77,46 +77,11 @@ for k in 0000 0002; do
 done
 [ -e "$tmp/anim/frame_0001" ] && fail "compared frame 1, which was not asked for"
 [ -e "$tmp/anim/truth.exr" ] && fail "--frames also wrote the single-pose layout"
-python3 - "$tmp/anim" "$tmp/out/report.json" <<'PY' || fail "the animated comparison is inconsistent"
-import json, math, struct, sys, zlib
+python3 - "$tmp/anim" "$tmp/out/report.json" "$src/tests/cli/lib" <<'PY' || fail "the animated comparison is inconsistent"
+import json, sys
 anim, static = sys.argv[1], json.load(open(sys.argv[2]))
-
-def png(path):
-    """The 8-bit RGB(A) bytes of a non-interlaced PNG, as sam_image_write_png writes them."""
-    d = open(path, "rb").read()
-    pos, idat = 8, b""
-    while pos < len(d):
-        n, kind = struct.unpack(">I4s", d[pos:pos + 8])
-        body = d[pos + 8:pos + 8 + n]
-        pos += 12 + n
-        if kind == b"IHDR":
-            w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
-        elif kind == b"IDAT":
-            idat += body
-    assert depth == 8 and ctype in (2, 6), (path, depth, ctype)
-    bpp = 3 if ctype == 2 else 4
-    raw, stride, rows, prev = zlib.decompress(idat), w * bpp, [], bytearray(w * bpp)
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a, b, c = line[i - bpp] if i >= bpp else 0, prev[i], prev[i - bpp] if i >= bpp else 0
-            if f == 1:
-                line[i] = (line[i] + a) & 255
-            elif f == 2:
-                line[i] = (line[i] + b) & 255
-            elif f == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line))
-        prev = line
-    return b"".join(rows)
-
-def psnr(x, y):
-    rmse = math.sqrt(sum((p - q) ** 2 for p, q in zip(x, y)) / len(x))
-    return 20 * math.log10(255 / rmse) if rmse else math.inf
+sys.path.insert(0, sys.argv[3])
+from png import pixels as png, psnr
 
 summary = json.load(open(anim + "/report.json"))
 assert summary["fps"] == 10 and [f["frame"] for f in summary["frames"]] == [0, 2], summary

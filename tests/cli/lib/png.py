@@ -1,7 +1,8 @@
 """Reads 8-bit PNGs (the files the tools write) with the standard library,
-for the command-line tests: `python3 png.py psnr A B`, `python3 png.py
-differ A B` (pixels that differ), `python3 png.py count A R G B TOL`
-(pixels within TOL of a colour)."""
+for the command-line tests (there is no numpy or PIL): `python3 png.py psnr
+A B`, `python3 png.py differ A B` (pixels that differ), `python3 png.py
+count A R G B TOL` (pixels within TOL of a colour); or import pixels() and
+psnr()."""
 import math
 import struct
 import sys
@@ -50,17 +51,25 @@ def pixels(path):
     return [p for row in read(path) for p in row]
 
 
+def psnr(a, b):
+    """PSNR in dB of two pixel lists over their RGB samples; inf when equal."""
+    if len(a) != len(b):
+        raise SystemExit("sizes differ")
+    se = sum((x - y) ** 2 for p, q in zip(a, b) for x, y in zip(p, q))
+    return math.inf if se == 0 else 20 * math.log10(255 / math.sqrt(se / (3 * len(a))))
+
+
 def main():
     cmd = sys.argv[1]
     if cmd in ("psnr", "differ"):
         a, b = pixels(sys.argv[2]), pixels(sys.argv[3])
-        if len(a) != len(b):
-            raise SystemExit("sizes differ")
         if cmd == "differ":
+            if len(a) != len(b):
+                raise SystemExit("sizes differ")
             print(sum(p != q for p, q in zip(a, b)))
             return
-        se = sum((x - y) ** 2 for p, q in zip(a, b) for x, y in zip(p, q))
-        print("inf" if se == 0 else f"{20 * math.log10(255 / math.sqrt(se / (3 * len(a)))):.2f}")
+        v = psnr(a, b)
+        print("inf" if v == math.inf else f"{v:.2f}")
     elif cmd == "count":
         want, tol = [int(v) for v in sys.argv[3:6]], int(sys.argv[6])
         print(sum(all(abs(x - w) <= tol for x, w in zip(p, want)) for p in pixels(sys.argv[2])))
