@@ -6,9 +6,10 @@
  * "buddha-sized" vertices; skin, N = 3): the irradiance pass (one shadowed
  * point light + environment), the translucency pass and the shading pass at
  * 1920x1080, the latter with each surface-diffusion technique. For the
- * head- and buddha-sized knots, texture-space diffusion with each of
- * Jimenez and Gutierrez's optimisations (culled, clipped, depth-sized, all)
- * against none, in a close-up, a whole-object and a far view: the cost of
+ * head- and buddha-sized knots, with --optimizations (minutes of close-up
+ * renders), texture-space diffusion with each of Jimenez and Gutierrez's
+ * optimisations (culled, clipped, depth-sized, all) against none, in a
+ * close-up, a whole-object and a far view: the cost of
  * the diffusion as the render's time less the same render's without
  * diffusion, and its speed-up. Times are wall-clock medians around
  * glFinish (llvmpipe reports no timer-query time for compute); the
@@ -20,7 +21,21 @@
  * a bending mesh (deform pass + sample walk) per vertex, next to the
  * translucency pass.
  *
- * Usage: bench_frame [--json FILE]   (default bench/results/frame.json)
+ * The whole frame of every translucency technique (sam, tsm, transmittance,
+ * none) with every surface diffusion (none, screen, pre-integrated,
+ * texture) at 1920x1080 on the head- and buddha-sized knots and the knot
+ * scene (scenes/compare_knot.json): each pass's wall time and GL
+ * timer-query time, the frame's total, SAM's share of its frame and SAM's
+ * frame against tsm's, transmittance's and none's in the same run (the SAM
+ * paper claims speed comparable to the shadow-map techniques).
+ * Combinations the runtime cannot render (tsm without texture space, texture
+ * space without usable UVs) are listed with the reason.
+ *
+ * Usage: bench_frame [--quick] [--optimizations] [--json FILE] [--scenes DIR]
+ *   --json    default bench/results/frame.json
+ *   --scenes  where compare_knot.json is (default scenes)
+ *   --quick   two small knots, 320x180, a 256 atlas, one or three runs
+ *             per median: a check that everything runs, not a measurement
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -93,13 +108,40 @@ static sam_status run_shade(sam_runtime *rt, void *user, sam_error *err)
     return st;
 }
 
-/* Median wall time (ms) of `runs` calls, each closed by glFinish; the
- * median GPU time of `pass` (timer query) in *gpu_ms when not NULL
- * (<= 0 where the driver reports none). */
-static double median_ms_gpu(sam_runtime *rt, pass_fn fn, void *user, int runs, sam_pass pass, double *gpu_ms)
+/* The median of `n` values (sorts them). */
+static double median_of(double *v, int n)
 {
-    double t[32], g[32];
+    qsort(v, (size_t)n, sizeof *v, bench_cmp_double);
+    return v[n / 2];
+}
+
+/* How much a run measures: the full benchmark, or --quick's check that
+ * every measurement runs. */
+typedef struct frame_config {
+    uint32_t width, height;                  /* the shaded frame */
+    uint32_t atlas_size;                     /* texture space; 0: the runtime's 1024 */
+    int pass_runs, render_runs, matrix_runs; /* calls per median: passes, renders, technique matrix */
+    int mesh_count;
+    int resolutions[4]; /* knot resolutions */
+    int head, buddha;   /* which of them stand for a head and the Happy Buddha */
+} frame_config;
+
+static const frame_config full_config = {1920, 1080, 0, 9, 3, 3, 4, {120, 400, 900, 2250}, 1, 3};
+static const frame_config quick_config = {320, 180, 256, 3, 1, 1, 2, {40, 80}, 0, 1};
+
+/* Median wall time (ms) of `runs` calls (at most 32), each closed by
+ * glFinish, and in gpu_ms[k] the median GL timer-query time of passes[k]
+ * (<= 0 where the driver reports none). The caller names only passes the
+ * call runs: a pass that did not run reports its last run's time. */
+static double median_ms_gpu(sam_runtime *rt, pass_fn fn, void *user, int runs, const sam_pass *passes,
+                            int pass_count, double *gpu_ms)
+{
+    double t[32], g[4][32];
     sam_error err;
+    /* The first call of a pass or technique compiles its shaders and sizes
+     * its targets: a median of three drops it, a shorter run must not time it. */
+    if (runs < 3 && fn(rt, user, &err) != SAM_OK)
+        die("pass", &err);
     for (int i = 0; i < runs; ++i) {
         glFinish();
         double start = sam_seconds();
@@ -107,19 +149,26 @@ static double median_ms_gpu(sam_runtime *rt, pass_fn fn, void *user, int runs, s
             die("pass", &err);
         glFinish();
         t[i] = 1e3 * (sam_seconds() - start);
-        g[i] = gpu_ms ? sam_runtime_pass_ms(rt, pass) : 0;
+        for (int k = 0; k < pass_count; ++k)
+            g[k][i] = sam_runtime_pass_ms(rt, passes[k]);
     }
-    qsort(t, (size_t)runs, sizeof *t, bench_cmp_double);
-    if (gpu_ms) {
-        qsort(g, (size_t)runs, sizeof *g, bench_cmp_double);
-        *gpu_ms = g[runs / 2];
-    }
-    return t[runs / 2];
+    for (int k = 0; k < pass_count; ++k)
+        gpu_ms[k] = median_of(g[k], runs);
+    return median_of(t, runs);
 }
 
 static double median_ms(sam_runtime *rt, pass_fn fn, void *user, int runs)
 {
-    return median_ms_gpu(rt, fn, user, runs, SAM_PASS_SHADE, NULL);
+    return median_ms_gpu(rt, fn, user, runs, NULL, 0, NULL);
+}
+
+/* A GL timer-query time, or null where the driver gave none. */
+static void json_gpu_ms(FILE *json, const char *key, double ms)
+{
+    if (ms > 0)
+        fprintf(json, "\"%s\": %.4f", key, ms);
+    else
+        fprintf(json, "\"%s\": null", key);
 }
 
 /* Texture-space diffusion with each optimisation against none, in three
@@ -127,7 +176,8 @@ static double median_ms(sam_runtime *rt, pass_fn fn, void *user, int runs)
  * the diffusion is the render's wall time less that of the same view
  * without diffusion (llvmpipe's timer queries are not reliable for these
  * passes), so the speed-up compares what the optimisations act on. */
-static void optimization_table(sam_runtime *rt, sam_render_view view, const float centre[3], float r, FILE *json)
+static void optimization_table(sam_runtime *rt, sam_render_view view, const float centre[3], float r, int runs,
+                               FILE *json)
 {
     static const struct {
         const char *name;
@@ -149,7 +199,7 @@ static void optimization_table(sam_runtime *rt, sam_render_view view, const floa
         view.eye[2] += views[v].distance * r;
         view.eye[1] += 0.2f * r;
         view.diffusion = 0;
-        double plain = median_ms(rt, run_shade, &view, 5);
+        double plain = median_ms(rt, run_shade, &view, runs);
         view.diffusion = 3;
         printf("            %-6s (render without diffusion %.1f ms)", views[v].name, plain);
         fprintf(json, "%s{\"view\": \"%s\", \"eye_distance_radii\": %.1f, \"render_without_diffusion_ms\": %.3f",
@@ -159,7 +209,7 @@ static void optimization_table(sam_runtime *rt, sam_render_view view, const floa
             view.options.culled = configs[c].culled;
             view.options.clipped = configs[c].clipped;
             view.options.depth_sized = configs[c].depth_sized;
-            double cost = median_ms(rt, run_shade, &view, 5) - plain;
+            double cost = median_ms(rt, run_shade, &view, runs) - plain;
             if (c == 0)
                 base = cost;
             printf(" %s %.1f (%.2fx)", configs[c].name, cost, base / cost);
@@ -172,30 +222,230 @@ static void optimization_table(sam_runtime *rt, sam_render_view view, const floa
     fprintf(json, "]");
 }
 
+static const char *const diffusion_names[4] = {"none", "screen", "preintegrated", "texture"};
+static const struct {
+    const char *name;
+    sam_technique technique;
+} techniques[4] = {{"sam", SAM_TECHNIQUE_SAM},
+                   {"tsm", SAM_TECHNIQUE_TSM},
+                   {"transmittance", SAM_TECHNIQUE_TRANSMITTANCE},
+                   {"none", SAM_TECHNIQUE_NONE}};
+
+/* Every technique with every diffusion on one scene (`view`'s camera,
+ * lights set): the irradiance pass, which every technique needs (shadow
+ * maps, L_d), the translucency pass, which only SAM needs, and the render
+ * (shading, the diffusion, a TSM's maps, the read-back), each as a wall
+ * time and a GL timer-query time; the frame is their sum. The renders run
+ * in rounds, every combination once per round after an untimed round that
+ * compiles the shaders, so a change in the machine's load falls on all of
+ * them alike. Writes one JSON object to `json`. */
+static void technique_matrix(sam_runtime *rt, sam_render_view view, const char *label, int runs, FILE *json)
+{
+    char uv_reason[256];
+    int uv_ok = sam_runtime_uv_status(rt, uv_reason, sizeof uv_reason);
+    /* It goes into a JSON string as it is. */
+    for (char *c = uv_reason; *c; ++c)
+        if (*c == '"' || *c == '\\')
+            *c = '\'';
+    sam_pass pass = SAM_PASS_IRRADIANCE;
+    double irr_gpu, tra_gpu;
+    double irr = median_ms_gpu(rt, run_irradiance, NULL, runs, &pass, 1, &irr_gpu);
+    pass = SAM_PASS_TRANSLUCENCY;
+    double tra = median_ms_gpu(rt, run_translucency, NULL, runs, &pass, 1, &tra_gpu);
+    const char *skip[4][4] = {{NULL}};
+    for (int t = 0; t < 4; ++t)
+        for (int d = 0; d < 4; ++d) {
+            if ((d == 3 || techniques[t].technique == SAM_TECHNIQUE_TSM) && !uv_ok)
+                skip[t][d] = uv_reason;
+            else if (techniques[t].technique == SAM_TECHNIQUE_TSM && d != 3)
+                skip[t][d] = "tsm needs texture-space diffusion";
+        }
+    int combos[16], n = 0; /* technique * 4 + diffusion of each one rendered */
+    for (int c = 0; c < 16; ++c)
+        if (!skip[c / 4][c % 4])
+            combos[n++] = c;
+    /* [technique][diffusion][run]: wall ms, then the shading and diffusion
+     * passes' timer-query ms. Each round starts at another combination, so
+     * none always follows the same one (a texture-space render leaves the
+     * caches full of its atlas). */
+    double wall[4][4][32], shade_gpu[4][4][32], diffusion_gpu[4][4][32];
+    for (int round = -1; round < runs; ++round)
+        for (int i = 0; i < n; ++i) {
+            int c = combos[(i + (round + 1) * n / (runs + 1)) % n], t = c / 4, d = c % 4;
+            view.technique = techniques[t].technique;
+            view.diffusion = d;
+            sam_error err;
+            glFinish();
+            double start = sam_seconds();
+            if (run_shade(rt, &view, &err) != SAM_OK)
+                die(label, &err);
+            glFinish();
+            if (round < 0)
+                continue;
+            wall[t][d][round] = 1e3 * (sam_seconds() - start);
+            shade_gpu[t][d][round] = sam_runtime_pass_ms(rt, SAM_PASS_SHADE);
+            /* Only screen and texture space run a diffusion pass. */
+            diffusion_gpu[t][d][round] = d == 1 || d == 3 ? sam_runtime_pass_ms(rt, SAM_PASS_DIFFUSION) : 0;
+        }
+    double total[4][4] = {{0}}; /* [technique][diffusion], 0: not rendered */
+    printf("\n%s, %u vertices, %ux%u: frame ms by technique (render ms in brackets); irradiance pass %.1f ms, "
+           "translucency pass %.2f ms (SAM only)\n",
+           label, sam_runtime_vertex_count(rt), view.width, view.height, irr, tra);
+    printf("%-14s %22s %22s %22s %22s\n", "", diffusion_names[0], diffusion_names[1], diffusion_names[2],
+           diffusion_names[3]);
+    fprintf(json, "{\"scene\": \"%s\", \"vertices\": %u, \"width\": %u, \"height\": %u, \"irradiance_ms\": %.4f, ",
+            label, sam_runtime_vertex_count(rt), view.width, view.height, irr);
+    json_gpu_ms(json, "irradiance_gpu_ms", irr_gpu);
+    fprintf(json, ", \"translucency_ms\": %.4f, ", tra);
+    json_gpu_ms(json, "translucency_gpu_ms", tra_gpu);
+    fprintf(json, ", \"frames\": [");
+    for (int t = 0; t < 4; ++t) {
+        printf("%-14s", techniques[t].name);
+        for (int d = 0; d < 4; ++d) {
+            fprintf(json, "%s{\"technique\": \"%s\", \"diffusion\": \"%s\"", t || d ? ", " : "", techniques[t].name,
+                    diffusion_names[d]);
+            if (skip[t][d]) {
+                printf(" %22s", "-");
+                fprintf(json, ", \"skipped\": \"%s\"}", skip[t][d]);
+                continue;
+            }
+            int sam = techniques[t].technique == SAM_TECHNIQUE_SAM, blurred = d == 1 || d == 3;
+            double render = median_of(wall[t][d], runs), shade = median_of(shade_gpu[t][d], runs);
+            double diffusion = median_of(diffusion_gpu[t][d], runs);
+            total[t][d] = irr + (sam ? tra : 0) + render;
+            /* A TSM's maps are drawn outside every timer query, so its GPU
+             * total would leave them out. */
+            int gpu_complete = irr_gpu > 0 && (!sam || tra_gpu > 0) && shade > 0 && (!blurred || diffusion > 0) &&
+                               techniques[t].technique != SAM_TECHNIQUE_TSM;
+            char cell[64];
+            snprintf(cell, sizeof cell, "%.1f (%.1f)", total[t][d], render);
+            printf(" %22s", cell);
+            fprintf(json, ", \"render_ms\": %.3f, \"total_ms\": %.3f, ", render, total[t][d]);
+            json_gpu_ms(json, "shade_gpu_ms", shade);
+            fprintf(json, ", ");
+            json_gpu_ms(json, "diffusion_gpu_ms", diffusion);
+            fprintf(json, ", ");
+            json_gpu_ms(json, "total_gpu_ms", gpu_complete ? irr_gpu + (sam ? tra_gpu : 0) + shade + diffusion : 0);
+            if (sam)
+                fprintf(json, ", \"sam_share\": %.5f", tra / total[t][d]);
+            fprintf(json, "}");
+        }
+        printf("\n");
+    }
+    fprintf(json, "]");
+    /* SAM against each other technique on the same diffusion. */
+    printf("%-14s", "SAM share");
+    for (int d = 0; d < 4; ++d) {
+        char cell[32];
+        snprintf(cell, sizeof cell, "%.2f%%", total[0][d] > 0 ? 100 * tra / total[0][d] : 0);
+        printf(" %22s", total[0][d] > 0 ? cell : "-");
+    }
+    printf("\n");
+    for (int t = 1; t < 4; ++t) {
+        printf("SAM / %-8s", techniques[t].name);
+        fprintf(json, ", \"sam_over_%s\": {", techniques[t].name);
+        int first = 1;
+        for (int d = 0; d < 4; ++d) {
+            char cell[32] = "-";
+            if (total[0][d] > 0 && total[t][d] > 0) {
+                snprintf(cell, sizeof cell, "%.3fx", total[0][d] / total[t][d]);
+                fprintf(json, "%s\"%s\": %.4f", first ? "" : ", ", diffusion_names[d], total[0][d] / total[t][d]);
+                first = 0;
+            }
+            printf(" %22s", cell);
+        }
+        fprintf(json, "}");
+        printf("\n");
+    }
+    fprintf(json, "}");
+}
+
+/* The light and environment of the knot benchmarks: one shadowed point
+ * light behind the knot (translucency shows), a white environment. */
+static void light_knot(sam_runtime *rt)
+{
+    sam_error err;
+    sam_light light;
+    memset(&light, 0, sizeof light);
+    light.type = SAM_LIGHT_POINT;
+    light.color[0] = light.color[1] = light.color[2] = 1.0f;
+    light.intensity = 2.0f;
+    light.shadow = 1;
+    light.position[2] = -2.0f;
+    float sh[9][3] = {{1.0f, 1.0f, 1.0f}};
+    if (sam_runtime_set_lights(rt, &light, 1, &err) != SAM_OK)
+        die("lights", &err);
+    sam_runtime_set_environment(rt, sh);
+}
+
+/* The technique matrix on scenes/compare_knot.json: its mesh, material,
+ * lights, environment and camera, at the benchmark's frame size. */
+static void knot_scene_matrix(const char *scenes, const frame_config *cfg, FILE *json)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/compare_knot.json", scenes);
+    sam_scene scene;
+    samfile_data d;
+    sam_profile profile;
+    float mm_per_unit;
+    sam_runtime *rt = bench_scene_runtime("bench_frame", path, &scene, &d, &profile, &mm_per_unit, NULL, NULL);
+    sam_render_view view;
+    sam_runtime_scene_view(rt, &scene, &view, NULL, 0);
+    view.width = cfg->width, view.height = cfg->height;
+    technique_matrix(rt, view, "knot scene (compare_knot.json)", cfg->matrix_runs, json);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+    sam_scene_destroy(&scene);
+}
+
 int main(int argc, char **argv)
 {
-    const char *json_path = argc > 2 && !strcmp(argv[1], "--json") ? argv[2] : "bench/results/frame.json";
+    const char *json_path = "bench/results/frame.json", *scenes = "scenes";
+    const frame_config *cfg = &full_config;
+    int optimizations = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--optimizations"))
+            optimizations = 1;
+        else if (!strcmp(argv[i], "--json") && i + 1 < argc)
+            json_path = argv[++i];
+        else if (!strcmp(argv[i], "--scenes") && i + 1 < argc)
+            scenes = argv[++i];
+        else if (!strcmp(argv[i], "--quick"))
+            cfg = &quick_config;
+        else {
+            fprintf(stderr, "usage: bench_frame [--quick] [--optimizations] [--json FILE] [--scenes DIR]\n");
+            return 2;
+        }
+    }
     sam_gl_context *gl;
     sam_error err;
     if (sam_gl_context_create_headless(&gl, &err) != SAM_OK)
         die("GL", &err);
     const sam_gl_info *info = sam_gl_context_info(gl);
     double bandwidth = memory_bandwidth();
-    FILE *json = fopen(json_path, "w");
-    if (!json)
-        die(json_path, NULL);
-    fprintf(json, "{\n  \"renderer\": \"%s\",\n  \"memcpy_bandwidth_gb_s\": %.2f,\n  \"meshes\": [\n", info->renderer,
-            bandwidth * 1e-9);
-    printf("GL: %s; memcpy bandwidth %.1f GB/s\n", info->renderer, bandwidth * 1e-9);
-    printf("%9s %11s %13s %11s %12s %13s %10s %11s\n", "vertices", "irradiance", "translucency", "shade 1080p",
+    sam_atomic_file out;
+    bench_json_open("bench_frame", json_path, &out);
+    FILE *json = out.fp;
+    /* The technique matrices, written after the meshes. */
+    char *matrix_text = NULL;
+    size_t matrix_size = 0;
+    FILE *matrix = open_memstream(&matrix_text, &matrix_size);
+    if (!matrix)
+        die("technique matrix buffer", NULL);
+    fprintf(json,
+            "{\n  \"renderer\": \"%s\",\n  \"quick\": %s,\n  \"width\": %u,\n  \"height\": %u,\n"
+            "  \"memcpy_bandwidth_gb_s\": %.2f,\n  \"meshes\": [\n",
+            info->renderer, cfg == &quick_config ? "true" : "false", cfg->width, cfg->height, bandwidth * 1e-9);
+    printf("GL: %s; memcpy bandwidth %.1f GB/s; frames %ux%u\n", info->renderer, bandwidth * 1e-9, cfg->width,
+           cfg->height);
+    printf("%9s %11s %13s %11s %12s %13s %10s %11s\n", "vertices", "irradiance", "translucency", "shade",
            "Mvertices/s", "bound (ms)", "of bound", "SAM share");
-    const int resolutions[4] = {120, 400, 900, 2250};
     sam_profile skin;
     sam_profile_preset("skin", &skin, NULL);
-    for (int m = 0; m < 4; ++m) {
+    for (int m = 0; m < cfg->mesh_count; ++m) {
         sam_shape_params sp;
         sam_shape_default_params("knot", &sp, NULL);
-        sp.resolution = resolutions[m];
+        sp.resolution = cfg->resolutions[m];
         sam_shape_mesh s;
         if (sam_shape_generate("knot", &sp, &s, &err) != SAM_OK)
             die("knot", &err);
@@ -211,31 +461,23 @@ int main(int argc, char **argv)
         sam_runtime *rt;
         if (sam_runtime_create(&d, &skin, 40.0f, &rt, &err) != SAM_OK)
             die("runtime", &err);
-        sam_light light;
-        memset(&light, 0, sizeof light);
-        light.type = SAM_LIGHT_POINT;
-        light.color[0] = light.color[1] = light.color[2] = 1.0f;
-        light.intensity = 2.0f;
-        light.shadow = 1;
-        light.position[2] = -2.0f;
-        float sh[9][3] = {{1.0f, 1.0f, 1.0f}};
-        if (sam_runtime_set_lights(rt, &light, 1, &err) != SAM_OK)
-            die("lights", &err);
-        sam_runtime_set_environment(rt, sh);
+        light_knot(rt);
         sam_render_view view;
         memset(&view, 0, sizeof view);
-        view.width = 1920, view.height = 1080, view.fov_deg = 40.0f, view.front = 1;
+        view.width = cfg->width, view.height = cfg->height, view.fov_deg = 40.0f, view.front = 1;
+        view.options.atlas_size = cfg->atlas_size;
         view.eye[2] = 3.0f, view.up[1] = 1.0f;
         view.albedo[0] = view.albedo[1] = view.albedo[2] = 0.8f;
-        double irr = median_ms(rt, run_irradiance, NULL, 15);
-        double tra = median_ms(rt, run_translucency, NULL, 15);
-        double sha = median_ms(rt, run_shade, &view, 5);
+        double irr = median_ms(rt, run_irradiance, NULL, cfg->pass_runs);
+        double tra = median_ms(rt, run_translucency, NULL, cfg->pass_runs);
+        double sha = median_ms(rt, run_shade, &view, cfg->render_runs);
         /* Every surface-diffusion technique on the same frame. */
-        static const char *diffusion_names[4] = {"none", "screen", "preintegrated", "texture"};
         double diffusion_ms[4], diffusion_gpu[4];
+        sam_pass diffusion_pass = SAM_PASS_DIFFUSION;
         for (int t = 0; t < 4; ++t) {
             view.diffusion = t;
-            diffusion_ms[t] = median_ms_gpu(rt, run_shade, &view, 3, SAM_PASS_DIFFUSION, &diffusion_gpu[t]);
+            diffusion_ms[t] = median_ms_gpu(rt, run_shade, &view, cfg->matrix_runs, &diffusion_pass, 1,
+                                            &diffusion_gpu[t]);
         }
         view.diffusion = 0;
         /* Bytes the translucency pass must move per vertex. */
@@ -244,12 +486,13 @@ int main(int argc, char **argv)
         double share = tra / (irr + tra + sha);
         printf("%9u %9.3f ms %11.3f ms %8.2f ms %12.1f %13.3f %9.0f%% %10.1f%%\n", d.vertex_count, irr, tra, sha,
                1e-3 * d.vertex_count / tra, bound, 100 * bound / tra, 100 * share);
-        printf("          1080p shading by diffusion: none %.1f ms, screen %.1f ms, pre-integrated %.1f ms, "
+        printf("          shading by diffusion: none %.1f ms, screen %.1f ms, pre-integrated %.1f ms, "
                "texture %.1f ms",
                diffusion_ms[0], diffusion_ms[1], diffusion_ms[2], diffusion_ms[3]);
         if (diffusion_gpu[1] > 0)
             printf(" (diffusion pass GPU ms: screen %.3f, texture %.3f)", diffusion_gpu[1], diffusion_gpu[3]);
         printf("\n");
+        /* The "_1080p" keys keep their names in --quick, whose frames are smaller (see "width"). */
         fprintf(json,
                 "    {\"vertices\": %u, \"samples_per_vertex\": %u, \"irradiance_ms\": %.4f, \"translucency_ms\": "
                 "%.4f, \"shade_1080p_ms\": %.3f, \"translucency_vertices_per_s\": %.0f, \"bytes_per_vertex\": %.0f, "
@@ -260,10 +503,16 @@ int main(int argc, char **argv)
                 bound / tra, share, diffusion_names[0], diffusion_ms[0], diffusion_names[1], diffusion_ms[1],
                 diffusion_names[2], diffusion_ms[2], diffusion_names[3], diffusion_ms[3], diffusion_gpu[1],
                 diffusion_gpu[3]);
-        if (m == 1 || m == 3) {
-            float centre[3], radius;
-            sam_runtime_bounds(rt, centre, &radius);
-            optimization_table(rt, view, centre, radius, json);
+        if (m == cfg->head || m == cfg->buddha) {
+            if (optimizations) {
+                float centre[3], radius;
+                sam_runtime_bounds(rt, centre, &radius);
+                optimization_table(rt, view, centre, radius, cfg->render_runs, json);
+            }
+            char label[64];
+            snprintf(label, sizeof label, "%s knot", m == cfg->head ? "head-sized" : "buddha-sized");
+            fprintf(matrix, "%s    ", m == cfg->head ? "" : ",\n");
+            technique_matrix(rt, view, label, cfg->matrix_runs, matrix);
         }
         /* Last, so the other passes ran on the rest pose: the per-frame
          * update of a bending mesh (SAM paper Sec. 3.4; its Fig. 12 says an
@@ -273,19 +522,24 @@ int main(int argc, char **argv)
         if (sam_runtime_set_deformers(rt, &bend, 1, &err) != SAM_OK)
             die("deformers", &err);
         int frame = 0;
-        double upd = median_ms(rt, run_update, &frame, 15);
+        double upd = median_ms(rt, run_update, &frame, cfg->pass_runs);
         printf("          animated update (deform + walk): %.3f ms, %.1f ns per vertex (translucency %.1f ns per "
                "vertex); SAM passes of a frame %.2fx the static ones\n",
                upd, 1e6 * upd / d.vertex_count, 1e6 * tra / d.vertex_count, (irr + tra + upd) / (irr + tra));
         fprintf(json, ", \"update_ms\": %.4f, \"update_ns_per_vertex\": %.2f, \"translucency_ns_per_vertex\": %.2f",
                 upd, 1e6 * upd / d.vertex_count, 1e6 * tra / d.vertex_count);
-        fprintf(json, "}%s\n", m < 3 ? "," : "");
+        fprintf(json, "}%s\n", m < cfg->mesh_count - 1 ? "," : "");
         sam_runtime_destroy(rt);
         samfile_free(&d);
         sam_mesh_destroy(&mesh);
     }
-    fprintf(json, "  ]\n}\n");
-    fclose(json);
+    fprintf(matrix, ",\n    ");
+    knot_scene_matrix(scenes, cfg, matrix);
+    if (fclose(matrix) != 0)
+        die("technique matrix buffer", NULL);
+    fprintf(json, "  ],\n  \"frame_by_technique\": [\n%s\n  ]\n}\n", matrix_text);
+    free(matrix_text);
+    bench_json_commit("bench_frame", &out);
     sam_gl_context_destroy(gl);
     return 0;
 }
