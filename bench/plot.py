@@ -121,10 +121,13 @@ def plot_frame(folder, work, frame):
                   "set xlabel 'vertices (knots bent 60 degrees, skin, N = 3)'\nset ylabel 'nanoseconds per vertex'\n"
                   "set yrange [0:*]\nset key top right\n"
                   "plot 'update.dat' using 1:2 with linespoints lw 2 pt 7 title 'update', "
-                  "'' using 1:3 with linespoints lw 2 pt 5 title 'translucency pass', "
+                  "'' using 1:3 with linespoints lw 2 pt 5 title 'translucency pass at rest', "
+                  "'' using 1:4 with linespoints lw 2 pt 9 title 'translucency pass posed (K carried by quadrature)', "
+                  "'' using 1:5 with linespoints lw 2 pt 11 title 'translucency pass posed (eq. 15)', "
                   "'' using 1:2:(sprintf('%.0f', $2)) with labels offset 0,1 notitle\n")
         gnuplot(folder, work, "update.png", script, {"update": [
-            (m["vertices"], m["update_ns_per_vertex"], m["translucency_ns_per_vertex"]) for m in meshes]})
+            (m["vertices"], m["update_ns_per_vertex"], m["translucency_ns_per_vertex"],
+             m["posed_translucency_ns_per_vertex"], m["eq15_translucency_ns_per_vertex"]) for m in meshes]})
 
 
 def plot_truth(folder, work, truth):

@@ -1,11 +1,12 @@
 #version 430 core
 // SAM translucency (Maisch and Ropinski eq. 12) with temporal smoothing
 // (eq. 17-18): T(v) = sum_k L_d(b_k) K_k, K_k = K'_k F'_b R_d(|v_b - v|)
-// (eq. 15), so a deformed pose needs no other path; then
-// T <- (1 - alpha) T_prev + alpha T. On a deformed pose a sample that has
-// left the back side (eq. 13-14 fail at the pose) contributes 0: its K
-// would add light through the front. It stays stored, so it counts again
-// when the pose brings it back (walk.comp replaces it when it can).
+// (eq. 15); then T <- (1 - alpha) T_prev + alpha T. On a deformed pose K
+// is carried from rest by the fans' quadrature (fan_form_factor.glsl), and
+// a sample that has left the back side (eq. 13-14 fail at the pose)
+// contributes 0: its K would add light through the front. It stays stored,
+// so it counts again when the pose brings it back (walk.comp replaces it
+// when it can).
 #include "profile.glsl"
 
 layout(local_size_x = 64) in;
@@ -21,13 +22,27 @@ layout(std430, binding = 2) readonly buffer Samples { Sample samples[]; };
 layout(std430, binding = 3) readonly buffer FanAreas { float fan_area[]; };
 layout(std430, binding = 4) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 5) buffer Translucency { vec4 translucency[]; };
+#if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
+layout(std430, binding = 6) readonly buffer AdjOffsets { uint adj_offsets[]; };
+layout(std430, binding = 7) readonly buffer Adjacency { uint adjacency[]; };
+layout(std430, binding = 15) readonly buffer RestPositions { vec4 rest_positions[]; };
+#endif
 
 uniform uint u_vertex_count;
 uniform uint u_stride;        // samples stored per vertex
 uniform uint u_samples;       // samples used, <= u_stride
 uniform float u_mm_per_unit;
 uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
-uniform bool u_check_sides;   // deformed pose: skip samples off the back side
+
+// Compiled three times: the rest pose's program (K by eq. 15, which is K
+// itself there) and, with SAM_POSED, a deformed pose's, which skips samples
+// off the back side and carries K from rest, or with SAM_POSED_EQ15 too
+// takes eq. 15 as the paper does (cheaper, worse under shear; see
+// sam_runtime_set_posed_k). Programs, not branches: a branch made
+// llvmpipe's rest pose pay about 2x for the posed path it never took.
+#if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
+#include "fan_form_factor.glsl"
+#endif
 
 void main()
 {
@@ -40,12 +55,17 @@ void main()
         Sample s = samples[v * u_stride + k];
         if (s.index == 0xFFFFFFFFu)
             break;
-        if (u_check_sides &&
-            !(dot(positions[s.index].xyz - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
+#ifdef SAM_POSED
+        if (!(dot(positions[s.index].xyz - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
             continue;
+#endif
+#if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
+        sum += irradiance[s.index].rgb * posed_form_factor(v, s.index, vec3(s.kr, s.kg, s.kb));
+#else
         float d = u_mm_per_unit * distance(positions[s.index].xyz, p);
         vec3 K = vec3(s.kr, s.kg, s.kb) * fan_area[s.index] * profile_rd(d);
         sum += irradiance[s.index].rgb * K;
+#endif
     }
     // mix() may be x + (y - x) a, which with a = 1 leaves the history's last
     // bits in: a reset must not depend on what came before.

@@ -5,13 +5,18 @@
 // on the back side at the pose (eq. 13-14) and not chosen yet replaces the
 // sample with the smallest approximated K when its own is larger.
 //
-// An adopted vertex gets K' = 1: its K is the point estimate F'_i R_d(|v_i -
-// v_o|), the one the builder ranks candidates by. K' (eq. 15) is the part of
-// K that estimate misses for one particular pair of fans; carried over to
-// another vertex it is meaningless. Handing on the K' of the replaced slot
-// or of the sample it was reached from did: on a twisted ear
-// (tests/test_gl_walk.c) a far sample's large K' landed on a near vertex and
-// T came out 5.6 times the reference's RMS, against 0.12 with K' = 1.
+// The walk ranks by eq. 15's K' F'_i R_d(|v_i - v_o|) at the pose, as the
+// builder ranks its candidates by the point estimate; the translucency pass
+// sums a better-carried K (fan_form_factor.glsl). Ranking by that K instead
+// made the walk 20 times slower on llvmpipe and moved the walked T's error
+// against a fresh build by at most 0.0013 on the poses of
+// tests/test_gl_walk.c. An adopted vertex gets K' = 1: its rest K is taken
+// to be the point estimate. K' is the part of K that estimate misses for
+// one particular pair of fans; carried over to another vertex it is
+// meaningless. Handing on the K' of the replaced slot or of the sample it
+// was reached from did: on a twisted ear a far sample's large K' landed on
+// a near vertex and T came out 5.6 times the reference's RMS, against 0.12
+// with K' = 1 (both with eq. 15's posed K).
 //
 // Each invocation reads other vertices' positions, normals and fan areas
 // and writes only its own samples, so there is no race and the order of

@@ -260,12 +260,18 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
         (st = upload(rt, B_LIGHTS, NULL, sizeof(gpu_light), err)) != SAM_OK)
         goto done;
     if ((st = sam_gl_compute_program("translucency.comp", NULL, &rt->translucency_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("translucency.comp", "#define SAM_POSED 1\n", &rt->translucency_posed_program,
+                                     err)) != SAM_OK ||
+        (st = sam_gl_compute_program("translucency.comp", "#define SAM_POSED 1\n#define SAM_POSED_EQ15 1\n",
+                                     &rt->translucency_eq15_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("irradiance.comp", NULL, &rt->irradiance_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("deform.comp", NULL, &rt->deform_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("deform_normals.comp", NULL, &rt->deform_normals_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("walk.comp", NULL, &rt->walk_program, err)) != SAM_OK)
         goto done;
     set_profile_uniforms(rt->translucency_program, profile);
+    set_profile_uniforms(rt->translucency_posed_program, profile);
+    set_profile_uniforms(rt->translucency_eq15_program, profile);
     set_profile_uniforms(rt->walk_program, profile);
     if ((st = sam_runtime_set_surface(rt, 0.3f, 0.18f, err)) != SAM_OK)
         goto done;
@@ -290,6 +296,10 @@ void sam_runtime_destroy(sam_runtime *rt)
     glDeleteQueries(SAM_PASS_COUNT, rt->query);
     if (rt->translucency_program)
         glDeleteProgram(rt->translucency_program);
+    if (rt->translucency_posed_program)
+        glDeleteProgram(rt->translucency_posed_program);
+    if (rt->translucency_eq15_program)
+        glDeleteProgram(rt->translucency_eq15_program);
     if (rt->irradiance_program)
         glDeleteProgram(rt->irradiance_program);
     if (rt->deform_program)
@@ -1088,16 +1098,20 @@ sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt,
 {
     if (!(dt >= 0) || !isfinite(dt))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: frame time must be finite and >= 0, got %g", dt);
-    GLuint p = rt->translucency_program;
+    int carried = rt->posed && rt->posed_k == SAM_POSED_K_CARRIED;
+    GLuint p = !rt->posed ? rt->translucency_program : carried ? rt->translucency_posed_program
+                                                               : rt->translucency_eq15_program;
     glUseProgram(p);
     glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
     glUniform1ui(glGetUniformLocation(p, "u_stride"), rt->stride);
     glUniform1ui(glGetUniformLocation(p, "u_samples"), samples && samples < rt->stride ? samples : rt->stride);
     glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
     glUniform1f(glGetUniformLocation(p, "u_alpha"), reset ? 1.0f : sam_runtime_smoothing_alpha(dt));
-    glUniform1i(glGetUniformLocation(p, "u_check_sides"), rt->posed);
     for (int b = 0; b < B_COUNT; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+    /* A posed K is carried from the rest pose (shaders/fan_form_factor.glsl). */
+    if (carried)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_REST_POSITIONS, rt->rest_buffer[REST_POSITIONS]);
     glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_TRANSLUCENCY]);
     glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
     glEndQuery(GL_TIME_ELAPSED);
@@ -1354,6 +1368,15 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
     /* Positions and normals are vertex attributes of the draws as well. */
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                     GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    return SAM_OK;
+}
+
+sam_status sam_runtime_set_posed_k(sam_runtime *rt, sam_posed_k mode, sam_error *err)
+{
+    if (mode != SAM_POSED_K_CARRIED && mode != SAM_POSED_K_EQ15)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: unknown posed-K mode %d (expected 0 or 1)",
+                        (int)mode);
+    rt->posed_k = mode;
     return SAM_OK;
 }
 

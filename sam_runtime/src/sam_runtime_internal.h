@@ -48,6 +48,9 @@ enum { TECHNIQUE_VERTEX = 0, TECHNIQUE_NONE = 1, TECHNIQUE_TRANSMITTANCE = 2, TE
  * sam_runtime_set_deformers; the samples come back with the rest pose
  * because the walk moves them). */
 enum { REST_POSITIONS, REST_NORMALS, REST_FAN_AREAS, REST_SAMPLES, REST_COUNT };
+/* Where the translucency pass finds the rest positions, which it carries a
+ * posed K from (fan_form_factor.glsl): the binding after rt->buffer's. */
+enum { B_REST_POSITIONS = B_COUNT };
 
 /* Texture-space maps, kept between renders (all atlas_size^2 RGBA32F). */
 enum { ATLAS_IRRADIANCE, ATLAS_STRETCH, ATLAS_TEMP, ATLAS_LEVEL_A, ATLAS_LEVEL_B, ATLAS_SUM, ATLAS_COUNT };
@@ -57,7 +60,8 @@ struct sam_runtime {
     float mm_per_unit;
     sam_profile profile;
     GLuint buffer[B_COUNT];
-    GLuint translucency_program, irradiance_program;
+    GLuint translucency_program, translucency_posed_program, translucency_eq15_program, irradiance_program;
+    sam_posed_k posed_k;
     GLuint deform_program, deform_normals_program, walk_program;
     GLuint rest_buffer[REST_COUNT]; /* 0 until the first sam_runtime_set_deformers or _set_keyframes */
     int posed;                      /* 1 while the buffers hold a deformed pose, not the rest pose */

@@ -20,7 +20,8 @@
  * rho_dt(N.L) = 1 - k (1 - table(N.L, m)) (d'Eon Sec. 6; k = pi rho_s, the
  * specular lobe's scale), plus the environment's SH-9 irradiance times the
  * cosine-weighted mean of rho_dt over the hemisphere. The translucency pass evaluates eq. 12 with
- * K = K' F'_b R_d(|v_b - v|) (eq. 15) and smooths it in time (eq. 17-18),
+ * K = K' F'_b R_d(|v_b - v|) (eq. 15) at rest and, on a deformed pose, K
+ * carried from rest (sam_runtime_set_posed_k), and smooths it in time (eq. 17-18),
  * T <- (1 - alpha) T_prev + alpha T, alpha = 1 - (1e-10)^dt. Results stay on
  * the GPU; read-back functions exist for tests and tools.
  *
@@ -98,8 +99,8 @@ sam_status sam_runtime_set_keyframes(sam_runtime *rt, const float *const *positi
  * area-weighted sum of the cross products of consecutive ring neighbours
  * in the adjacency buffer, normalised) and reduced fan area F'_i of eq. 16
  * in mm^2 (sam_mesh_fan_areas' sum in float). Every later pass reads the
- * new buffers: shadow maps, L_d, translucency (eq. 15 takes the new F'_b
- * and distances), shading and the diffusion techniques. When no deformer
+ * new buffers: shadow maps, L_d, translucency (the posed K, from the new
+ * positions and fan areas), shading and the diffusion techniques. When no deformer
  * moves anything at that time (none set, or all at strength 0) and the
  * keyframe pose is the rest pose (no keyframes, or time_s <= 0) the rest
  * positions, normals and fan areas are restored bit for bit. Not updated:
@@ -122,17 +123,17 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err);
  * those go first) when its own approximated K is larger. The samples are
  * then sorted by approximated K, best first (empty slots last).
  *
- * K' of an adopted vertex: 1, so its K is the point estimate
- * F'_i R_d(|v_i - v_o|) the builder ranks candidates by. A stored K' is the
+ * K' of an adopted vertex: 1: its rest K is taken to be the point
+ * estimate F'_i R_d(|v_i - v_o|) the builder ranks candidates by, and the
+ * translucency pass carries it to the pose like any other. A stored K' is the
  * correction for one pair of fans; handed to another vertex (the replaced
  * slot's, or the one it was reached from) a far sample's large K' landed on
  * near vertices and, on a twisted ear, T came out 5.6 times the reference.
  *
  * Measured in tests/test_gl_walk.c (skin, n = 4, 4096 Monte Carlo pairs;
- * T's relative RMSE against a fresh build of the pose): a slab bent 240
- * degrees 0.075 stale, 0.040 updated and walked; an ear twisted 90 degrees
- * 0.222 stale, 0.118; a thin sheet under a wave 0.077 stale, 0.098: the
- * update does not help that shear-like pose yet.
+ * T's relative RMSE against a fresh build of the pose, K carried): a slab
+ * bent 240 degrees 0.075 stale, 0.039 updated and walked; an ear twisted 90
+ * degrees 0.222 stale, 0.093; a thin slab under a wave 0.077 stale, 0.040.
  *
  * The chosen set stays in the samples buffer from frame to frame, so
  * samples travel one ring per call as the pose moves. Seam copies of a
@@ -142,6 +143,26 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err);
  * nothing: the builder's Monte Carlo choice is exact there, and samples and
  * K stay bit for bit. Never fails today; `err` is for the contract. */
 sam_status sam_runtime_walk(sam_runtime *rt, sam_error *err);
+
+/* How the translucency pass takes K on a deformed pose (at rest K is the
+ * builder's either way). */
+typedef enum sam_posed_k {
+    /* The default: K = (rest K) Q(pose) / Q(rest), Q a quadrature of eq. 11
+     * over the two fans (one point per fan triangle, two one-sided rules
+     * averaged; shaders/fan_form_factor.glsl). Eq. 15's point estimate
+     * overreacts when a shear tilts the fans against the line between
+     * their centres: on a slab under a wave its T was worse than the stale
+     * map's (0.098 against 0.077), the carried K's 0.040. It costs about 12
+     * R_d evaluations per sample more (on llvmpipe 19x the rest pass). */
+    SAM_POSED_K_CARRIED = 0,
+    /* The paper's eq. 15, K = K' F'_b R_d(|v_b - v|): as cheap as the rest
+     * pass, good under bends, poor under shear. */
+    SAM_POSED_K_EQ15 = 1
+} sam_posed_k;
+
+/* Chooses the posed K; takes effect at the next sam_runtime_translucency.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (an unknown mode). */
+sam_status sam_runtime_set_posed_k(sam_runtime *rt, sam_posed_k mode, sam_error *err);
 
 /* Reads the samples buffer: `index` (vertex_count * n, n =
  * sam_runtime_samples_per_vertex) the back-side vertex of each sample,
