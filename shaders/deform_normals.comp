@@ -13,8 +13,19 @@ layout(std430, binding = 3) writeonly buffer FanAreas { float fan_area[]; };
 layout(std430, binding = 6) readonly buffer AdjOffsets { uint adj_offsets[]; };
 layout(std430, binding = 7) readonly buffer Adjacency { uint adjacency[]; };
 
+// The pose's bounding box, as order-preserving keys of the floats (a
+// negative float's bits inverted, a positive one's sign bit set), so that
+// integer atomics find the float minimum and maximum.
+layout(std430, binding = 16) buffer Bounds { uint box_min[3]; uint box_max[3]; };
+
 uniform uint u_vertex_count;
 uniform float u_mm2_per_unit2;
+
+uint order_key(float f)
+{
+    uint b = floatBitsToUint(f);
+    return (b & 0x80000000u) != 0u ? ~b : b | 0x80000000u;
+}
 
 void main()
 {
@@ -22,6 +33,10 @@ void main()
     if (v >= u_vertex_count)
         return;
     vec3 p = positions[v].xyz, sum = vec3(0.0);
+    for (int c = 0; c < 3; ++c) {
+        atomicMin(box_min[c], order_key(p[c]));
+        atomicMax(box_max[c], order_key(p[c]));
+    }
     float area = 0.0;
     uint begin = adj_offsets[v], end = adj_offsets[v + 1u];
     for (uint k = begin + 1u; k < end; ++k) {

@@ -221,6 +221,41 @@ static void test_rest_pose_is_bit_identical(void **state)
     assert_int_equal(sam_runtime_set_deformers(f->rt, d, SAM_DEFORM_MAX + 1, &err), SAM_ERR_INVALID_ARGUMENT);
 }
 
+/* The bounds follow the pose: the box around the posed positions, exactly,
+ * and the rest pose's bounds bit for bit at rest. */
+static void test_bounds_follow_the_pose(void **state)
+{
+    fixture *f = *state;
+    float rest_centre[3], rest_radius, centre[3], radius;
+    sam_runtime_bounds(f->rt, rest_centre, &rest_radius);
+    sam_deformer d = example(f, SAM_DEFORM_BEND);
+    d.angle_deg = 200.0f;
+    pose(f, &d, 1, 0.5f);
+    sam_runtime_bounds(f->rt, centre, &radius);
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t v = 0; v < f->sam.vertex_count; ++v)
+        for (int c = 0; c < 3; ++c) {
+            lo[c] = fminf(lo[c], f->pos[3 * v + c]);
+            hi[c] = fmaxf(hi[c], f->pos[3 * v + c]);
+        }
+    double r2 = 0, moved = 0;
+    for (int c = 0; c < 3; ++c) {
+        assert_true(centre[c] == 0.5f * (lo[c] + hi[c]));
+        r2 += 0.25 * ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+        moved += fabs((double)centre[c] - rest_centre[c]);
+    }
+    assert_true(radius == (float)sqrt(r2));
+    printf("bent 200 deg: bounding sphere centre moved %.3f, radius %.3f -> %.3f (model units)\n", moved, rest_radius,
+           radius);
+    assert_true(moved + fabs((double)radius - rest_radius) > 0.02 * rest_radius); /* the pose changed them */
+    sam_deformer still = d;
+    still.angle_deg = 0.0f;
+    pose(f, &still, 1, 0.5f);
+    sam_runtime_bounds(f->rt, centre, &radius);
+    assert_memory_equal(centre, rest_centre, sizeof centre);
+    assert_true(radius == rest_radius);
+}
+
 static double max_relative_change(const float *a, const float *b, size_t n)
 {
     double peak = 0, diff = 0;
@@ -280,6 +315,7 @@ int main(void)
         cmocka_unit_test(test_seam_copies_stay_identical),
         cmocka_unit_test(test_rest_pose_is_bit_identical),
         cmocka_unit_test(test_later_passes_follow_the_pose),
+        cmocka_unit_test(test_bounds_follow_the_pose),
     };
     return cmocka_run_group_tests(tests, fixture_setup, fixture_teardown);
 }

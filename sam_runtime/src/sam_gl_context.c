@@ -17,6 +17,8 @@ struct sam_gl_context {
 /* What the runtime's compute passes and buffers need at least. */
 #define NEED_SSBO_SIZE (16 * 1024 * 1024)
 #define NEED_COMPUTE_INVOCATIONS 256
+/* The runtime's storage blocks use bindings 0..16 (sam_runtime_internal.h). */
+#define NEED_SSBO_BINDINGS 17
 
 static void APIENTRY debug_message(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
                                    const GLchar *message, const void *user)
@@ -46,12 +48,15 @@ sam_status sam_gl_check_current(int debug, sam_gl_info *i, sam_error *err)
     if (i->major * 10 + i->minor < 43)
         return sam_fail(err, SAM_ERR_UNSUPPORTED, "GL: %s offers OpenGL %d.%d; the runtime needs 4.3", i->renderer,
                         i->major, i->minor);
-    if (i->max_ssbo_size < NEED_SSBO_SIZE || i->max_compute_invocations < NEED_COMPUTE_INVOCATIONS)
+    GLint bindings = 0;
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
+    if (i->max_ssbo_size < NEED_SSBO_SIZE || i->max_compute_invocations < NEED_COMPUTE_INVOCATIONS ||
+        bindings < NEED_SSBO_BINDINGS)
         return sam_fail(err, SAM_ERR_UNSUPPORTED,
-                        "GL: %s allows %d-byte storage blocks and %d compute invocations per group; the "
-                        "runtime needs %d and %d",
-                        i->renderer, i->max_ssbo_size, i->max_compute_invocations, NEED_SSBO_SIZE,
-                        NEED_COMPUTE_INVOCATIONS);
+                        "GL: %s allows %d-byte storage blocks, %d compute invocations per group and %d storage "
+                        "bindings; the runtime needs %d, %d and %d",
+                        i->renderer, i->max_ssbo_size, i->max_compute_invocations, bindings, NEED_SSBO_SIZE,
+                        NEED_COMPUTE_INVOCATIONS, NEED_SSBO_BINDINGS);
     if (debug) {
         glEnable(GL_DEBUG_OUTPUT);
         glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);

@@ -114,6 +114,20 @@ static sam_status ensure_view_targets(sam_runtime *rt, uint32_t width, uint32_t 
     return SAM_OK;
 }
 
+/* The bounds every range is taken from (shadow maps, automatic near and far
+ * planes, depth-sized atlases): the box and the sphere around it. */
+static void set_box(sam_runtime *rt, const float lo[3], const float hi[3])
+{
+    double r2 = 0;
+    for (int c = 0; c < 3; ++c) {
+        rt->centre[c] = 0.5f * (lo[c] + hi[c]);
+        r2 += 0.25 * ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+    }
+    rt->radius = (float)sqrt(r2);
+    memcpy(rt->box_lo, lo, 3 * sizeof(float));
+    memcpy(rt->box_hi, hi, 3 * sizeof(float));
+}
+
 sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
                               sam_runtime **out, sam_error *err)
 {
@@ -179,14 +193,9 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
                 lo[c] = fminf(lo[c], sam->positions[3 * v + c]);
                 hi[c] = fmaxf(hi[c], sam->positions[3 * v + c]);
             }
-        double r2 = 0;
-        for (int c = 0; c < 3; ++c) {
-            rt->centre[c] = 0.5f * (lo[c] + hi[c]);
-            r2 += 0.25 * ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
-        }
-        rt->radius = (float)sqrt(r2);
-        memcpy(rt->box_lo, lo, sizeof lo);
-        memcpy(rt->box_hi, hi, sizeof hi);
+        memcpy(rt->rest_box_lo, lo, sizeof lo);
+        memcpy(rt->rest_box_hi, hi, sizeof hi);
+        set_box(rt, lo, hi);
         double area = 0;
         for (size_t t = 0; t < sam->triangle_count; ++t) {
             const float *a = sam->positions + 3 * (size_t)sam->triangles[3 * t],
@@ -310,6 +319,8 @@ void sam_runtime_destroy(sam_runtime *rt)
         glDeleteProgram(rt->walk_program);
     if (rt->rest_buffer[0])
         glDeleteBuffers(REST_COUNT, rt->rest_buffer);
+    if (rt->bounds_buffer)
+        glDeleteBuffers(1, &rt->bounds_buffer);
     if (rt->keyframe_buffer)
         glDeleteBuffers(1, &rt->keyframe_buffer);
     free(rt->keyframe_times);
@@ -1361,6 +1372,12 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
         glUniform1f(glGetUniformLocation(p, "u_mm2_per_unit2"), rt->mm_per_unit * rt->mm_per_unit);
         for (int b = 0; b < B_COUNT; ++b)
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+        static const GLuint empty_box[6] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu, 0, 0, 0};
+        if (!rt->bounds_buffer)
+            glGenBuffers(1, &rt->bounds_buffer);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->bounds_buffer);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, sizeof empty_box, empty_box, GL_DYNAMIC_READ);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_BOUNDS, rt->bounds_buffer);
         glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
     }
     glEndQuery(GL_TIME_ELAPSED);
@@ -1368,6 +1385,24 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
     /* Positions and normals are vertex attributes of the draws as well. */
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                     GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    if (!rt->posed) {
+        set_box(rt, rt->rest_box_lo, rt->rest_box_hi);
+        return SAM_OK;
+    }
+    /* The shadow maps' and the camera's ranges need the pose's bounds on the
+     * CPU this frame: the one read-back of the update (24 bytes; it waits
+     * for the deform passes). */
+    GLuint key[6];
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->bounds_buffer);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof key, key);
+    float lo[3], hi[3];
+    for (int c = 0; c < 3; ++c) {
+        uint32_t a = key[c] & 0x80000000u ? key[c] & 0x7FFFFFFFu : ~key[c];
+        uint32_t b = key[3 + c] & 0x80000000u ? key[3 + c] & 0x7FFFFFFFu : ~key[3 + c];
+        memcpy(&lo[c], &a, sizeof a);
+        memcpy(&hi[c], &b, sizeof b);
+    }
+    set_box(rt, lo, hi);
     return SAM_OK;
 }
 

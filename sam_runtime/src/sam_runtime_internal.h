@@ -51,6 +51,8 @@ enum { REST_POSITIONS, REST_NORMALS, REST_FAN_AREAS, REST_SAMPLES, REST_COUNT };
 /* Where the translucency pass finds the rest positions, which it carries a
  * posed K from (fan_form_factor.glsl): the binding after rt->buffer's. */
 enum { B_REST_POSITIONS = B_COUNT };
+/* The posed bounding box the normals pass reduces into (deform_normals.comp). */
+enum { B_BOUNDS = B_COUNT + 1 };
 
 /* Texture-space maps, kept between renders (all atlas_size^2 RGBA32F). */
 enum { ATLAS_IRRADIANCE, ATLAS_STRETCH, ATLAS_TEMP, ATLAS_LEVEL_A, ATLAS_LEVEL_B, ATLAS_SUM, ATLAS_COUNT };
@@ -79,8 +81,10 @@ struct sam_runtime {
     float rho_table[RHO_SIZE * RHO_SIZE];
 
     uint32_t triangle_count;
-    float centre[3], radius;  /* bounding sphere of the positions, model units */
+    float centre[3], radius;  /* bounding sphere of the positions, model units (of the pose) */
     float box_lo[3], box_hi[3];
+    float rest_box_lo[3], rest_box_hi[3]; /* the rest pose's, restored bit for bit with it */
+    GLuint bounds_buffer;     /* 6 order-preserving uint keys: min xyz, max xyz */
     float surface_area;       /* model units^2 */
     GLuint vao, fbo, shadow_program, shade_program, blur_program, compose_program;
     float total_reflectance[3];

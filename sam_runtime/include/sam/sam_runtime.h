@@ -103,9 +103,12 @@ sam_status sam_runtime_set_keyframes(sam_runtime *rt, const float *const *positi
  * positions and fan areas), shading and the diffusion techniques. When no deformer
  * moves anything at that time (none set, or all at strength 0) and the
  * keyframe pose is the rest pose (no keyframes, or time_s <= 0) the rest
- * positions, normals and fan areas are restored bit for bit. Not updated:
- * the bounds (sam_runtime_bounds, shadow and camera ranges), the surface
- * area and the curvature of pre-integrated shading stay the rest pose's.
+ * positions, normals and fan areas are restored bit for bit, and so are
+ * the bounds. On a deformed pose the normals pass also reduces the pose's
+ * bounding box, which is read back (24 bytes, waiting for the deform
+ * passes) for sam_runtime_bounds, the shadow maps' and the automatic
+ * camera ranges. Not updated: the surface area (depth-sized atlases) and
+ * the curvature of pre-integrated shading stay the rest pose's.
  * The samples are walked to better back-side vertices by
  * sam_runtime_walk, not here; the rest pose also restores the .sam's
  * samples. On a deformed pose the translucency pass skips every sample
@@ -363,7 +366,8 @@ typedef enum sam_atlas_map {
  * unknown map), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_read_atlas(sam_runtime *rt, sam_atlas_map map, sam_image *out, sam_error *err);
 
-/* The object's bounding sphere in model units. */
+/* The object's bounding sphere in model units, around the box of the
+ * current pose (the rest pose until sam_runtime_deform moves it). */
 void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius);
 
 /* Reads L_d or T back (3 * vertex_count floats). */
