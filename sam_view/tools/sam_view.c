@@ -1340,10 +1340,12 @@ int main(int argc, char **argv)
         st = load_map(&v, cache_dir, !o.no_cache, &profile, &mm_per_unit, &err);
     if (st != SAM_OK)
         goto done;
-    glfwSetErrorCallback(on_glfw_error);
     if (!glfwInit()) {
-        sam_fail(&err, SAM_ERR_UNSUPPORTED, "cannot reach a window system (is DISPLAY set? sam_render renders "
-                                            "without one)");
+        const char *why = NULL;
+        glfwGetError(&why);
+        sam_fail(&err, SAM_ERR_UNSUPPORTED, "cannot reach a window system: %s (is DISPLAY set? sam_render renders "
+                                            "without one)",
+                 why ? why : "unknown reason");
         goto done;
     }
     glfw_up = 1;
@@ -1355,6 +1357,8 @@ int main(int argc, char **argv)
     }
     if (!(v.window = open_window(width, height, &err)))
         goto done;
+    /* Failures until here are reported once, by the caller; later ones as they come. */
+    glfwSetErrorCallback(on_glfw_error);
     glfwSetWindowUserPointer(v.window, &v);
     glfwMakeContextCurrent(v.window);
     glfwSwapInterval(0);

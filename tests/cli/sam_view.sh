@@ -73,6 +73,14 @@ view "$tmp/ear.obj" --size 64x64 --cache "$tmp/cache" --script "$tmp/lose.txt" 2
 [ $rc -eq 1 ] || fail "lost context: exit $rc"
 grep -q "using the cached map" "$tmp/log2.txt" || fail "the cache was not used: $(cat "$tmp/log2.txt")"
 grep -q "GL context was lost" "$tmp/log2.txt" || fail "no message for the lost context"
+# A driver without OpenGL 4.3 core (Mesa told to offer 3.3): one line, exit 1.
+MESA_GL_VERSION_OVERRIDE=3.3 view "$tmp/ear.obj" --size 64x64 --cache "$tmp/cache" 2> "$tmp/err.txt"; rc=$?
+[ $rc -eq 1 ] && grep -q "cannot open a window with OpenGL 4.3 core" "$tmp/err.txt" \
+  || fail "GL 3.3 only: exit $rc: $(cat "$tmp/err.txt")"
+[ "$(grep -c "" "$tmp/err.txt")" -eq 2 ] || fail "GL 3.3 only: expected the cache line and one error: $(cat "$tmp/err.txt")"
+# No display at all: one line, exit 1.
+DISPLAY= WAYLAND_DISPLAY= "$bin/sam_view" "$tmp/ear.obj" --cache "$tmp/cache" 2> "$tmp/err.txt"; rc=$?
+[ $rc -eq 1 ] && grep -q "cannot reach a window system" "$tmp/err.txt" || fail "no display: exit $rc: $(cat "$tmp/err.txt")"
 # Bad input: one message, exit 1 or 2, no window needed.
 "$bin/sam_view" "$tmp/missing.obj" --cache "$tmp/cache" 2> "$tmp/err.txt"; rc=$?
 [ $rc -eq 1 ] && grep -q "missing.obj" "$tmp/err.txt" || fail "missing mesh: exit $rc: $(cat "$tmp/err.txt")"
