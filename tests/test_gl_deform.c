@@ -256,6 +256,42 @@ static void test_bounds_follow_the_pose(void **state)
     assert_true(radius == rest_radius);
 }
 
+/* Pre-integrated shading's curvature follows the pose: the GPU's equals
+ * sam_mesh_ring_curvature of the read-back pose, and the rest values come
+ * back bit for bit. */
+static void test_curvature_follows_the_pose(void **state)
+{
+    fixture *f = *state;
+    size_t nv = f->sam.vertex_count;
+    float *rest = malloc(nv * sizeof *rest), *gpu = malloc(nv * sizeof *gpu), *cpu = malloc(nv * sizeof *cpu);
+    assert_true(rest && gpu && cpu);
+    sam_error err;
+    assert_int_equal(sam_runtime_read_curvature(f->rt, rest, &err), SAM_OK);
+    sam_deformer d = example(f, SAM_DEFORM_TWIST);
+    pose(f, &d, 1, 0.5f);
+    assert_int_equal(sam_runtime_read_curvature(f->rt, gpu, &err), SAM_OK);
+    sam_mesh_ring_curvature((uint32_t)nv, f->pos, NULL, f->nrm, f->sam.adjacency_offsets, f->sam.adjacency, cpu);
+    double worst = 0, scale = 0, changed = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        cpu[v] /= MM_PER_UNIT;
+        scale = fmax(scale, fabs(cpu[v]));
+        worst = fmax(worst, fabs((double)gpu[v] - cpu[v]));
+        changed = fmax(changed, fabs((double)gpu[v] - rest[v]));
+    }
+    printf("twisted: curvature on the GPU within %.2e of the CPU's (largest |H| %.3f /mm); it changed by up to %.3f /mm\n",
+           worst, scale, changed);
+    assert_true(worst <= 1e-3 * scale);
+    assert_true(changed > 0.05 * scale);
+    sam_deformer still = d;
+    still.angle_deg = 0.0f;
+    pose(f, &still, 1, 0.5f);
+    assert_int_equal(sam_runtime_read_curvature(f->rt, gpu, &err), SAM_OK);
+    assert_memory_equal(gpu, rest, nv * sizeof *rest);
+    free(rest);
+    free(gpu);
+    free(cpu);
+}
+
 static double max_relative_change(const float *a, const float *b, size_t n)
 {
     double peak = 0, diff = 0;
@@ -316,6 +352,7 @@ int main(void)
         cmocka_unit_test(test_rest_pose_is_bit_identical),
         cmocka_unit_test(test_later_passes_follow_the_pose),
         cmocka_unit_test(test_bounds_follow_the_pose),
+        cmocka_unit_test(test_curvature_follows_the_pose),
     };
     return cmocka_run_group_tests(tests, fixture_setup, fixture_teardown);
 }

@@ -1164,6 +1164,15 @@ sam_status sam_runtime_read_fan_areas(sam_runtime *rt, float *mm2, sam_error *er
     return SAM_OK;
 }
 
+sam_status sam_runtime_read_curvature(sam_runtime *rt, float *per_mm, sam_error *err)
+{
+    (void)err;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[B_CURVATURE]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)rt->vertex_count * sizeof(float), per_mm);
+    return SAM_OK;
+}
+
 sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *err)
 {
     return read_vec4(rt, B_IRRADIANCE, rgb, err);
@@ -1178,11 +1187,11 @@ sam_status sam_runtime_read_translucency(sam_runtime *rt, float *rgb, sam_error 
 static void rest_sizes(const sam_runtime *rt, GLsizeiptr bytes[REST_COUNT])
 {
     bytes[REST_POSITIONS] = bytes[REST_NORMALS] = (GLsizeiptr)rt->vertex_count * 4 * sizeof(float);
-    bytes[REST_FAN_AREAS] = (GLsizeiptr)rt->vertex_count * sizeof(float);
+    bytes[REST_FAN_AREAS] = bytes[REST_CURVATURE] = (GLsizeiptr)rt->vertex_count * sizeof(float);
     bytes[REST_SAMPLES] = (GLsizeiptr)rt->vertex_count * rt->stride * 4 * sizeof(uint32_t);
 }
 
-static const int rest_binding[REST_COUNT] = {B_POSITIONS, B_NORMALS, B_FAN_AREAS, B_SAMPLES};
+static const int rest_binding[REST_COUNT] = {B_POSITIONS, B_NORMALS, B_FAN_AREAS, B_SAMPLES, B_CURVATURE};
 
 /* Keeps the current positions, normals, fan areas and samples as the rest
  * pose, once: every pose is computed from it. */
@@ -1370,6 +1379,8 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
         glUseProgram(p);
         glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
         glUniform1f(glGetUniformLocation(p, "u_mm2_per_unit2"), rt->mm_per_unit * rt->mm_per_unit);
+        glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+        glUniform1i(glGetUniformLocation(p, "u_stage"), 0);
         for (int b = 0; b < B_COUNT; ++b)
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
         static const GLuint empty_box[6] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu, 0, 0, 0};
@@ -1378,6 +1389,10 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->bounds_buffer);
         glBufferData(GL_SHADER_STORAGE_BUFFER, sizeof empty_box, empty_box, GL_DYNAMIC_READ);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_BOUNDS, rt->bounds_buffer);
+        glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+        /* Boundary vertices take their curvature from interior neighbours. */
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glUniform1i(glGetUniformLocation(p, "u_stage"), 1);
         glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
     }
     glEndQuery(GL_TIME_ELAPSED);

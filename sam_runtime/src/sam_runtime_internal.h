@@ -47,7 +47,7 @@ enum { TECHNIQUE_VERTEX = 0, TECHNIQUE_NONE = 1, TECHNIQUE_TRANSMITTANCE = 2, TE
  * positions, normals, fan areas and samples, made by the first
  * sam_runtime_set_deformers; the samples come back with the rest pose
  * because the walk moves them). */
-enum { REST_POSITIONS, REST_NORMALS, REST_FAN_AREAS, REST_SAMPLES, REST_COUNT };
+enum { REST_POSITIONS, REST_NORMALS, REST_FAN_AREAS, REST_SAMPLES, REST_CURVATURE, REST_COUNT };
 /* Where the translucency pass finds the rest positions, which it carries a
  * posed K from (fan_form_factor.glsl): the binding after rt->buffer's. */
 enum { B_REST_POSITIONS = B_COUNT };

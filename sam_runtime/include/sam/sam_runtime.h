@@ -107,8 +107,9 @@ sam_status sam_runtime_set_keyframes(sam_runtime *rt, const float *const *positi
  * the bounds. On a deformed pose the normals pass also reduces the pose's
  * bounding box, which is read back (24 bytes, waiting for the deform
  * passes) for sam_runtime_bounds, the shadow maps' and the automatic
- * camera ranges. Not updated: the surface area (depth-sized atlases) and
- * the curvature of pre-integrated shading stay the rest pose's.
+ * camera ranges. The mean curvature of pre-integrated shading is
+ * recomputed from the pose too. Not updated: the surface area (depth-sized
+ * atlases) stays the rest pose's.
  * The samples are walked to better back-side vertices by
  * sam_runtime_walk, not here; the rest pose also restores the .sam's
  * samples. On a deformed pose the translucency pass skips every sample
@@ -179,6 +180,10 @@ sam_status sam_runtime_read_samples(sam_runtime *rt, uint32_t *index, float *kpr
 sam_status sam_runtime_read_positions(sam_runtime *rt, float *xyz, sam_error *err);
 sam_status sam_runtime_read_normals(sam_runtime *rt, float *xyz, sam_error *err);
 sam_status sam_runtime_read_fan_areas(sam_runtime *rt, float *mm2, sam_error *err);
+/* The mean curvature pre-integrated shading reads, 1/mm per vertex
+ * (vertex_count floats): sam_mesh_ring_curvature of the .sam's positions and
+ * normals at rest, of the pose's (computed on the GPU) once deformed. */
+sam_status sam_runtime_read_curvature(sam_runtime *rt, float *per_mm, sam_error *err);
 
 /* The lights of a scene (copied; `count` <= SAM_SCENE_MAX_LIGHTS). Lights
  * with `shadow` get a shadow map: a 512^2 cube of distances for point
