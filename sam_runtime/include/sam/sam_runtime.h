@@ -157,7 +157,7 @@ typedef enum sam_posed_k {
      * overreacts when a shear tilts the fans against the line between
      * their centres: on a slab under a wave its T was worse than the stale
      * map's (0.098 against 0.077), the carried K's 0.040. It costs about 12
-     * R_d evaluations per sample more (on llvmpipe 19x the rest pass). */
+     * R_d evaluations per sample more (on llvmpipe 10 to 24x the rest pass). */
     SAM_POSED_K_CARRIED = 0,
     /* The paper's eq. 15, K = K' F'_b R_d(|v_b - v|): as cheap as the rest
      * pass, good under bends, poor under shear. */
