@@ -1155,22 +1155,25 @@ sam_status sam_runtime_read_normals(sam_runtime *rt, float *xyz, sam_error *err)
     return read_vec4(rt, B_NORMALS, xyz, err);
 }
 
+/* One float per vertex from `binding`. */
+static sam_status read_floats(sam_runtime *rt, int binding, float *out)
+{
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[binding]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)rt->vertex_count * sizeof(float), out);
+    return SAM_OK;
+}
+
 sam_status sam_runtime_read_fan_areas(sam_runtime *rt, float *mm2, sam_error *err)
 {
     (void)err;
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[B_FAN_AREAS]);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)rt->vertex_count * sizeof(float), mm2);
-    return SAM_OK;
+    return read_floats(rt, B_FAN_AREAS, mm2);
 }
 
 sam_status sam_runtime_read_curvature(sam_runtime *rt, float *per_mm, sam_error *err)
 {
     (void)err;
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[B_CURVATURE]);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)rt->vertex_count * sizeof(float), per_mm);
-    return SAM_OK;
+    return read_floats(rt, B_CURVATURE, per_mm);
 }
 
 sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *err)
