@@ -10,7 +10,7 @@
 #include "sam/sam_runtime_scene.h"
 
 /* Prints "<program>: <what>: <message>" and exits with status 1. */
-static inline void bench_die(const char *program, const char *what, const sam_error *err)
+_Noreturn static inline void bench_die(const char *program, const char *what, const sam_error *err)
 {
     fprintf(stderr, "%s: %s: %s\n", program, what, err ? err->message : "failed");
     exit(1);
