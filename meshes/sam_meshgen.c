@@ -102,12 +102,8 @@ static int parse_int(const char *opt, const char *text, int *out)
 
 static int parse_double(const char *opt, const char *text, double *out)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(text, &end);
-    if (!text[0] || *end || errno || !isfinite(v))
+    if (!sam_parse_double(text, out))
         return fail("%s: \"%s\" is not a finite number", opt, text);
-    *out = v;
     return 0;
 }
 

@@ -57,10 +57,8 @@ static void usage(FILE *out)
 
 static int parse_float(const char *opt, const char *s, float *out)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (!*s || *end || errno || !isfinite(v)) {
+    double v;
+    if (!sam_parse_double(s, &v)) {
         fprintf(stderr, "sam_build: %s needs a number, got \"%s\"\n", opt, s);
         return 0;
     }

@@ -1046,19 +1046,19 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--frames")) {
             frame_list = argv[++i];
         } else if (!strcmp(a, "--fps")) {
-            char *end;
-            fps = strtof(argv[++i], &end);
-            if (*end || end == argv[i] || !(fps > 0 && fps <= 1000)) {
+            double v;
+            if (!sam_parse_double(argv[++i], &v) || !(v > 0 && v <= 1000)) {
                 fprintf(stderr, "sam_compare: --fps must be a number in (0, 1000], got \"%s\"\n", argv[i]);
                 return 2;
             }
+            fps = (float)v;
         } else if (!strcmp(a, "--truth-tolerance")) {
-            char *end;
-            truth_tolerance = strtof(argv[++i], &end);
-            if (*end || end == argv[i] || !(truth_tolerance >= 0 && truth_tolerance < 0.5f)) {
+            double v;
+            if (!sam_parse_double(argv[++i], &v) || !(v >= 0 && (float)v < 0.5f)) {
                 fprintf(stderr, "sam_compare: --truth-tolerance must be a number in [0, 0.5), got \"%s\"\n", argv[i]);
                 return 2;
             }
+            truth_tolerance = (float)v;
         } else if (!strcmp(a, "--samples") || !strcmp(a, "--truth-samples")) {
             char *end;
             long v = strtol(argv[++i], &end, 10);

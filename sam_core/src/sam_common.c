@@ -2,6 +2,7 @@
 #include "sam/sam_common.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -50,6 +51,17 @@ char *sam_strdup(const char *s)
     if (d)
         memcpy(d, s, n);
     return d;
+}
+
+int sam_parse_double(const char *text, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (!text[0] || *end || errno || !isfinite(v))
+        return 0;
+    *out = v;
+    return 1;
 }
 
 sam_status sam_atomic_open(sam_atomic_file *file, const char *path, sam_error *err)

@@ -226,8 +226,8 @@ int main(int argc, char **argv)
             return 0;
         }
         if (!strcmp(argv[i], "--mm-per-unit")) {
-            char *end = NULL;
-            if (i + 1 >= argc || !((mm_per_unit = strtof(argv[i + 1], &end)) > 0) || *end ||
+            double v = 0;
+            if (i + 1 >= argc || !sam_parse_double(argv[i + 1], &v) || !((mm_per_unit = (float)v) > 0) ||
                 !isfinite(mm_per_unit)) {
                 fprintf(stderr, "sam_info: --mm-per-unit needs a positive number, got \"%s\"\n",
                         i + 1 < argc ? argv[i + 1] : "");

@@ -166,12 +166,12 @@ int main(int argc, char **argv)
                 return 2;
             }
         } else if (!strcmp(a, "--exposure")) {
-            char *end;
-            exposure = strtof(argv[++i], &end);
-            if (*end || !(exposure >= -32 && exposure <= 32)) {
+            double v;
+            if (!sam_parse_double(argv[++i], &v) || !(v >= -32 && v <= 32)) {
                 fprintf(stderr, "sam_render: --exposure must be a number of EV in [-32, 32], got \"%s\"\n", argv[i]);
                 return 2;
             }
+            exposure = (float)v;
         } else if (!strcmp(a, "--sss-kernel")) {
             kernel = argv[++i];
             if (strcmp(kernel, "fit2d") && strcmp(kernel, "marginal") && strcmp(kernel, "eq1")) {
@@ -201,13 +201,13 @@ int main(int argc, char **argv)
                 return 2;
             }
         } else if (!strcmp(a, "--texels-per-pixel")) {
-            char *end;
-            texels_per_pixel = strtof(argv[++i], &end);
-            if (*end || !(texels_per_pixel > 0 && texels_per_pixel <= 16)) {
+            double v;
+            if (!sam_parse_double(argv[++i], &v) || !(v > 0 && v <= 16)) {
                 fprintf(stderr, "sam_render: --texels-per-pixel must be a number in (0, 16], got \"%s\"\n",
                         argv[i]);
                 return 2;
             }
+            texels_per_pixel = (float)v;
         } else if (!strcmp(a, "--animate")) {
             animate = parse_count(argv[++i], 1, 100000);
             if (animate < 0) {
@@ -215,12 +215,12 @@ int main(int argc, char **argv)
                 return 2;
             }
         } else if (!strcmp(a, "--fps")) {
-            char *end;
-            fps = strtof(argv[++i], &end);
-            if (*end || !(fps > 0 && fps <= 1000)) {
+            double v;
+            if (!sam_parse_double(argv[++i], &v) || !(v > 0 && v <= 1000)) {
                 fprintf(stderr, "sam_render: --fps must be a number in (0, 1000], got \"%s\"\n", argv[i]);
                 return 2;
             }
+            fps = (float)v;
         } else if (!strcmp(a, "--frames")) {
             char *end;
             frames = strtol(argv[++i], &end, 10);
@@ -230,12 +230,12 @@ int main(int argc, char **argv)
                 return 2;
             }
         } else if (!strcmp(a, "--dt")) {
-            char *end;
-            dt = strtof(argv[++i], &end);
-            if (*end || !(dt >= 0) || !isfinite(dt)) {
+            double v;
+            if (!sam_parse_double(argv[++i], &v) || !(v >= 0 && isfinite((float)v))) {
                 fprintf(stderr, "sam_render: --dt must be a finite number >= 0, got \"%s\"\n", argv[i]);
                 return 2;
             }
+            dt = (float)v;
         } else if (a[0] == '-' && a[1]) {
             fprintf(stderr, "sam_render: unknown option \"%s\" (see --help)\n", a);
             return 2;

@@ -1174,19 +1174,19 @@ static int parse_options(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--script")) {
             o->script = argv[++i];
         } else if (!strcmp(a, "--size-mm")) {
-            char *end;
-            o->size_mm = strtof(argv[++i], &end);
-            if (*end || !(o->size_mm > 0) || !isfinite(o->size_mm)) {
+            double v;
+            if (!sam_parse_double(argv[++i], &v) || !((float)v > 0 && isfinite((float)v))) {
                 fprintf(stderr, "sam_view: --size-mm must be a positive number, got \"%s\"\n", argv[i]);
                 return 0;
             }
+            o->size_mm = (float)v;
         } else if (!strcmp(a, "--fps")) {
-            char *end;
-            o->fps = strtof(argv[++i], &end);
-            if (*end || !(o->fps > 0 && o->fps <= 1000)) {
+            double v;
+            if (!sam_parse_double(argv[++i], &v) || !(v > 0 && v <= 1000)) {
                 fprintf(stderr, "sam_view: --fps must be a number in (0, 1000], got \"%s\"\n", argv[i]);
                 return 0;
             }
+            o->fps = (float)v;
         } else if (!strcmp(a, "--size")) {
             char tail;
             if (sscanf(argv[++i], "%dx%d%c", &o->width, &o->height, &tail) != 2 || o->width < 16 ||

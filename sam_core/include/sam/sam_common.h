@@ -89,6 +89,11 @@ sam_status sam_read_file(const char *path, uint8_t **data, size_t *size, sam_err
 /* malloc'd copy of a NUL-terminated string (caller frees), NULL when out of memory. */
 char *sam_strdup(const char *s);
 
+/* 1 when all of `text` (non-empty) is a finite number strtod reads without
+ * a range error, stored in `*out`; 0 otherwise (`*out` untouched). For the
+ * tools' numeric options; the range and the message are the caller's. */
+int sam_parse_double(const char *text, double *out);
+
 /* Seconds on a monotonic clock (for durations, progress and benchmarks). */
 double sam_seconds(void);
 
