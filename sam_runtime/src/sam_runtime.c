@@ -646,6 +646,17 @@ static void set_surface_uniforms(const sam_runtime *rt, GLuint p)
     glUniform1f(glGetUniformLocation(p, "u_environment_rho_dt"), rt->environment_rho_dt);
 }
 
+/* The bound compute program once per vertex (groups of 64), timed as
+ * `pass`, its storage writes made visible to later passes and read-backs. */
+static void dispatch_per_vertex(sam_runtime *rt, sam_pass pass)
+{
+    glBeginQuery(GL_TIME_ELAPSED, rt->query[pass]);
+    glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+    glEndQuery(GL_TIME_ELAPSED);
+    rt->query_used[pass] = 1;
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
 sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
 {
     (void)err;
@@ -658,11 +669,7 @@ sam_status sam_runtime_irradiance(sam_runtime *rt, sam_error *err)
     sam_runtime_bind_shadows(rt, p);
     for (int b = 0; b < B_COUNT; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
-    glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_IRRADIANCE]);
-    glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
-    glEndQuery(GL_TIME_ELAPSED);
-    rt->query_used[SAM_PASS_IRRADIANCE] = 1;
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    dispatch_per_vertex(rt, SAM_PASS_IRRADIANCE);
     return SAM_OK;
 }
 
@@ -1123,11 +1130,7 @@ sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt,
     /* A posed K is carried from the rest pose (shaders/fan_form_factor.glsl). */
     if (carried)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_REST_POSITIONS, rt->rest_buffer[REST_POSITIONS]);
-    glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_TRANSLUCENCY]);
-    glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
-    glEndQuery(GL_TIME_ELAPSED);
-    rt->query_used[SAM_PASS_TRANSLUCENCY] = 1;
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    dispatch_per_vertex(rt, SAM_PASS_TRANSLUCENCY);
     return SAM_OK;
 }
 
@@ -1387,10 +1390,13 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
         for (int b = 0; b < B_COUNT; ++b)
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
         static const GLuint empty_box[6] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu, 0, 0, 0};
-        if (!rt->bounds_buffer)
+        if (!rt->bounds_buffer) {
             glGenBuffers(1, &rt->bounds_buffer);
+            glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->bounds_buffer);
+            glBufferData(GL_SHADER_STORAGE_BUFFER, sizeof empty_box, NULL, GL_DYNAMIC_READ);
+        }
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->bounds_buffer);
-        glBufferData(GL_SHADER_STORAGE_BUFFER, sizeof empty_box, empty_box, GL_DYNAMIC_READ);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof empty_box, empty_box);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, B_BOUNDS, rt->bounds_buffer);
         glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
         /* Boundary vertices take their curvature from interior neighbours. */
@@ -1445,11 +1451,7 @@ sam_status sam_runtime_walk(sam_runtime *rt, sam_error *err)
     glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
     for (int b = 0; b < B_COUNT; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
-    glBeginQuery(GL_TIME_ELAPSED, rt->query[SAM_PASS_WALK]);
-    glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
-    glEndQuery(GL_TIME_ELAPSED);
-    rt->query_used[SAM_PASS_WALK] = 1;
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    dispatch_per_vertex(rt, SAM_PASS_WALK);
     return SAM_OK;
 }
 
