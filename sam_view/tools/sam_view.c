@@ -119,7 +119,6 @@ typedef struct viewer {
     int environment_on;
     sam_image truth;
     GLuint truth_tex;
-    int uv_ok;
 
     view_mode mode;
     int help, smoothing, playing, reset_t;
@@ -475,7 +474,7 @@ static void cycle_technique(viewer *v)
     sam_scene *s = &v->scene;
     s->technique = (sam_technique)((s->technique + 1) % 4);
     if (s->technique == SAM_TECHNIQUE_TSM) {
-        if (!v->uv_ok) {
+        if (!sam_runtime_uv_status(v->rt, NULL, 0)) {
             say(v, "tsm skipped: it needs texture-space diffusion, which this mesh's UVs cannot give");
             s->technique = SAM_TECHNIQUE_TRANSMITTANCE;
         } else if (s->diffusion != SAM_DIFFUSION_TEXTURE) {
@@ -495,7 +494,7 @@ static void cycle_diffusion(viewer *v)
     while (order[i] != s->diffusion)
         ++i;
     s->diffusion = order[(i + 1) % 4];
-    if (s->diffusion == SAM_DIFFUSION_TEXTURE && !v->uv_ok) {
+    if (s->diffusion == SAM_DIFFUSION_TEXTURE && !sam_runtime_uv_status(v->rt, NULL, 0)) {
         say(v, "texture-space diffusion skipped: the mesh's UVs are missing, overlap or leave [0,1]");
         s->diffusion = SAM_DIFFUSION_PREINTEGRATED;
     }
@@ -1240,7 +1239,9 @@ static GLFWwindow *open_window(int width, int height, sam_error *err)
     return w;
 }
 
-static sam_status load_images(viewer *v, const char *truth, sam_error *err)
+/* The environment map and the truth image; either missing or unreadable is
+ * said and left out, not fatal. */
+static void load_images(viewer *v, const char *truth)
 {
     if (v->scene.environment.map) {
         v->environment_path = v->scene.environment.map;
@@ -1271,8 +1272,6 @@ static sam_status load_images(viewer *v, const char *truth, sam_error *err)
                     truth, v->truth.width, v->truth.height);
         }
     }
-    (void)err;
-    return SAM_OK;
 }
 
 static void destroy(viewer *v)
@@ -1371,13 +1370,12 @@ int main(int argc, char **argv)
     v.stride = sam_runtime_samples_per_vertex(v.rt);
     sam_runtime_bounds(v.rt, v.centre, &v.radius);
     v.posed = v.scene.deformer_count || v.scene.keyframe_count;
-    v.uv_ok = sam_runtime_uv_status(v.rt, NULL, 0);
     char warning[512];
     if ((!is_scene && default_lights(&v, &err) != SAM_OK) ||
         sam_runtime_scene_setup(v.rt, &v.scene, NULL, NULL, warning, sizeof warning, &err) != SAM_OK ||
-        sam_runtime_scene_keyframes(v.rt, &v.scene, &v.sam, &err) != SAM_OK || make_programs(&v, &err) != SAM_OK ||
-        load_images(&v, o.truth, &err) != SAM_OK)
+        sam_runtime_scene_keyframes(v.rt, &v.scene, &v.sam, &err) != SAM_OK || make_programs(&v, &err) != SAM_OK)
         goto done;
+    load_images(&v, o.truth);
     if (warning[0])
         say(&v, "%s", warning);
     size_t n = v.sam.vertex_count;
@@ -1391,7 +1389,7 @@ int main(int argc, char **argv)
     sam_render_view start;
     sam_runtime_scene_view(v.rt, &v.scene, &start, NULL, 0);
     camera_from(&v, start.eye, start.target, start.fov_deg);
-    if (v.scene.diffusion == SAM_DIFFUSION_TEXTURE && !v.uv_ok)
+    if (v.scene.diffusion == SAM_DIFFUSION_TEXTURE && !sam_runtime_uv_status(v.rt, NULL, 0))
         v.scene.diffusion = SAM_DIFFUSION_SCREEN;
     glfwSetKeyCallback(v.window, on_key);
     glfwSetMouseButtonCallback(v.window, on_button);
