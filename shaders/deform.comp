@@ -5,6 +5,7 @@
 // CPU reference). Identity steps are left out by the caller, so with none
 // and no keyframe pose this pass does not run and the rest pose stays bit
 // for bit.
+#include "sam_bindings.h"
 
 layout(local_size_x = 64) in;
 
@@ -14,11 +15,11 @@ layout(local_size_x = 64) in;
 #define SQUASH 2
 #define WAVE 3
 
-layout(std430, binding = 0) writeonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = SAM_B_POSITIONS) writeonly buffer Positions { vec4 positions[]; };
 // Bound to bindings 1 and 2 for this pass only (the normals' and the
 // samples' slots otherwise). Keyframe k's vertex v is keys[k * count + v].
-layout(std430, binding = 1) readonly buffer KeyPositions { vec4 keys[]; };
-layout(std430, binding = 2) readonly buffer RestPositions { vec4 rest[]; };
+layout(std430, binding = SAM_B_KEY_POSITIONS) readonly buffer KeyPositions { vec4 keys[]; };
+layout(std430, binding = SAM_B_DEFORM_REST) readonly buffer RestPositions { vec4 rest[]; };
 
 uniform uint u_vertex_count;
 uniform int u_step_count;

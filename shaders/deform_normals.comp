@@ -8,20 +8,21 @@
 // Consecutive ring entries span one fan triangle (sam_mesh.h), so both are
 // sums over consecutive pairs. Seam copies of one vertex carry the same
 // ring and position, so they get the same bits.
+#include "sam_bindings.h"
 
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = 1) buffer Normals { vec4 normals[]; };
-layout(std430, binding = 3) writeonly buffer FanAreas { float fan_area[]; };
-layout(std430, binding = 6) readonly buffer AdjOffsets { uint adj_offsets[]; };
-layout(std430, binding = 7) readonly buffer Adjacency { uint adjacency[]; };
-layout(std430, binding = 11) buffer Curvature { float curvature[]; }; // 1/mm
+layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = SAM_B_NORMALS) buffer Normals { vec4 normals[]; };
+layout(std430, binding = SAM_B_FAN_AREAS) writeonly buffer FanAreas { float fan_area[]; };
+layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
+layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
+layout(std430, binding = SAM_B_CURVATURE) buffer Curvature { float curvature[]; }; // 1/mm
 
 // The pose's bounding box, as order-preserving keys of the floats (a
 // negative float's bits inverted, a positive one's sign bit set), so that
 // integer atomics find the float minimum and maximum.
-layout(std430, binding = 16) buffer Bounds { uint box_min[3]; uint box_max[3]; };
+layout(std430, binding = SAM_B_BOUNDS) buffer Bounds { uint box_min[3]; uint box_max[3]; };
 
 uniform uint u_vertex_count;
 uniform float u_mm2_per_unit2;

@@ -2,16 +2,17 @@
 // L_d at every vertex (Maisch and Ropinski eq. 4): the light entering the
 // surface, each light's irradiance times rho_dt(N.L) (d'Eon Sec. 6), plus
 // the environment's SH-9 irradiance times its cosine-weighted mean rho_dt.
+#include "sam_bindings.h"
 #include "lights.glsl"
 #include "shadows.glsl"
 #include "surface.glsl"
 
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = 4) writeonly buffer Irradiance { vec4 irradiance[]; };
-layout(std430, binding = 8) readonly buffer Lights { Light lights[]; };
+layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = SAM_B_NORMALS) readonly buffer Normals { vec4 normals[]; };
+layout(std430, binding = SAM_B_IRRADIANCE) writeonly buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = SAM_B_LIGHTS) readonly buffer Lights { Light lights[]; };
 
 uniform uint u_vertex_count;
 uniform uint u_light_count;

@@ -9,6 +9,7 @@
 // diffusion it is in the atlas, and a TSM adds its own after the blur). Plus the Kelemen/Szirmay-Kalos specular lobe
 // (d'Eon Sec. 6; the lobe rho_dt removed from the diffuse light) for every
 // light, shadowed like L_d. Linear HDR out; tonemapping happens on output.
+#include "sam_bindings.h"
 #include "technique.glsl"
 #include "surface.glsl"
 #include "albedo.glsl"
@@ -55,8 +56,8 @@ uniform int u_tsm;            // 1: add the translucent shadow maps' light
 uniform int u_gbuffer;
 
 // Pre-integrated skin (Penner): tables of sam_preint, RGB, 64 x 64.
-layout(std430, binding = 12) readonly buffer PreDiffuse { float pre_diffuse[]; };
-layout(std430, binding = 13) readonly buffer PrePenumbra { float pre_penumbra[]; };
+layout(std430, binding = SAM_B_PRE_DIFFUSE) readonly buffer PreDiffuse { float pre_diffuse[]; };
+layout(std430, binding = SAM_B_PRE_PENUMBRA) readonly buffer PrePenumbra { float pre_penumbra[]; };
 uniform int u_preintegrated;
 uniform int u_pre_size;
 uniform float u_pre_max_curvature;  // 1/mm

@@ -1,13 +1,14 @@
 #version 430 core
 // Forward shading of the mesh: per-vertex L_d and T come from the SAM
 // passes' buffers, indexed by the vertex the index buffer names.
+#include "sam_bindings.h"
 layout(location = 0) in vec4 a_position;
 layout(location = 1) in vec4 a_normal;
 layout(location = 2) in vec2 a_uv;
 
-layout(std430, binding = 4) readonly buffer Irradiance { vec4 irradiance[]; };
-layout(std430, binding = 5) readonly buffer Translucency { vec4 translucency[]; };
-layout(std430, binding = 11) readonly buffer Curvature { float curvature[]; };
+layout(std430, binding = SAM_B_IRRADIANCE) readonly buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = SAM_B_TRANSLUCENCY) readonly buffer Translucency { vec4 translucency[]; };
+layout(std430, binding = SAM_B_CURVATURE) readonly buffer Curvature { float curvature[]; };
 
 uniform mat4 u_view_proj;
 uniform vec3 u_forward;       // unit view direction: linear depth = (p - eye) . forward

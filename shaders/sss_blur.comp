@@ -6,10 +6,11 @@
 // across a depth jump larger than u_depth_jump fall back to the centre
 // colour, so the blur follows the surface and never bleeds across objects.
 // rgb: entering light; a: linear depth in model units (0 = background).
+#include "sam_bindings.h"
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(rgba32f, binding = 0) readonly uniform image2D u_source;
-layout(rgba32f, binding = 1) writeonly uniform image2D u_target;
+layout(rgba32f, binding = SAM_IMAGE_SOURCE) readonly uniform image2D u_source;
+layout(rgba32f, binding = SAM_IMAGE_TARGET) writeonly uniform image2D u_target;
 
 uniform ivec2 u_direction;
 uniform int u_taps;

@@ -1,11 +1,12 @@
 #version 430 core
 // After the blur: radiance = blurred entering light * factor + specular.
+#include "sam_bindings.h"
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(rgba32f, binding = 0) readonly uniform image2D u_blurred;
-layout(rgba32f, binding = 1) readonly uniform image2D u_factor;
-layout(rgba32f, binding = 2) readonly uniform image2D u_specular;
-layout(rgba32f, binding = 3) writeonly uniform image2D u_out;
+layout(rgba32f, binding = SAM_IMAGE_BLURRED) readonly uniform image2D u_blurred;
+layout(rgba32f, binding = SAM_IMAGE_FACTOR) readonly uniform image2D u_factor;
+layout(rgba32f, binding = SAM_IMAGE_SPECULAR) readonly uniform image2D u_specular;
+layout(rgba32f, binding = SAM_IMAGE_COMPOSED) writeonly uniform image2D u_out;
 
 void main()
 {

@@ -3,9 +3,10 @@
 // shared by the irradiance pass and the shading pass: rho_dt from the
 // table of sam_brdf_rho_dt_table, and the environment's SH-9 irradiance
 // (sam_light_sh9_irradiance).
+#include "sam_bindings.h"
 #include "constants.glsl"
 
-layout(std430, binding = 9) readonly buffer RhoDt { float rho_dt_table[]; };
+layout(std430, binding = SAM_B_RHO_DT) readonly buffer RhoDt { float rho_dt_table[]; };
 
 uniform int u_rho_size;           // the square table's side
 uniform float u_roughness_coord;  // roughness / roughness_max

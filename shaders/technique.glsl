@@ -4,10 +4,11 @@
 // of the texture-space atlas: the SAM's per-vertex T, nothing, Jimenez et
 // al.'s shadow-map transmittance, or a caller's image (the override). It
 // takes the place of T: R_total L_d + translucency is what the surface lets in.
+#include "sam_bindings.h"
 #include "lights.glsl"
 #include "shadows.glsl"
 
-layout(std430, binding = 8) readonly buffer Lights { Light lights[]; };
+layout(std430, binding = SAM_B_LIGHTS) readonly buffer Lights { Light lights[]; };
 
 const int TECHNIQUE_VERTEX = 0;         // the per-vertex T buffer
 const int TECHNIQUE_NONE = 1;

@@ -7,6 +7,7 @@
 // contributes 0: its K would add light through the front. It stays stored,
 // so it counts again when the pose brings it back (walk.comp replaces it
 // when it can).
+#include "sam_bindings.h"
 #include "profile.glsl"
 
 layout(local_size_x = 64) in;
@@ -16,16 +17,16 @@ struct Sample {
     float kr, kg, kb; // K' (eq. 15), kept next to its index: one 16-byte read
 };
 
-layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = 2) readonly buffer Samples { Sample samples[]; };
-layout(std430, binding = 3) readonly buffer FanAreas { float fan_area[]; };
-layout(std430, binding = 4) readonly buffer Irradiance { vec4 irradiance[]; };
-layout(std430, binding = 5) buffer Translucency { vec4 translucency[]; };
+layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = SAM_B_NORMALS) readonly buffer Normals { vec4 normals[]; };
+layout(std430, binding = SAM_B_SAMPLES) readonly buffer Samples { Sample samples[]; };
+layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_area[]; };
+layout(std430, binding = SAM_B_IRRADIANCE) readonly buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = SAM_B_TRANSLUCENCY) buffer Translucency { vec4 translucency[]; };
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
-layout(std430, binding = 6) readonly buffer AdjOffsets { uint adj_offsets[]; };
-layout(std430, binding = 7) readonly buffer Adjacency { uint adjacency[]; };
-layout(std430, binding = 15) readonly buffer RestPositions { vec4 rest_positions[]; };
+layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
+layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
+layout(std430, binding = SAM_B_REST_POSITIONS) readonly buffer RestPositions { vec4 rest_positions[]; };
 #endif
 
 uniform uint u_vertex_count;

@@ -2,10 +2,11 @@
 // Texture-space diffusion, step 3: the sum of the Gaussian levels with the
 // material's 8-Gaussian fit weights (each over the total reflectance, since
 // the entering light already carries it).
+#include "sam_bindings.h"
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(rgba32f, binding = 0) readonly uniform image2D u_level;
-layout(rgba32f, binding = 1) uniform image2D u_sum;
+layout(rgba32f, binding = SAM_IMAGE_SOURCE) readonly uniform image2D u_level;
+layout(rgba32f, binding = SAM_IMAGE_TARGET) uniform image2D u_sum;
 
 uniform vec3 u_weight;
 uniform int u_first;

@@ -10,11 +10,12 @@
 // in, so light neither leaks into nor vanishes through the atlas's empty
 // space; with a bilinear read that is rgb + (1 - alpha) centre, since
 // empty texels hold zero.
+#include "sam_bindings.h"
 layout(local_size_x = 8, local_size_y = 8) in;
 
 uniform sampler2D u_source;   // linear filtering, clamped to the edge
-layout(rgba32f, binding = 1) writeonly uniform image2D u_target;
-layout(rgba32f, binding = 2) readonly uniform image2D u_stretch;
+layout(rgba32f, binding = SAM_IMAGE_TARGET) writeonly uniform image2D u_target;
+layout(rgba32f, binding = SAM_IMAGE_STRETCH) readonly uniform image2D u_stretch;
 
 uniform ivec2 u_direction;
 uniform ivec2 u_size;        // the atlas's used corner (depth-sized atlases use less than the image)

@@ -1,8 +1,9 @@
 #version 430 core
 // The light-facing surface's UV, its distance from the light and its normal.
+#include "sam_bindings.h"
 #include "lights.glsl"
 
-layout(std430, binding = 8) readonly buffer Lights { Light lights[]; };
+layout(std430, binding = SAM_B_LIGHTS) readonly buffer Lights { Light lights[]; };
 
 in vec3 v_world;
 in vec3 v_normal;

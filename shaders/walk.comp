@@ -25,6 +25,7 @@
 // stay sorted by approximated K, best first, so a translucency pass using
 // fewer samples takes the best. Samples off the back side score 0 (the
 // translucency pass skips them) and are the first replaced.
+#include "sam_bindings.h"
 #include "profile.glsl"
 
 layout(local_size_x = 64) in;
@@ -37,12 +38,12 @@ struct Sample {
     float kr, kg, kb;
 };
 
-layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = 2) buffer Samples { Sample samples[]; };
-layout(std430, binding = 3) readonly buffer FanAreas { float fan_area[]; };
-layout(std430, binding = 6) readonly buffer AdjOffsets { uint adj_offsets[]; };
-layout(std430, binding = 7) readonly buffer Adjacency { uint adjacency[]; };
+layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = SAM_B_NORMALS) readonly buffer Normals { vec4 normals[]; };
+layout(std430, binding = SAM_B_SAMPLES) buffer Samples { Sample samples[]; };
+layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_area[]; };
+layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
+layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
 
 uniform uint u_vertex_count;
 uniform uint u_stride;

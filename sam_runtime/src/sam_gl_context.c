@@ -7,6 +7,7 @@
 #include <epoxy/egl.h>
 
 #include "sam/sam_gl.h"
+#include "sam_bindings.h"
 
 struct sam_gl_context {
     EGLDisplay display;
@@ -17,8 +18,7 @@ struct sam_gl_context {
 /* What the runtime's compute passes and buffers need at least. */
 #define NEED_SSBO_SIZE (16 * 1024 * 1024)
 #define NEED_COMPUTE_INVOCATIONS 256
-/* The runtime's storage blocks use bindings 0..16 (sam_runtime_internal.h). */
-#define NEED_SSBO_BINDINGS 17
+#define NEED_SSBO_BINDINGS SAM_B_LIMIT
 
 static void APIENTRY debug_message(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
                                    const GLchar *message, const void *user)

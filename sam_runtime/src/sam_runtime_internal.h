@@ -1,16 +1,34 @@
-/* The runtime's state, shared by its source files (sam_runtime.c: buffers,
- * lights, shadows, the SAM passes and shading; sam_runtime_tsd.c:
- * texture-space diffusion). Not installed. */
+/*
+ * The runtime's state: one sub-struct per pass, each owned by the file that
+ * names it below, plus the mesh's shared buffers. Not installed.
+ *
+ * Files and who calls whom (each file calls only files below it, never one
+ * that called it; sam_runtime.c creates and destroys them all):
+ *   sam_runtime.c              create, destroy, the frame's shared accessors
+ *   sam_runtime_view.c         render, G-buffer: calls tsd, technique, diffusion,
+ *                              shadows, surface
+ *   sam_runtime_tsd.c          texture-space diffusion: calls technique, shadows, surface
+ *   sam_runtime_technique.c    transmittance, overrides, translucent shadow maps: calls shadows
+ *   sam_runtime_diffusion.c    screen-space kernel and blur, pre-integrated tables
+ *   sam_runtime_irradiance.c   L_d: calls shadows, surface
+ *   sam_runtime_translucency.c eq. 12 and the smoothing
+ *   sam_runtime_deform.c       deformers, keyframes, the pose, the walk
+ *   sam_runtime_shadows.c      shadow maps of the shadowed lights
+ *   sam_runtime_lights.c       lights and environment
+ *   sam_runtime_surface.c      rho_dt, the specular lobe, the albedo map
+ *   sam_runtime_readback.c     per-vertex and texture read-backs
+ *   sam_runtime_gpu.c          buffer upload, textures, timed dispatch (called by all)
+ * Adding a pass: a file with its sub-struct here, its create/destroy in
+ * sam_runtime.c, and its call in the frame sequence (sam_runtime.h).
+ */
 #ifndef SAM_RUNTIME_INTERNAL_H
 #define SAM_RUNTIME_INTERNAL_H
 
 #include "sam/sam_brdf.h"
 #include "sam/sam_deform.h"
 #include "sam/sam_runtime.h"
+#include "sam_bindings.h"
 #include "sam_mat4.h"
-
-enum { B_POSITIONS, B_NORMALS, B_SAMPLES, B_FAN_AREAS, B_IRRADIANCE, B_TRANSLUCENCY, B_ADJ_OFFSETS, B_ADJACENCY,
-       B_LIGHTS, B_RHO_DT, B_TRIANGLES, B_CURVATURE, B_PRE_DIFFUSE, B_PRE_PENUMBRA, B_UVS, B_COUNT };
 
 /* Pre-integrated skin tables: 64 x 64, curvature up to 2 / mm (a 0.5 mm
  * radius), penumbra width up to 20 mm. */
@@ -48,23 +66,39 @@ enum { TECHNIQUE_VERTEX = 0, TECHNIQUE_NONE = 1, TECHNIQUE_TRANSMITTANCE = 2, TE
  * sam_runtime_set_deformers; the samples come back with the rest pose
  * because the walk moves them). */
 enum { REST_POSITIONS, REST_NORMALS, REST_FAN_AREAS, REST_SAMPLES, REST_CURVATURE, REST_COUNT };
-/* Where the translucency pass finds the rest positions, which it carries a
- * posed K from (fan_form_factor.glsl): the binding after rt->buffer's. */
-enum { B_REST_POSITIONS = B_COUNT };
-/* The posed bounding box the normals pass reduces into (deform_normals.comp). */
-enum { B_BOUNDS = B_COUNT + 1 };
 
 /* Texture-space maps, kept between renders (all atlas_size^2 RGBA32F). */
 enum { ATLAS_IRRADIANCE, ATLAS_STRETCH, ATLAS_TEMP, ATLAS_LEVEL_A, ATLAS_LEVEL_B, ATLAS_SUM, ATLAS_COUNT };
 
-struct sam_runtime {
-    uint32_t vertex_count, stride;
-    float mm_per_unit;
-    sam_profile profile;
-    GLuint buffer[B_COUNT];
-    GLuint translucency_program, translucency_posed_program, translucency_eq15_program, irradiance_program;
-    sam_posed_k posed_k;
-    GLuint deform_program, deform_normals_program, walk_program;
+/* sam_runtime_lights.c */
+typedef struct sam_rt_lights {
+    sam_light *lights;
+    uint32_t count;
+    uint32_t cube_count, flat_count; /* shadowed point/area and spot/directional lights */
+    int has_environment;
+    float sh[9][3];
+} sam_rt_lights;
+
+/* sam_runtime_surface.c */
+typedef struct sam_rt_surface {
+    float roughness, rho_s, environment_rho_dt;
+    float rho_table[RHO_SIZE * RHO_SIZE];
+    GLuint albedo_tex;
+} sam_rt_surface;
+
+/* sam_runtime_shadows.c */
+typedef struct sam_rt_shadows {
+    GLuint program, fbo;
+    GLuint cube_tex[MAX_CUBE_SHADOWS], flat_tex[MAX_FLAT_SHADOWS];
+    float cube_origin[MAX_CUBE_SHADOWS][3], cube_far[MAX_CUBE_SHADOWS];
+    sam_mat4 flat_matrix[MAX_FLAT_SHADOWS];
+    float flat_origin[MAX_FLAT_SHADOWS][3], flat_far[MAX_FLAT_SHADOWS]; /* far = 0: projected depth */
+    float flat_range[MAX_FLAT_SHADOWS]; /* directional: model units from window depth 0 to 1 */
+} sam_rt_shadows;
+
+/* sam_runtime_deform.c */
+typedef struct sam_rt_deform {
+    GLuint program, normals_program, walk_program;
     GLuint rest_buffer[REST_COUNT]; /* 0 until the first sam_runtime_set_deformers or _set_keyframes */
     int posed;                      /* 1 while the buffers hold a deformed pose, not the rest pose */
     sam_deformer deformers[SAM_DEFORM_MAX];
@@ -72,135 +106,88 @@ struct sam_runtime {
     GLuint keyframe_buffer; /* keyframe_count poses of vertex_count vec4 positions, or 0 */
     float *keyframe_times;  /* keyframe_count seconds, > 0, strictly increasing */
     size_t keyframe_count;
-    GLuint query[SAM_PASS_COUNT];
-    int query_used[SAM_PASS_COUNT];
-    uint32_t light_count;
-    int has_environment;
-    float sh[9][3];
-    float roughness, rho_s, environment_rho_dt;
-    float rho_table[RHO_SIZE * RHO_SIZE];
+    GLuint bounds_buffer;   /* 6 order-preserving uint keys: min xyz, max xyz */
+} sam_rt_deform;
 
-    uint32_t triangle_count;
-    float centre[3], radius;  /* bounding sphere of the positions, model units (of the pose) */
-    float box_lo[3], box_hi[3];
-    float rest_box_lo[3], rest_box_hi[3]; /* the rest pose's, restored bit for bit with it */
-    GLuint bounds_buffer;     /* 6 order-preserving uint keys: min xyz, max xyz */
-    float surface_area;       /* model units^2 */
-    GLuint vao, fbo, shadow_program, shade_program, blur_program, compose_program;
-    float total_reflectance[3];
+/* sam_runtime_irradiance.c */
+typedef struct sam_rt_irradiance {
+    GLuint program;
+} sam_rt_irradiance;
 
-    /* Screen space: the kernel of the last render's kind and taps. */
-    sam_separable_kernel kernel;
+/* sam_runtime_translucency.c */
+typedef struct sam_rt_translucency {
+    GLuint rest_program, posed_program, eq15_program;
+    sam_posed_k posed_k;
+} sam_rt_translucency;
+
+/* sam_runtime_technique.c: transmittance's distance reads and the
+ * translucent shadow maps (allocated on first use: layers 2k and 2k + 1 of
+ * shadow map k hold (u, v, distance, 1) and (normal, 1)). */
+typedef struct sam_rt_technique {
+    GLuint distance_sampler; /* nearest, no comparison: shadow maps read as distances */
+    GLuint tsm_program, tsm_fbo, tsm_depth, tsm_flat_tex, tsm_cube_tex;
+    uint32_t tsm_flat_count, tsm_cube_count; /* maps the textures have room for */
+} sam_rt_technique;
+
+/* sam_runtime_diffusion.c */
+typedef struct sam_rt_diffusion {
+    GLuint blur_program, compose_program;
+    sam_separable_kernel kernel; /* of the last screen-space render's kind and taps */
     sam_sss_kernel kernel_kind;
-
-    /* Pre-integrated skin. */
     int preint_ready;
-    float min_penumbra_mm;  /* the penumbra table's floor: the profile's 99% radius */
+    float min_penumbra_mm; /* the penumbra table's floor: the profile's 99% radius */
+} sam_rt_diffusion;
 
-    /* Texture space. */
+/* sam_runtime_tsd.c */
+typedef struct sam_rt_tsd {
     int has_uvs, uv_usable;
     char uv_reason[160];
-    float uv_coverage;      /* fraction of the atlas the charts cover */
-    sam_gaussian_fit fit;
-    GLuint tsd_program, tsd_blur_program, tsd_accumulate_program, tsd_fbo;
+    float uv_coverage; /* fraction of the atlas the charts cover */
+    GLuint program, blur_program, accumulate_program, fbo;
     GLuint atlas_tex[ATLAS_COUNT];
     uint32_t atlas_allocated, atlas_used; /* texture side, and the side of the last render */
     /* Every convolved level, kept for translucent shadow maps (allocated on
      * their first use): a 2D array, and a 2D view of each layer for the blur. */
     GLuint level_array, level_view[SAM_PROFILE_FIT_GAUSSIANS];
     uint32_t level_count;
-    GLuint albedo_tex;
+} sam_rt_tsd;
 
-    /* View-sized targets of sam_runtime_render, re-created on resize. */
-    GLuint view_fbo, view_tex[5], view_depth;
-    uint32_t view_width, view_height;
+/* sam_runtime_view.c: the view-sized targets of sam_runtime_render,
+ * re-created on resize. */
+typedef struct sam_rt_view {
+    GLuint shade_program;
+    GLuint fbo, tex[5], depth;
+    uint32_t width, height;
+} sam_rt_view;
 
-    /* Shadow maps. */
-    GLuint cube_tex[MAX_CUBE_SHADOWS], flat_tex[MAX_FLAT_SHADOWS];
-    uint32_t cube_count, flat_count;
-    float cube_origin[MAX_CUBE_SHADOWS][3], cube_far[MAX_CUBE_SHADOWS];
-    sam_mat4 flat_matrix[MAX_FLAT_SHADOWS];
-    float flat_origin[MAX_FLAT_SHADOWS][3], flat_far[MAX_FLAT_SHADOWS]; /* far = 0: projected depth */
-    float flat_range[MAX_FLAT_SHADOWS]; /* directional: model units from window depth 0 to 1 */
-    sam_light *lights;
-    GLuint distance_sampler; /* nearest, no comparison: shadow maps read as distances */
+struct sam_runtime {
+    /* The mesh and its material (sam_runtime.c). */
+    uint32_t vertex_count, stride, triangle_count;
+    float mm_per_unit;
+    sam_profile profile;
+    sam_gaussian_fit fit;         /* the profile's 8-Gaussian fit */
+    float total_reflectance[3];
+    GLuint buffer[SAM_B_COUNT];
+    GLuint vao;
+    /* The pose's bounds (sam_runtime_set_box): every range is taken from them. */
+    float centre[3], radius; /* bounding sphere, model units */
+    float box_lo[3], box_hi[3];
+    float rest_box_lo[3], rest_box_hi[3]; /* the rest pose's, restored bit for bit with it */
+    float surface_area;                   /* model units^2, of the rest pose */
+    /* Each pass's GPU time (sam_runtime_gpu.c). */
+    GLuint query[SAM_PASS_COUNT];
+    int query_used[SAM_PASS_COUNT];
 
-    /* Translucent shadow maps (allocated on first use): layers 2k and 2k + 1
-     * of shadow map k hold (u, v, distance, 1) and (normal, 1). */
-    GLuint tsm_program, tsm_fbo, tsm_depth, tsm_flat_tex, tsm_cube_tex;
-    uint32_t tsm_flat_count, tsm_cube_count; /* maps the textures have room for */
+    sam_rt_lights lights;
+    sam_rt_surface surface;
+    sam_rt_shadows shadows;
+    sam_rt_deform deform;
+    sam_rt_irradiance irradiance;
+    sam_rt_translucency translucency;
+    sam_rt_technique technique;
+    sam_rt_diffusion diffusion;
+    sam_rt_tsd tsd;
+    sam_rt_view view;
 };
-
-/* sam_runtime.c. The view-projection of face `face` of a cube map at
- * `origin` reaching `far_plane` (the shadow maps' and the TSMs'). */
-sam_mat4 sam_runtime_cube_face(const float origin[3], float far_plane, int face);
-
-/* Binds the shadow maps and their uniforms (shadows.glsl) to program p. */
-void sam_runtime_bind_shadows(const sam_runtime *rt, GLuint p);
-
-/* One step of a walk over the shadowed lights (sam_runtime_next_shadow). */
-typedef struct sam_runtime_shadow {
-    uint32_t light; /* index in rt->lights */
-    int cube;       /* 1: a cube map (point and area lights); 0: a flat map (spot and directional) */
-    uint32_t map;   /* its index among the cube maps, or among the flat ones */
-    uint32_t next, cubes, flats; /* the walk's own state */
-} sam_runtime_shadow;
-
-/* Steps `s` (zeroed before the first call) to the next shadowed light and
- * returns 1; 0 after the last. The maps are numbered as
- * sam_runtime_set_lights numbers them for the shaders, so every pass that
- * draws them walks this way. */
-int sam_runtime_next_shadow(const sam_runtime *rt, sam_runtime_shadow *s);
-
-/* sam_runtime_technique.c. The translucency source of `view`'s passes
- * (TECHNIQUE_*). */
-int sam_runtime_technique_mode(const sam_render_view *view);
-
-/* Sets technique.glsl's uniforms for program p: `mode`, the fit, the
- * shadow maps read as distances, and `override_tex` (0: none) on its unit. */
-void sam_runtime_bind_technique(const sam_runtime *rt, GLuint p, int mode, GLuint override_tex);
-
-/* Binds tsm_read.glsl's maps for program p (the shading program); the
- * levels and stretch map come from the last texture-space render. */
-void sam_runtime_bind_tsm(const sam_runtime *rt, GLuint p);
-
-/* Renders a TSM for every shadowed point, spot and directional light, from
- * the shadow maps' last positions. Errors: SAM_ERR_OUT_OF_MEMORY. */
-sam_status sam_runtime_render_tsm(sam_runtime *rt, sam_error *err);
-void sam_runtime_tsm_destroy(sam_runtime *rt);
-
-/* A new RGBA32F texture of `image` (3 or 4 channels; rows bottom-up when
- * `flip`: image rows run top-down, GL's and UV's v up), with `levels` mip
- * levels (the caller generates them); 0 when the GL could not store it. */
-GLuint sam_runtime_image_texture(const sam_image *image, GLsizei levels, int flip);
-
-/* Reads the w x h corner of texture `tex` (RGBA32F, `full` texels wide)
- * into a new RGBA image, rows flipped to run top-down when `flip`.
- * Errors: SAM_ERR_OUT_OF_MEMORY. */
-sam_status sam_runtime_read_texture(GLuint tex, uint32_t full_width, uint32_t full_height, uint32_t w, uint32_t h,
-                                    int flip, sam_image *out, sam_error *err);
-
-/* sam_runtime_tsd.c. Runs texture-space diffusion of the entering light
- * for `view` (view_proj its camera matrix, proj its projection) into
- * rt->atlas_tex[ATLAS_SUM] with translucency `mode` (override_tex: the
- * override's texture or 0); sets rt->atlas_used. `tsm`: front light goes
- * in whatever view->front says, and every level is kept for the TSMs. */
-sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
-                                     const sam_mat4 *proj, int mode, GLuint override_tex, int tsm, sam_error *err);
-
-/* The atlas side `view` asks for (options.atlas_size or the default). */
-uint32_t sam_runtime_atlas_size(const sam_render_view *view);
-
-/* Draws the mesh unwrapped into the bound framebuffer's side x side corner
- * with the texture-space program: the entering light and stretch map, or
- * with `gbuffer` the position and normal (no culling or clipping). */
-void sam_runtime_draw_atlas(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
-                            const sam_mat4 *proj, uint32_t side, int mode, GLuint override_tex, int front,
-                            int gbuffer);
-void sam_runtime_texture_space_destroy(sam_runtime *rt);
-
-/* Binds the albedo map (or a white texel's absence: u_has_albedo_map = 0)
- * for program p. */
-void sam_runtime_bind_albedo(const sam_runtime *rt, GLuint p);
 
 #endif

@@ -10,25 +10,46 @@
  * them and use the centre texel in place of their value.
  */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
-#include "sam_runtime_internal.h"
+#include "sam/sam_uv.h"
+#include "sam_runtime_gpu.h"
+#include "sam_runtime_shadows.h"
+#include "sam_runtime_surface.h"
+#include "sam_runtime_technique.h"
+#include "sam_runtime_tsd.h"
 
 #define DEFAULT_ATLAS 1024
 #define MIN_ATLAS 64
 #define CULL_MIN 0.2617993877991494f /* 15 degrees past the silhouette: the paper's 105 */
 #define CULL_REACH 4.0f               /* standard deviations of the widest Gaussian */
 
+static void release_maps(sam_runtime *rt)
+{
+    if (rt->tsd.atlas_allocated)
+        glDeleteTextures(ATLAS_COUNT, rt->tsd.atlas_tex);
+    memset(rt->tsd.atlas_tex, 0, sizeof rt->tsd.atlas_tex);
+    rt->tsd.atlas_allocated = rt->tsd.atlas_used = 0;
+    if (rt->tsd.level_count) {
+        glDeleteTextures((GLsizei)rt->tsd.level_count, rt->tsd.level_view);
+        glDeleteTextures(1, &rt->tsd.level_array);
+    }
+    memset(rt->tsd.level_view, 0, sizeof rt->tsd.level_view);
+    rt->tsd.level_array = 0;
+    rt->tsd.level_count = 0;
+}
+
 static sam_status ensure_atlas(sam_runtime *rt, uint32_t side, sam_error *err)
 {
-    if (rt->atlas_allocated == side)
+    if (rt->tsd.atlas_allocated == side)
         return SAM_OK;
-    sam_runtime_texture_space_destroy(rt);
+    release_maps(rt);
     while (glGetError() != GL_NO_ERROR) {
     }
-    glGenTextures(ATLAS_COUNT, rt->atlas_tex);
+    glGenTextures(ATLAS_COUNT, rt->tsd.atlas_tex);
     for (int i = 0; i < ATLAS_COUNT; ++i) {
-        glBindTexture(GL_TEXTURE_2D, rt->atlas_tex[i]);
+        glBindTexture(GL_TEXTURE_2D, rt->tsd.atlas_tex[i]);
         glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, (GLsizei)side, (GLsizei)side);
         /* Read bilinearly: the sum by the mesh at its UVs, the levels by the
          * blur's taps between texels. */
@@ -39,59 +60,89 @@ static sam_status ensure_atlas(sam_runtime *rt, uint32_t side, sam_error *err)
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     }
     if (glGetError() != GL_NO_ERROR) {
-        sam_runtime_texture_space_destroy(rt);
+        release_maps(rt);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: the GL could not allocate %d texture-space maps of %u^2",
                         ATLAS_COUNT, side);
     }
-    if (!rt->tsd_fbo)
-        glGenFramebuffers(1, &rt->tsd_fbo);
-    rt->atlas_allocated = side;
+    if (!rt->tsd.fbo)
+        glGenFramebuffers(1, &rt->tsd.fbo);
+    rt->tsd.atlas_allocated = side;
     return SAM_OK;
 }
 
-void sam_runtime_texture_space_destroy(sam_runtime *rt)
+sam_status sam_runtime_tsd_create(sam_runtime *rt, const samfile_data *sam, sam_error *err)
 {
-    if (rt->atlas_allocated)
-        glDeleteTextures(ATLAS_COUNT, rt->atlas_tex);
-    memset(rt->atlas_tex, 0, sizeof rt->atlas_tex);
-    rt->atlas_allocated = rt->atlas_used = 0;
-    if (rt->level_count) {
-        glDeleteTextures((GLsizei)rt->level_count, rt->level_view);
-        glDeleteTextures(1, &rt->level_array);
+    sam_rt_tsd *t = &rt->tsd;
+    sam_status st;
+    if (sam->uvs) {
+        t->has_uvs = 1;
+        /* Texture-space diffusion needs charts inside [0, 1]^2 that do not
+         * overlap: mirrored islands would sum two places' light in one texel. */
+        sam_uv_report report;
+        if ((st = sam_uv_check(sam->uvs, sam->vertex_count, sam->triangles, sam->triangle_count, 1024, &report,
+                               err)) != SAM_OK)
+            return st;
+        t->uv_usable = sam_uv_usable(&report, t->uv_reason, sizeof t->uv_reason);
+        t->uv_coverage = report.resolution ? (float)((double)report.covered_texels /
+                                                     ((double)report.resolution * report.resolution))
+                                           : 0.0f;
+    } else {
+        snprintf(t->uv_reason, sizeof t->uv_reason, "the mesh has no UVs");
     }
-    memset(rt->level_view, 0, sizeof rt->level_view);
-    rt->level_array = 0;
-    rt->level_count = 0;
+    if ((st = sam_gl_render_program("tsd_irradiance.vert", "tsd_irradiance.frag", NULL, &t->program, err)) !=
+            SAM_OK ||
+        (st = sam_gl_compute_program("tsd_blur.comp", NULL, &t->blur_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("tsd_accumulate.comp", NULL, &t->accumulate_program, err)) != SAM_OK)
+        return st;
+    return SAM_OK;
+}
+
+void sam_runtime_tsd_destroy(sam_runtime *rt)
+{
+    release_maps(rt);
+    if (rt->tsd.fbo)
+        glDeleteFramebuffers(1, &rt->tsd.fbo);
+    rt->tsd.fbo = 0;
+    sam_runtime_delete_program(&rt->tsd.program);
+    sam_runtime_delete_program(&rt->tsd.blur_program);
+    sam_runtime_delete_program(&rt->tsd.accumulate_program);
+}
+
+int sam_runtime_uv_status(const sam_runtime *rt, char *reason, size_t n)
+{
+    if (reason && n)
+        snprintf(reason, n, "%s", rt->tsd.uv_usable ? "" : rt->tsd.uv_reason);
+    return rt->tsd.uv_usable;
 }
 
 /* One layer per Gaussian at the atlas's side, each also a 2D texture (a
  * view of its layer) that the blur reads and writes like the other maps. */
 static sam_status ensure_levels(sam_runtime *rt, sam_error *err)
 {
-    if (rt->level_count == rt->fit.count)
+    if (rt->tsd.level_count == rt->fit.count)
         return SAM_OK;
     while (glGetError() != GL_NO_ERROR) {
     }
-    GLsizei side = (GLsizei)rt->atlas_allocated, count = (GLsizei)rt->fit.count;
-    glGenTextures(1, &rt->level_array);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, rt->level_array);
+    GLsizei side = (GLsizei)rt->tsd.atlas_allocated, count = (GLsizei)rt->fit.count;
+    glGenTextures(1, &rt->tsd.level_array);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, rt->tsd.level_array);
     glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F, side, side, count);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glGenTextures(count, rt->level_view);
-    rt->level_count = rt->fit.count;
+    glGenTextures(count, rt->tsd.level_view);
+    rt->tsd.level_count = rt->fit.count;
     for (GLsizei i = 0; i < count; ++i) {
-        glTextureView(rt->level_view[i], GL_TEXTURE_2D, rt->level_array, GL_RGBA32F, 0, 1, (GLuint)i, 1);
-        glBindTexture(GL_TEXTURE_2D, rt->level_view[i]);
+        glTextureView(rt->tsd.level_view[i], GL_TEXTURE_2D, rt->tsd.level_array, GL_RGBA32F, 0, 1, (GLuint)i, 1);
+        glBindTexture(GL_TEXTURE_2D, rt->tsd.level_view[i]);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     }
     if (glGetError() != GL_NO_ERROR) {
-        sam_runtime_texture_space_destroy(rt);
+        release_maps(rt);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY,
                         "render: the GL could not allocate %d texture-space levels of %d^2 for the TSMs", count, side);
     }
@@ -118,7 +169,7 @@ static uint32_t atlas_side(const sam_runtime *rt, const sam_render_view *view, u
     }
     double f = view->height / (2.0 * tan(0.5 * view->fov_deg * 3.14159265358979323846 / 180.0));
     double tpp = view->options.texels_per_pixel > 0 ? view->options.texels_per_pixel : 1.0;
-    double need = tpp * f * sqrt(rt->surface_area / fmax(rt->uv_coverage, 1e-3)) / fmax(sqrt(d2), 1e-30);
+    double need = tpp * f * sqrt(rt->surface_area / fmax(rt->tsd.uv_coverage, 1e-3)) / fmax(sqrt(d2), 1e-30);
     if (!(need < max_side))
         return max_side;
     return need < MIN_ATLAS ? MIN_ATLAS : (uint32_t)ceil(need);
@@ -137,7 +188,7 @@ void sam_runtime_draw_atlas(sam_runtime *rt, const sam_render_view *view, const 
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    GLuint p = rt->tsd_program;
+    GLuint p = rt->tsd.program;
     glUseProgram(p);
     glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
     glUniform1i(glGetUniformLocation(p, "u_front"), front);
@@ -158,8 +209,7 @@ void sam_runtime_draw_atlas(sam_runtime *rt, const sam_render_view *view, const 
     sam_runtime_bind_albedo(rt, p);
     sam_runtime_bind_shadows(rt, p);
     sam_runtime_bind_technique(rt, p, mode, override_tex);
-    for (int b = 0; b < B_COUNT; ++b)
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, rt->buffer[b]);
+    sam_runtime_bind_buffers(rt);
     if (clipped)
         for (int i = 0; i < 4; ++i)
             glEnable(GL_CLIP_DISTANCE0 + (GLenum)i);
@@ -182,9 +232,9 @@ sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *vie
     if (st != SAM_OK)
         return st;
     uint32_t side = atlas_side(rt, view, max_side);
-    const GLuint *tex = rt->atlas_tex;
+    const GLuint *tex = rt->tsd.atlas_tex;
 
-    glBindFramebuffer(GL_FRAMEBUFFER, rt->tsd_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, rt->tsd.fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[ATLAS_IRRADIANCE], 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[ATLAS_STRETCH], 0);
     static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
@@ -206,24 +256,24 @@ sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *vie
     GLint size[2] = {(GLint)side, (GLint)side};
     float previous_variance = 0.0f;
     for (uint32_t g = 0; g < rt->fit.count; ++g) {
-        GLuint next = tsm ? rt->level_view[g] : g % 2 ? tex[ATLAS_LEVEL_B] : tex[ATLAS_LEVEL_A];
+        GLuint next = tsm ? rt->tsd.level_view[g] : g % 2 ? tex[ATLAS_LEVEL_B] : tex[ATLAS_LEVEL_A];
         float sigma = sqrtf(fmaxf(rt->fit.variance[g] - previous_variance, 0.0f));
         previous_variance = rt->fit.variance[g];
-        GLuint b = rt->tsd_blur_program;
+        GLuint b = rt->tsd.blur_program;
         glUseProgram(b);
         glUniform1f(glGetUniformLocation(b, "u_sigma_mm"), sigma);
         glUniform2iv(glGetUniformLocation(b, "u_size"), 1, size);
-        glBindImageTexture(2, tex[ATLAS_STRETCH], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(SAM_IMAGE_STRETCH, tex[ATLAS_STRETCH], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         for (int pass = 0; pass < 2; ++pass) {
             glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
             glActiveTexture(GL_TEXTURE0);
             glBindTexture(GL_TEXTURE_2D, pass == 0 ? level : tex[ATLAS_TEMP]);
             glUniform1i(glGetUniformLocation(b, "u_source"), 0);
-            glBindImageTexture(1, pass == 0 ? tex[ATLAS_TEMP] : next, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glBindImageTexture(SAM_IMAGE_TARGET, pass == 0 ? tex[ATLAS_TEMP] : next, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
             glDispatchCompute(groups, groups, 1);
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         }
-        GLuint a = rt->tsd_accumulate_program;
+        GLuint a = rt->tsd.accumulate_program;
         glUseProgram(a);
         float w[3];
         for (int c = 0; c < 3; ++c)
@@ -231,13 +281,13 @@ sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *vie
         glUniform3fv(glGetUniformLocation(a, "u_weight"), 1, w);
         glUniform1i(glGetUniformLocation(a, "u_first"), g == 0);
         glUniform2iv(glGetUniformLocation(a, "u_size"), 1, size);
-        glBindImageTexture(0, next, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-        glBindImageTexture(1, tex[ATLAS_SUM], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glBindImageTexture(SAM_IMAGE_SOURCE, next, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(SAM_IMAGE_TARGET, tex[ATLAS_SUM], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         glDispatchCompute(groups, groups, 1);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         level = next;
     }
-    rt->atlas_used = side;
+    rt->tsd.atlas_used = side;
     return SAM_OK;
 }
 
@@ -245,11 +295,11 @@ sam_status sam_runtime_read_atlas(sam_runtime *rt, sam_atlas_map map, sam_image 
 {
     memset(out, 0, sizeof *out);
     static const int which[3] = {ATLAS_IRRADIANCE, ATLAS_STRETCH, ATLAS_SUM};
-    if (!rt->atlas_used || (unsigned)map > SAM_ATLAS_DIFFUSED)
+    if (!rt->tsd.atlas_used || (unsigned)map > SAM_ATLAS_DIFFUSED)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
-                        rt->atlas_used ? "read_atlas: unknown map %d" : "read_atlas: no texture-space render yet (map %d)",
+                        rt->tsd.atlas_used ? "read_atlas: unknown map %d" : "read_atlas: no texture-space render yet (map %d)",
                         (int)map);
     /* Row v of the image is texel row v (v = 0 at the bottom of UV space). */
-    return sam_runtime_read_texture(rt->atlas_tex[which[map]], rt->atlas_allocated, rt->atlas_allocated,
-                                     rt->atlas_used, rt->atlas_used, 0, out, err);
+    return sam_runtime_read_texture(rt->tsd.atlas_tex[which[map]], rt->tsd.atlas_allocated, rt->tsd.atlas_allocated,
+                                     rt->tsd.atlas_used, rt->tsd.atlas_used, 0, out, err);
 }

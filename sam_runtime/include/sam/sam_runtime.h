@@ -1,32 +1,55 @@
 /*
  * sam_runtime: a .sam on the GPU and the per-frame SAM passes.
  *
- * sam_runtime_create uploads a .sam (samfile_data) as shader-storage
- * buffers laid out for the GPU (std430):
- *   binding 0  positions   vec4 per vertex (xyz, w unused), model units
- *   binding 1  normals     vec4 per vertex
- *   binding 2  samples     {uint index; float K'r, K'g, K'b} x N per vertex:
- *                          a sample's index and K' are one 16-byte read
- *   binding 3  fan areas   float per vertex, mm^2
- *   binding 4  L_d         vec4 per vertex (rgb irradiance entering the surface)
- *   binding 5  T           vec4 per vertex (rgb translucency, smoothed)
- *   binding 6  adjacency offsets, binding 7 adjacency entries (uint)
- *   binding 8  lights, binding 9 the rho_dt table
- * and compiles the passes. The deform pass (sam_runtime_deform) rewrites
- * positions, normals and fan areas for an animated pose, and the walk
- * (sam_runtime_walk) moves each vertex's samples to better back-side
- * vertices of that pose. The irradiance pass computes L_d (eq. 4): each
- * light's irradiance by the formulas of sam_light_irradiance times
- * rho_dt(N.L) = 1 - k (1 - table(N.L, m)) (d'Eon Sec. 6; k = pi rho_s, the
- * specular lobe's scale), plus the environment's SH-9 irradiance times the
- * cosine-weighted mean of rho_dt over the hemisphere. The translucency pass evaluates eq. 12 with
- * K = K' F'_b R_d(|v_b - v|) (eq. 15) at rest and, on a deformed pose, K
- * carried from rest (sam_runtime_set_posed_k), and smooths it in time (eq. 17-18),
- * T <- (1 - alpha) T_prev + alpha T, alpha = 1 - (1e-10)^dt. Results stay on
- * the GPU; read-back functions exist for tests and tools.
+ * Step by step:
  *
- * Needs a current GL 4.3 context (sam_gl.h) on the calling thread for its
- * whole life. The caller owns the runtime and destroys it before the context.
+ *   Once
+ *     1. A current GL 4.3 context on this thread: sam_gl_context_create_headless,
+ *        or your own checked with sam_gl_check_current (sam_gl.h). It must
+ *        outlive the runtime.
+ *     2. sam_runtime_create(sam, profile, mm_per_unit): uploads the map and
+ *        compiles every pass.
+ *     3. The lighting: sam_runtime_set_lights, _set_environment, and if you
+ *        like _set_surface and _set_albedo_map. Call them again whenever the
+ *        lighting changes.
+ *     4. Animated objects only: sam_runtime_set_deformers and/or
+ *        _set_keyframes.
+ *
+ *   Every frame, in this order (the frame sequence)
+ *     1. sam_runtime_deform(t)      animated only: poses positions, normals,
+ *                                   fan areas, curvature and bounds
+ *     2. sam_runtime_walk           animated only: samples follow the pose
+ *     3. sam_runtime_irradiance     shadow maps, then L_d at every vertex (eq. 4)
+ *     4. sam_runtime_translucency   T at every vertex (eq. 12), smoothed in
+ *                                   time (eq. 17-18)
+ *     5. sam_runtime_render         shading and the chosen diffusion and
+ *        (or _render_texture)       technique into an image
+ *
+ *   At the end
+ *     sam_runtime_destroy, then the context.
+ *
+ * Results stay on the GPU between the steps; the read-back functions
+ * (sam_runtime_read_*) exist for tests and tools and wait for the GPU.
+ *
+ * sam_runtime_create uploads a .sam (samfile_data) as shader-storage
+ * buffers laid out for the GPU (std430), at the binding points that
+ * shaders/sam_bindings.h gives both the C code and the shaders: positions
+ * and normals (vec4 per vertex, model units), samples ({uint index; float
+ * K'r, K'g, K'b} x N per vertex: a sample's index and K' are one 16-byte
+ * read), fan areas (mm^2), L_d and T (vec4 per vertex), the adjacency,
+ * the lights and the rho_dt table. The deform pass rewrites positions,
+ * normals and fan areas for an animated pose, and the walk moves each
+ * vertex's samples to better back-side vertices of that pose. The
+ * irradiance pass computes L_d (eq. 4): each light's irradiance by the
+ * formulas of sam_light_irradiance times rho_dt(N.L) = 1 - k (1 -
+ * table(N.L, m)) (d'Eon Sec. 6; k = pi rho_s, the specular lobe's scale),
+ * plus the environment's SH-9 irradiance times the cosine-weighted mean of
+ * rho_dt over the hemisphere. The translucency pass evaluates eq. 12 with
+ * K = K' F'_b R_d(|v_b - v|) (eq. 15) at rest and, on a deformed pose, K
+ * carried from rest (sam_runtime_set_posed_k), and smooths it in time
+ * (eq. 17-18), T <- (1 - alpha) T_prev + alpha T, alpha = 1 - (1e-10)^dt.
+ *
+ * The caller owns the runtime and destroys it before the context.
  */
 #ifndef SAM_RUNTIME_H
 #define SAM_RUNTIME_H

@@ -1,0 +1,50 @@
+/* GL helpers every pass of the runtime uses: buffers, textures, timed
+ * dispatches, the profile's uniforms and the bounds. Calls no other file of
+ * the runtime. Not installed. */
+#ifndef SAM_RUNTIME_GPU_H
+#define SAM_RUNTIME_GPU_H
+
+#include "sam_runtime_internal.h"
+
+/* (Re)allocates rt->buffer[binding] with `bytes` of `data` (NULL: undefined
+ * contents; 0 bytes get 16) and binds it there. Errors: SAM_ERR_UNSUPPORTED
+ * (more than the context's storage block limit), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_upload(sam_runtime *rt, int binding, const void *data, size_t bytes, sam_error *err);
+
+/* A new array of `count` vec4 from 3 floats each, w = `w`; NULL when out of
+ * memory. The caller frees it. */
+float *sam_runtime_widen(const float *xyz, uint32_t count, float w);
+
+/* Binds every shared storage buffer (SAM_B_0 .. SAM_B_COUNT - 1). */
+void sam_runtime_bind_buffers(const sam_runtime *rt);
+
+/* GL timer query of `pass` around what follows, until sam_runtime_end_timer. */
+void sam_runtime_begin_timer(sam_runtime *rt, sam_pass pass);
+void sam_runtime_end_timer(sam_runtime *rt, sam_pass pass);
+
+/* The bound compute program once per vertex (groups of 64), timed as
+ * `pass`, its storage writes made visible to later passes and read-backs. */
+void sam_runtime_dispatch_per_vertex(sam_runtime *rt, sam_pass pass);
+
+/* Deletes `*program` when it is not 0, and zeroes it. */
+void sam_runtime_delete_program(GLuint *program);
+
+/* Sets profile.glsl's uniforms of `program` (made current) to `p`. */
+void sam_runtime_set_profile_uniforms(GLuint program, const sam_profile *p);
+
+/* Sets the bounds every range is taken from (shadow maps, automatic near and
+ * far planes, depth-sized atlases): the box and the sphere around it. */
+void sam_runtime_set_box(sam_runtime *rt, const float lo[3], const float hi[3]);
+
+/* A new RGBA32F texture of `image` (3 or 4 channels; rows bottom-up when
+ * `flip`: image rows run top-down, GL's and UV's v up), with `levels` mip
+ * levels (the caller generates them); 0 when the GL could not store it. */
+GLuint sam_runtime_image_texture(const sam_image *image, GLsizei levels, int flip);
+
+/* Reads the w x h corner of texture `tex` (RGBA32F, `full` texels wide)
+ * into a new RGBA image, rows flipped to run top-down when `flip`.
+ * Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_read_texture(GLuint tex, uint32_t full_width, uint32_t full_height, uint32_t w, uint32_t h,
+                                    int flip, sam_image *out, sam_error *err);
+
+#endif

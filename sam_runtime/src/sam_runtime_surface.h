@@ -1,0 +1,23 @@
+/* The surface's reflection: rho_dt (the light the specular lobe leaves to
+ * enter the surface), its table on the GPU, and the albedo map (state in
+ * rt->surface). Not installed. */
+#ifndef SAM_RUNTIME_SURFACE_H
+#define SAM_RUNTIME_SURFACE_H
+
+#include "sam_runtime_internal.h"
+
+/* Step 2 of sam_runtime_create: the rho_dt table on the GPU and the default
+ * lobe (d'Eon's skin). Errors: those of sam_brdf_rho_dt_table and
+ * sam_runtime_upload. */
+sam_status sam_runtime_surface_create(sam_runtime *rt, sam_error *err);
+void sam_runtime_surface_destroy(sam_runtime *rt);
+
+/* Sets surface.glsl's uniforms (the irradiance and shading passes share
+ * them) for the current program p. */
+void sam_runtime_set_surface_uniforms(const sam_runtime *rt, GLuint p);
+
+/* Binds the albedo map (or a white texel's absence: u_has_albedo_map = 0)
+ * for the current program p. */
+void sam_runtime_bind_albedo(const sam_runtime *rt, GLuint p);
+
+#endif

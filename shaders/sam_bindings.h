@@ -1,0 +1,49 @@
+/*
+ * The runtime's binding points, read by both its C code and its shaders
+ * (#include "sam_bindings.h" in either; the shader loader expands it from
+ * the embedded files), so a buffer's number is written once.
+ *
+ * Storage buffers (std430), one per per-vertex or shared array; the runtime
+ * binds every one of SAM_B_0..SAM_B_COUNT-1 before a pass.
+ */
+#ifndef SAM_BINDINGS_H
+#define SAM_BINDINGS_H
+
+#define SAM_B_POSITIONS 0     /* vec4 per vertex, model units */
+#define SAM_B_NORMALS 1       /* vec4 per vertex */
+#define SAM_B_SAMPLES 2       /* {uint index; float K'rgb} x N per vertex */
+#define SAM_B_FAN_AREAS 3     /* float per vertex, mm^2 */
+#define SAM_B_IRRADIANCE 4    /* vec4 per vertex: L_d */
+#define SAM_B_TRANSLUCENCY 5  /* vec4 per vertex: smoothed T */
+#define SAM_B_ADJ_OFFSETS 6   /* uint per vertex + 1 */
+#define SAM_B_ADJACENCY 7     /* uint per ring entry */
+#define SAM_B_LIGHTS 8        /* lights.glsl's Light per light */
+#define SAM_B_RHO_DT 9        /* the rho_dt table */
+#define SAM_B_TRIANGLES 10    /* 3 uint per triangle (also the index buffer) */
+#define SAM_B_CURVATURE 11    /* float per vertex, 1/mm */
+#define SAM_B_PRE_DIFFUSE 12  /* pre-integrated diffuse falloff table */
+#define SAM_B_PRE_PENUMBRA 13 /* pre-integrated penumbra table */
+#define SAM_B_UVS 14          /* vec2 per vertex */
+#define SAM_B_COUNT 15
+
+/* Bound only by the passes that need them, after the shared ones. */
+#define SAM_B_REST_POSITIONS 15 /* the rest pose a posed K is carried from */
+#define SAM_B_BOUNDS 16         /* the posed box: 6 order-preserving uint keys */
+#define SAM_B_LIMIT 17          /* bindings a context must offer */
+
+/* The deform pass reads its inputs where the normals and samples usually
+ * are: it writes positions only, and the normals pass runs after it. */
+#define SAM_B_KEY_POSITIONS SAM_B_NORMALS
+#define SAM_B_DEFORM_REST SAM_B_SAMPLES
+
+/* Image units of the compute passes over view-sized and atlas images
+ * (each program numbers its own). */
+#define SAM_IMAGE_SOURCE 0   /* blurs: the input; accumulate: the level */
+#define SAM_IMAGE_TARGET 1   /* blurs: the output; accumulate: the running sum */
+#define SAM_IMAGE_STRETCH 2  /* texture-space blur: the stretch map */
+#define SAM_IMAGE_BLURRED 0  /* compose: the blurred entering light */
+#define SAM_IMAGE_FACTOR 1   /* compose: the factor after the blur */
+#define SAM_IMAGE_SPECULAR 2 /* compose: the specular */
+#define SAM_IMAGE_COMPOSED 3 /* compose: the result */
+
+#endif
