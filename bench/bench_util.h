@@ -5,7 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "sam/sam_build.h"
+#include "sam/sam_app.h"
+#include "sam/sam_app_scene.h"
 #include "sam/sam_common.h"
 #include "sam/sam_runtime_scene.h"
 
@@ -53,7 +54,7 @@ static inline sam_runtime *bench_scene_runtime(const char *program, const char *
     sam_error err;
     sam_runtime *rt;
     if (sam_scene_load(path, scene, &err) != SAM_OK ||
-        sam_build_scene_object(scene, NULL, NULL, NULL, sam, profile, mm_per_unit, NULL, &err) != SAM_OK ||
+        sam_app_scene_object(scene, NULL, NULL, NULL, sam, profile, mm_per_unit, NULL, &err) != SAM_OK ||
         sam_runtime_create(sam, profile, *mm_per_unit, &rt, &err) != SAM_OK ||
         sam_runtime_scene_setup(rt, scene, sh, has_environment, NULL, 0, &err) != SAM_OK)
         bench_die(program, path, &err);

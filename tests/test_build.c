@@ -485,9 +485,9 @@ static void test_samfile_output(void **state)
     assert_non_null(strstr(back.info_json, src.sha256));
     assert_non_null(strstr(back.info_json, "\"mc_samples\":64"));
     assert_non_null(strstr(back.info_json, "\"name\":\"skin\""));
-    /* ...and sam_build_info_read gives it back. */
-    sam_build_info info;
-    assert_int_equal(sam_build_info_read(&back, path, &info, &err), SAM_OK);
+    /* ...and samfile_info_read gives it back. */
+    samfile_info info;
+    assert_int_equal(samfile_info_read(&back, path, &info, &err), SAM_OK);
     assert_true(info.has_material);
     assert_string_equal(info.profile.name, "skin");
     assert_int_equal(info.profile.kind, skin.kind);
@@ -499,12 +499,12 @@ static void test_samfile_output(void **state)
     /* What INFO lacks stays empty; a material that does not parse is an error. */
     char bare[] = "{\"mm_per_unit\":2}", bad[] = "{\"material\":{\"preset\":\"jelly\"}}";
     samfile_data partial = {.info_json = bare};
-    assert_int_equal(sam_build_info_read(&partial, "bare.sam", &info, &err), SAM_OK);
+    assert_int_equal(samfile_info_read(&partial, "bare.sam", &info, &err), SAM_OK);
     assert_false(info.has_material);
     assert_float_equal(info.mm_per_unit, 2.0f, 0.0f);
     assert_string_equal(info.source_sha256, "");
     partial.info_json = bad;
-    assert_int_equal(sam_build_info_read(&partial, "bad.sam", &info, &err), SAM_ERR_FORMAT);
+    assert_int_equal(samfile_info_read(&partial, "bad.sam", &info, &err), SAM_ERR_FORMAT);
     assert_false(info.has_material);
     assert_non_null(strstr(err.message, "bad.sam"));
     samfile_free(&back);

@@ -133,35 +133,3 @@ sam_status sam_build_samfile(const sam_mesh *mesh, const sam_profile *profile, f
     sam_build_context_destroy(ctx);
     return st;
 }
-
-sam_status sam_build_info_read(const samfile_data *data, const char *name, sam_build_info *out, sam_error *err)
-{
-    memset(out, 0, sizeof *out);
-    if (!name)
-        name = "INFO";
-    cJSON *info = cJSON_Parse(data->info_json);
-    if (!info)
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory parsing INFO (%zu bytes)", name,
-                        strlen(data->info_json));
-    const cJSON *scale = cJSON_GetObjectItemCaseSensitive(info, "mm_per_unit");
-    if (cJSON_IsNumber(scale))
-        out->mm_per_unit = (float)scale->valuedouble;
-    const cJSON *source = cJSON_GetObjectItemCaseSensitive(info, "source");
-    const cJSON *file = cJSON_GetObjectItemCaseSensitive(source, "file");
-    const cJSON *sha = cJSON_GetObjectItemCaseSensitive(source, "sha256");
-    if (cJSON_IsString(file))
-        snprintf(out->source_file, sizeof out->source_file, "%s", file->valuestring);
-    if (cJSON_IsString(sha))
-        snprintf(out->source_sha256, sizeof out->source_sha256, "%s", sha->valuestring);
-    sam_status st = SAM_OK;
-    const cJSON *material = cJSON_GetObjectItemCaseSensitive(info, "material");
-    if (material) {
-        char *text = cJSON_PrintUnformatted(material);
-        st = text ? sam_profile_parse_json(text, strlen(text), name, &out->profile, err)
-                  : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory printing INFO's material", name);
-        out->has_material = st == SAM_OK;
-        cJSON_free(text);
-    }
-    cJSON_Delete(info);
-    return st;
-}

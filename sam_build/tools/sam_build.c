@@ -12,6 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "sam/sam_app.h"
 #include "sam/sam_build.h"
 #include "sam/sam_sha256.h"
 
@@ -206,8 +207,8 @@ int main(int argc, char **argv)
     }
     char sha[65];
     int code = 1;
-    sam_build_progress_bar view;
-    sam_build_progress_bar_init(&view, "sam_build", quiet, &interrupted);
+    sam_app_progress view;
+    sam_app_progress_init(&view, "sam_build", quiet, &interrupted);
     sam_build_context *ctx = NULL;
     sam_build_result result;
     memset(&result, 0, sizeof result);
@@ -221,7 +222,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "sam_build: %s: %u vertices (%u welded), %s at %g mm per unit, N=%u, search radius %.3g mm\n",
                 mesh_path, mesh.vertex_count, mesh.topo_count, profile.name, mm_per_unit, settings.samples_per_vertex,
                 sam_profile_radius(&profile, settings.radius_tolerance));
-    if (sam_build_run(ctx, sam_build_progress_bar_update, &view, &result, &err) != SAM_OK)
+    if (sam_build_run(ctx, sam_app_progress_update, &view, &result, &err) != SAM_OK)
         goto done;
     sam_build_source source = {mesh_path, sha};
     if (sam_build_to_samfile(ctx, &result, &source, &data, &err) != SAM_OK ||

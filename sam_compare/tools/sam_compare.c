@@ -18,7 +18,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "sam/sam_build.h"
+#include "sam/sam_app.h"
+#include "sam/sam_app_scene.h"
 #include "sam/sam_runtime_scene.h"
 #include "sam/sam_truth.h"
 
@@ -697,7 +698,7 @@ static sam_status run_sweep(const compare_state *s, const long *ns, int count, c
         sam_profile profile;
         float mm;
         sam_status st =
-            sam_build_scene_object(&s->scene, &settings, build_progress, &ps, &sam, &profile, &mm, &out[i].build_seconds, err);
+            sam_app_scene_object(&s->scene, &settings, build_progress, &ps, &sam, &profile, &mm, &out[i].build_seconds, err);
         if (st != SAM_OK)
             return st;
         sam_runtime *rt = NULL;
@@ -1169,7 +1170,7 @@ int main(int argc, char **argv)
     sam_build_default_settings(&build);
     if (map_samples)
         build.samples_per_vertex = (uint32_t)map_samples;
-    if (sam_build_scene_object(&s.scene, &build, build_progress, &bps, &s.sam, &s.profile, &s.mm_per_unit,
+    if (sam_app_scene_object(&s.scene, &build, build_progress, &bps, &s.sam, &s.profile, &s.mm_per_unit,
                                &s.build_seconds, &err) != SAM_OK)
         goto done;
     if (sam_gl_context_create_headless(&gl, &err) != SAM_OK ||

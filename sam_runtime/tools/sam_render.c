@@ -9,7 +9,8 @@
 #include <string.h>
 
 
-#include "sam/sam_build.h"
+#include "sam/sam_app.h"
+#include "sam/sam_app_scene.h"
 #include "sam/sam_runtime_scene.h"
 
 static void usage(FILE *out)
@@ -290,7 +291,7 @@ int main(int argc, char **argv)
     sam_profile profile;
     float mm_per_unit;
     double built_seconds;
-    if (sam_build_scene_object(&scene, NULL, NULL, NULL, &sam, &profile, &mm_per_unit, &built_seconds, &err) !=
+    if (sam_app_scene_object(&scene, NULL, NULL, NULL, &sam, &profile, &mm_per_unit, &built_seconds, &err) !=
         SAM_OK) {
         sam_scene_destroy(&scene);
         return fail(err.message);

@@ -22,7 +22,8 @@
 #include <cjson/cJSON.h>
 #include <stb/stb_easy_font.h>
 
-#include "sam/sam_build.h"
+#include "sam/sam_app.h"
+#include "sam/sam_app_scene.h"
 #include "sam/sam_light.h"
 #include "sam/sam_runtime_scene.h"
 #include "sam/sam_sha256.h"
@@ -244,7 +245,7 @@ static sam_status load_map(viewer *v, const char *cache_dir, int use_cache, sam_
             if (!s->sam_path)
                 return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory");
             sam_error cache_err;
-            if (sam_build_scene_object(s, NULL, NULL, NULL, &v->sam, profile, mm_per_unit, NULL, &cache_err) ==
+            if (sam_app_scene_object(s, NULL, NULL, NULL, &v->sam, profile, mm_per_unit, NULL, &cache_err) ==
                 SAM_OK) {
                 fprintf(stderr, "sam_view: using the cached map %s\n", cached);
                 return SAM_OK;
@@ -255,15 +256,15 @@ static sam_status load_map(viewer *v, const char *cache_dir, int use_cache, sam_
             s->sam_path = NULL;
         }
     }
-    sam_build_progress_bar bar;
-    sam_build_progress_bar_init(&bar, "sam_view", 0, &interrupted);
+    sam_app_progress bar;
+    sam_app_progress_init(&bar, "sam_view", 0, &interrupted);
     double seconds;
     if (s->mesh_path && !s->sam_path)
         fprintf(stderr, "sam_view: building the map of %s\n", s->mesh_path);
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     sam_status st =
-        sam_build_scene_object(s, NULL, sam_build_progress_bar_update, &bar, &v->sam, profile, mm_per_unit, &seconds, err);
+        sam_app_scene_object(s, NULL, sam_app_progress_update, &bar, &v->sam, profile, mm_per_unit, &seconds, err);
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
     if (bar.open_line)

@@ -29,12 +29,9 @@
 #ifndef SAM_BUILD_H
 #define SAM_BUILD_H
 
-#include <signal.h>
-
 #include "sam/sam_common.h"
 #include "sam/sam_mesh.h"
 #include "sam/sam_profile.h"
-#include "sam/sam_scene.h"
 #include "sam/samfile.h"
 
 #ifdef __cplusplus
@@ -57,25 +54,6 @@ typedef struct sam_build_settings {
  * vertices done and the total. Returning non-zero cancels the build, which
  * then fails with SAM_ERR_INVALID_ARGUMENT "cancelled". May be NULL. */
 typedef int (*sam_build_progress_fn)(void *user, uint64_t done, uint64_t total);
-
-/* A progress display on stderr for sam_build_progress_fn: a carriage-return
- * bar with the vertex count, elapsed time and ETA on a terminal, a line per
- * 10% in a log (stderr not a terminal), nothing when quiet. */
-typedef struct sam_build_progress_bar {
-    const char *tool;               /* names the log lines; the caller keeps it */
-    double start;                   /* sam_seconds() at init */
-    int tty, quiet, last_decile;
-    int open_line;                  /* a bar is on screen without its newline: print one before a message */
-    volatile sig_atomic_t *cancel;  /* non-zero cancels the build (a signal handler's flag); may be NULL */
-} sam_build_progress_bar;
-
-/* Starts the clock; `tool` is not copied. */
-void sam_build_progress_bar_init(sam_build_progress_bar *bar, const char *tool, int quiet,
-                                 volatile sig_atomic_t *cancel);
-
-/* A sam_build_progress_fn: `user` is a sam_build_progress_bar. Returns
- * non-zero (cancel) once *cancel is set. */
-int sam_build_progress_bar_update(void *user, uint64_t done, uint64_t total);
 
 /* Per topological vertex results, N entries each, best first. */
 typedef struct sam_build_result {
@@ -161,41 +139,6 @@ sam_status sam_build_samfile(const sam_mesh *mesh, const sam_profile *profile, f
                              const sam_build_settings *settings, const sam_build_source *source,
                              sam_build_progress_fn progress, void *user, samfile_data *out, double *seconds,
                              sam_error *err);
-
-/* What a .sam's INFO records about its build, for tools that light or
- * inspect a map with the material and scale it was built with. */
-typedef struct sam_build_info {
-    int has_material;          /* 0: INFO records no material (profile untouched) */
-    sam_profile profile;       /* valid when has_material */
-    float mm_per_unit;         /* 0 when INFO records no scale */
-    char source_file[256];     /* "" when not recorded; cut to fit */
-    char source_sha256[65];    /* 64 hex digits, or "" when not recorded */
-} sam_build_info;
-
-/* Reads the INFO of `data` (as validated by samfile_read). `name` (the
- * file's name, may be NULL) prefixes messages. Fields INFO lacks are left
- * empty as described above; deciding whether that is an error is the
- * caller's.
- * Errors: SAM_ERR_FORMAT when the recorded material is not a valid one
- * (the message names the field), SAM_ERR_OUT_OF_MEMORY. */
-sam_status sam_build_info_read(const samfile_data *data, const char *name, sam_build_info *out, sam_error *err);
-
-/* The object of a scene as a map, for the tools that render scenes: a
- * scene naming a .sam has it read (checked against the scene's mesh, when it
- * names one too, by the SHA-256 INFO records), its material and scale taken
- * from the scene where given, else from INFO; a scene naming only a mesh has
- * its map built with `settings` (NULL: the defaults, N = 3) and the scene's
- * material and scale, `progress` as in sam_build_run (may be NULL), and
- * INFO recording the mesh's path and SHA-256 so a saved copy can be checked.
- * `*built_seconds` (may be NULL) gets the build time, 0 when read.
- * On success the caller frees `sam` with samfile_free; on failure it is
- * zeroed. Errors: those of samfile_read, sam_build_info_read, sam_mesh_load
- * and sam_build_samfile; SAM_ERR_FORMAT when the .sam records no material
- * or scale the scene does not give, or was built from another mesh (the
- * message names both files and their hashes). */
-sam_status sam_build_scene_object(const sam_scene *scene, const sam_build_settings *settings,
-                                  sam_build_progress_fn progress, void *user, samfile_data *sam,
-                                  sam_profile *profile, float *mm_per_unit, double *built_seconds, sam_error *err);
 
 #ifdef __cplusplus
 }

@@ -32,6 +32,7 @@
 #define SAMFILE_H
 
 #include "sam/sam_common.h"
+#include "sam/sam_profile.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -113,6 +114,30 @@ sam_status samfile_read_memory(const uint8_t *bytes, size_t size, const char *na
 /* Frees the arrays of a samfile_data filled by a read and zeroes it. Safe on
  * a zeroed struct and on NULL. Do not call it on caller-built data. */
 void samfile_free(samfile_data *data);
+
+/*
+ * What INFO records about a map's making, for tools that light or inspect it
+ * with the material and scale it was built with. INFO's keys: the counts and
+ * has_uvs (checked by every read), mm_per_unit, material (a profile as
+ * sam_profile_to_json writes it), source {file, sha256}, builder {name,
+ * version and settings} and build_seconds.
+ */
+typedef struct samfile_info {
+    int has_material;          /* 0: INFO records no material (profile untouched) */
+    sam_profile profile;       /* valid when has_material */
+    float mm_per_unit;         /* 0 when INFO records no scale */
+    char source_file[256];     /* "" when not recorded; cut to fit */
+    char source_sha256[65];    /* 64 hex digits, or "" when not recorded */
+} samfile_info;
+
+/*
+ * Reads the INFO of `data` (as validated by samfile_read) into `out`.
+ * `name` (the file's name, may be NULL) prefixes messages. Fields INFO lacks
+ * are left empty as described above; deciding whether that is an error is
+ * the caller's. Errors: SAM_ERR_FORMAT when the recorded material is not a
+ * valid one (the message names the field), SAM_ERR_OUT_OF_MEMORY.
+ */
+sam_status samfile_info_read(const samfile_data *data, const char *name, samfile_info *out, sam_error *err);
 
 #ifdef __cplusplus
 }

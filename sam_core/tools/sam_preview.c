@@ -16,7 +16,6 @@
 
 #include <embree3/rtcore.h>
 
-#include "sam/sam_build.h"
 #include "sam/sam_image.h"
 #include "sam/sam_profile.h"
 #include "sam/samfile.h"
@@ -108,8 +107,8 @@ int main(int argc, char **argv)
     if (samfile_read(in, &d, &err) != SAM_OK)
         return fail(err.message);
     /* The material and scale the map was built with. */
-    sam_build_info info;
-    sam_status st = sam_build_info_read(&d, in, &info, &err);
+    samfile_info info;
+    sam_status st = samfile_info_read(&d, in, &info, &err);
     if (st == SAM_OK && !info.has_material)
         st = sam_fail(&err, SAM_ERR_FORMAT, "%s: INFO has no material", in);
     if (st != SAM_OK) {

@@ -1,7 +1,7 @@
-/* sam_build_scene_object: a scene's object as a map, read or built. */
+/* sam_app_scene_object: a scene's object as a map, read or built. */
 #include <string.h>
 
-#include "sam/sam_build.h"
+#include "sam/sam_app_scene.h"
 #include "sam/sam_sha256.h"
 
 /* A prebuilt .sam: its material and scale unless the scene overrides them,
@@ -12,8 +12,8 @@ static sam_status read_prebuilt(const sam_scene *scene, samfile_data *sam, sam_p
     sam_status st = samfile_read(scene->sam_path, sam, err);
     if (st != SAM_OK)
         return st;
-    sam_build_info info;
-    st = sam_build_info_read(sam, scene->sam_path, &info, err);
+    samfile_info info;
+    st = samfile_info_read(sam, scene->sam_path, &info, err);
     *mm_per_unit = info.mm_per_unit;
     /* An unreadable recorded material does not matter when the scene gives one. */
     if (scene->material && st == SAM_ERR_FORMAT)
@@ -43,9 +43,9 @@ static sam_status read_prebuilt(const sam_scene *scene, samfile_data *sam, sam_p
     return st;
 }
 
-sam_status sam_build_scene_object(const sam_scene *scene, const sam_build_settings *settings,
-                                  sam_build_progress_fn progress, void *user, samfile_data *sam,
-                                  sam_profile *profile, float *mm_per_unit, double *built_seconds, sam_error *err)
+sam_status sam_app_scene_object(const sam_scene *scene, const sam_build_settings *settings,
+                                sam_build_progress_fn progress, void *user, samfile_data *sam, sam_profile *profile,
+                                float *mm_per_unit, double *built_seconds, sam_error *err)
 {
     if (sam)
         memset(sam, 0, sizeof *sam);

@@ -1,12 +1,11 @@
-/* The build's progress display on stderr, shared by the tools that build maps. */
+/* The build's progress display on stderr (sam_app.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <unistd.h>
 
-#include "sam/sam_build.h"
+#include "sam/sam_app.h"
 
-void sam_build_progress_bar_init(sam_build_progress_bar *bar, const char *tool, int quiet,
-                                 volatile sig_atomic_t *cancel)
+void sam_app_progress_init(sam_app_progress *bar, const char *tool, int quiet, volatile sig_atomic_t *cancel)
 {
     bar->tool = tool;
     bar->start = sam_seconds();
@@ -17,9 +16,9 @@ void sam_build_progress_bar_init(sam_build_progress_bar *bar, const char *tool, 
     bar->cancel = cancel;
 }
 
-int sam_build_progress_bar_update(void *user, uint64_t done, uint64_t total)
+int sam_app_progress_update(void *user, uint64_t done, uint64_t total)
 {
-    sam_build_progress_bar *v = user;
+    sam_app_progress *v = user;
     if (v->cancel && *v->cancel)
         return 1;
     if (v->quiet || total == 0)

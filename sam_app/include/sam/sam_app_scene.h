@@ -1,0 +1,37 @@
+/*
+ * sam_app_scene: a scene's object as a map, read from its .sam or built from
+ * its mesh, for the tools that render scenes (sam_render, sam_compare,
+ * sam_view, the benchmarks). Links the builder.
+ */
+#ifndef SAM_APP_SCENE_H
+#define SAM_APP_SCENE_H
+
+#include "sam/sam_build.h"
+#include "sam/sam_scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The object of a scene as a map, for the tools that render scenes: a
+ * scene naming a .sam has it read (checked against the scene's mesh, when it
+ * names one too, by the SHA-256 INFO records), its material and scale taken
+ * from the scene where given, else from INFO; a scene naming only a mesh has
+ * its map built with `settings` (NULL: the defaults, N = 3) and the scene's
+ * material and scale, `progress` as in sam_build_run (may be NULL), and
+ * INFO recording the mesh's path and SHA-256 so a saved copy can be checked.
+ * `*built_seconds` (may be NULL) gets the build time, 0 when read.
+ * On success the caller frees `sam` with samfile_free; on failure it is
+ * zeroed. Errors: those of samfile_read, samfile_info_read, sam_mesh_load
+ * and sam_build_samfile; SAM_ERR_FORMAT when the .sam records no material
+ * or scale the scene does not give, or was built from another mesh (the
+ * message names both files and their hashes). */
+sam_status sam_app_scene_object(const sam_scene *scene, const sam_build_settings *settings,
+                                sam_build_progress_fn progress, void *user, samfile_data *sam, sam_profile *profile,
+                                float *mm_per_unit, double *built_seconds, sam_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
