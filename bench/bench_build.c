@@ -26,6 +26,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "sam/sam_args.h"
 #include "sam/sam_build.h"
 #include "sam/sam_shape.h"
 #include "bench_util.h"
@@ -423,34 +424,43 @@ static void memory_study(FILE *json, const char *bin_dir)
     remove(out_path);
 }
 
+static void usage(FILE *out)
+{
+    fprintf(out, "usage: bench_build [--quick] [--json FILE] [--scans DIR] [STUDY...]\n"
+                 "\n"
+                 "Times the builder; STUDY is candidates, brute, scaling, large, dragon or memory (default: all).\n"
+                 "Writes FILE (default bench/results/build.json); --scans finds the real scans\n"
+                 "(meshes/fetch_scans.sh). scripts/bench.sh runs it with the other benchmarks.\n"
+                 "\n"
+                 "examples:\n"
+                 "  bench_build --quick scaling\n"
+                 "  bench_build brute candidates --json /tmp/build.json\n");
+}
+
 int main(int argc, char **argv)
 {
     const char *json_path = "bench/results/build.json", *scans = "meshes/scans";
     int which[6] = {0}, quick = 0;
     static const char *names[] = {"candidates", "brute", "scaling", "large", "dragon", "memory"};
+    const char *studies[6] = {0};
+    const sam_arg args[] = {
+        {"--quick", SAM_ARG_FLAG, .target = &quick},
+        {"--json", SAM_ARG_STRING, &json_path, .value = "FILE"},
+        {"--scans", SAM_ARG_STRING, &scans, .value = "DIR"},
+    };
+    const sam_args_spec spec = {"bench_build", args, sizeof args / sizeof *args, studies, 0, 6, "STUDY", usage};
+    int r = sam_args_parse(&spec, argc, argv);
+    if (r != SAM_ARGS_OK)
+        return r == SAM_ARGS_EXIT ? 0 : 2;
     int any = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--json") && i + 1 < argc) {
-            json_path = argv[++i];
-            continue;
-        }
-        if (!strcmp(argv[i], "--scans") && i + 1 < argc) {
-            scans = argv[++i];
-            continue;
-        }
-        if (!strcmp(argv[i], "--quick")) {
-            quick = 1;
-            continue;
-        }
+    for (int i = 0; i < 6 && studies[i]; ++i) {
         int found = 0;
         for (int k = 0; k < 6; ++k)
-            if (!strcmp(argv[i], names[k]))
+            if (!strcmp(studies[i], names[k]))
                 which[k] = found = any = 1;
-        if (!found) {
-            fprintf(stderr, "usage: bench_build [--quick] [--json FILE] [--scans DIR] "
-                            "[candidates|brute|scaling|large|dragon|memory]...\n");
-            return 2;
-        }
+        if (!found)
+            return sam_args_fail("bench_build", "unknown study \"%s\" (candidates, brute, scaling, large, dragon or "
+                                                "memory)", studies[i]);
     }
     if (!any)
         for (int k = 0; k < 6; ++k)

@@ -44,6 +44,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "sam/sam_args.h"
 #include "sam/sam_build.h"
 #include "sam/sam_deform.h"
 #include "sam/sam_runtime.h"
@@ -398,25 +399,148 @@ static void knot_scene_matrix(const char *scenes, const frame_config *cfg, FILE 
     sam_scene_destroy(&scene);
 }
 
+/* One knot of cfg->resolutions[m]: its passes, the shading by diffusion, the
+ * optimisations and technique matrix (head- and Buddha-sized knots), and
+ * the animated update; a row on stdout and an object in `json`. */
+static void mesh_study(const frame_config *cfg, int m, const sam_profile *skin, double bandwidth, int optimizations,
+                       FILE *json, FILE *matrix)
+{
+    sam_error err;
+    sam_shape_params sp;
+    sam_shape_default_params("knot", &sp, NULL);
+    sp.resolution = cfg->resolutions[m];
+    sam_shape_mesh s;
+    if (sam_shape_generate("knot", &sp, &s, &err) != SAM_OK)
+        die("knot", &err);
+    sam_mesh_input in = {.name = "knot", .vertex_count = s.vertex_count, .positions = s.positions,
+                         .uvs = s.uvs, .triangle_count = s.triangle_count, .triangles = s.triangles};
+    sam_mesh mesh;
+    if (sam_mesh_create(&in, &mesh, NULL, &err) != SAM_OK)
+        die("mesh", &err);
+    sam_shape_mesh_destroy(&s);
+    samfile_data d;
+    if (sam_build_samfile(&mesh, skin, 40.0f, NULL, NULL, NULL, NULL, &d, NULL, &err) != SAM_OK)
+        die("build", &err);
+    sam_runtime *rt;
+    if (sam_runtime_create(&d, skin, 40.0f, &rt, &err) != SAM_OK)
+        die("runtime", &err);
+    light_knot(rt);
+    sam_render_view view;
+    memset(&view, 0, sizeof view);
+    view.width = cfg->width, view.height = cfg->height, view.fov_deg = 40.0f, view.front = 1;
+    view.options.atlas_size = cfg->atlas_size;
+    view.eye[2] = 3.0f, view.up[1] = 1.0f;
+    view.albedo[0] = view.albedo[1] = view.albedo[2] = 0.8f;
+    double irr = median_ms(rt, run_irradiance, NULL, cfg->pass_runs);
+    double tra = median_ms(rt, run_translucency, NULL, cfg->pass_runs);
+    double sha = median_ms(rt, run_shade, &view, cfg->render_runs);
+    /* Every surface-diffusion technique on the same frame. */
+    double diffusion_ms[4], diffusion_gpu[4];
+    sam_pass diffusion_pass = SAM_PASS_DIFFUSION;
+    for (int t = 0; t < 4; ++t) {
+        view.diffusion = t;
+        diffusion_ms[t] = median_ms_gpu(rt, run_shade, &view, cfg->matrix_runs, &diffusion_pass, 1,
+                                        &diffusion_gpu[t]);
+    }
+    view.diffusion = 0;
+    /* Bytes the translucency pass must move per vertex. */
+    double bytes = 16 + 16 + 16 + (double)d.samples_per_vertex * (16 + 16 + 4 + 16);
+    double bound = 1e3 * bytes * d.vertex_count / bandwidth;
+    double share = tra / (irr + tra + sha);
+    printf("%9u %9.3f ms %11.3f ms %8.2f ms %12.1f %13.3f %9.0f%% %10.1f%%\n", d.vertex_count, irr, tra, sha,
+           1e-3 * d.vertex_count / tra, bound, 100 * bound / tra, 100 * share);
+    printf("          shading by diffusion: none %.1f ms, screen %.1f ms, pre-integrated %.1f ms, "
+           "texture %.1f ms",
+           diffusion_ms[0], diffusion_ms[1], diffusion_ms[2], diffusion_ms[3]);
+    if (diffusion_gpu[1] > 0)
+        printf(" (diffusion pass GPU ms: screen %.3f, texture %.3f)", diffusion_gpu[1], diffusion_gpu[3]);
+    printf("\n");
+    /* The "_1080p" keys keep their names in --quick, whose frames are smaller (see "width"). */
+    fprintf(json,
+            "    {\"vertices\": %u, \"samples_per_vertex\": %u, \"irradiance_ms\": %.4f, \"translucency_ms\": "
+            "%.4f, \"shade_1080p_ms\": %.3f, \"translucency_vertices_per_s\": %.0f, \"bytes_per_vertex\": %.0f, "
+            "\"bandwidth_bound_ms\": %.4f, \"fraction_of_bound\": %.4f, \"translucency_share_1080p\": %.4f, "
+            "\"shade_1080p_ms_by_diffusion\": {\"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f}, "
+            "\"diffusion_pass_gpu_ms\": {\"screen\": %.4f, \"texture\": %.4f}",
+            d.vertex_count, d.samples_per_vertex, irr, tra, sha, 1e3 * d.vertex_count / tra, bytes, bound,
+            bound / tra, share, diffusion_names[0], diffusion_ms[0], diffusion_names[1], diffusion_ms[1],
+            diffusion_names[2], diffusion_ms[2], diffusion_names[3], diffusion_ms[3], diffusion_gpu[1],
+            diffusion_gpu[3]);
+    if (m == cfg->head || m == cfg->buddha) {
+        if (optimizations) {
+            float centre[3], radius;
+            sam_runtime_bounds(rt, centre, &radius);
+            optimization_table(rt, view, centre, radius, cfg->render_runs, json);
+        }
+        char label[64];
+        snprintf(label, sizeof label, "%s knot", m == cfg->head ? "head-sized" : "buddha-sized");
+        fprintf(matrix, "%s    ", m == cfg->head ? "" : ",\n");
+        technique_matrix(rt, view, label, cfg->matrix_runs, matrix);
+    }
+    /* Last, so the other passes ran on the rest pose: the per-frame
+     * update of a bending mesh (SAM paper Sec. 3.4; its Fig. 12 says an
+     * animated model's frame costs only slightly more). */
+    sam_deformer bend = {.type = SAM_DEFORM_BEND, .axis = {1, 0, 0}, .direction = {0, 1, 0}, .length = 1.0f,
+                         .angle_deg = 60.0f, .period_s = 2.0f};
+    if (sam_runtime_set_deformers(rt, &bend, 1, &err) != SAM_OK)
+        die("deformers", &err);
+    int frame = 0;
+    double upd = median_ms(rt, run_update, &frame, cfg->pass_runs);
+    /* On a deformed pose the translucency pass carries K from rest by
+     * the fans' quadrature (shaders/fan_form_factor.glsl): its own cost. */
+    double posed_tra = median_ms(rt, run_translucency, NULL, cfg->pass_runs);
+    if (sam_runtime_set_posed_k(rt, SAM_POSED_K_EQ15, &err) != SAM_OK)
+        die("posed K", &err);
+    double eq15_tra = median_ms(rt, run_translucency, NULL, cfg->pass_runs);
+    double nv = d.vertex_count;
+    printf("          animated update (deform + walk): %.3f ms, %.1f ns per vertex; translucency %.1f ns per "
+           "vertex at rest, posed %.1f (K carried) or %.1f (eq. 15); SAM passes of a frame %.2fx (%.2fx) the "
+           "static ones\n",
+           upd, 1e6 * upd / nv, 1e6 * tra / nv, 1e6 * posed_tra / nv, 1e6 * eq15_tra / nv,
+           (irr + posed_tra + upd) / (irr + tra), (irr + eq15_tra + upd) / (irr + tra));
+    fprintf(json,
+            ", \"update_ms\": %.4f, \"update_ns_per_vertex\": %.2f, \"translucency_ns_per_vertex\": %.2f, "
+            "\"posed_translucency_ns_per_vertex\": %.2f, \"eq15_translucency_ns_per_vertex\": %.2f, "
+            "\"animated_over_static\": %.4f, \"eq15_animated_over_static\": %.4f",
+            upd, 1e6 * upd / nv, 1e6 * tra / nv, 1e6 * posed_tra / nv, 1e6 * eq15_tra / nv,
+            (irr + posed_tra + upd) / (irr + tra), (irr + eq15_tra + upd) / (irr + tra));
+    fprintf(json, "}%s\n", m < cfg->mesh_count - 1 ? "," : "");
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+    sam_mesh_destroy(&mesh);
+}
+
+static void usage(FILE *out)
+{
+    fprintf(out, "usage: bench_frame [--quick] [--optimizations] [--json FILE] [--scenes DIR]\n"
+                 "\n"
+                 "Times the frame passes on knots of growing size, every technique x diffusion at 1080p, and the\n"
+                 "animated update; writes FILE (default bench/results/frame.json). --quick: smaller frames and\n"
+                 "meshes, for the tests. scripts/bench.sh runs it with the other benchmarks.\n"
+                 "\n"
+                 "examples:\n"
+                 "  bench_frame --quick --json /tmp/frame.json\n"
+                 "  bench_frame --optimizations\n");
+}
+
 int main(int argc, char **argv)
 {
     const char *json_path = "bench/results/frame.json", *scenes = "scenes";
     const frame_config *cfg = &full_config;
     int optimizations = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--optimizations"))
-            optimizations = 1;
-        else if (!strcmp(argv[i], "--json") && i + 1 < argc)
-            json_path = argv[++i];
-        else if (!strcmp(argv[i], "--scenes") && i + 1 < argc)
-            scenes = argv[++i];
-        else if (!strcmp(argv[i], "--quick"))
-            cfg = &quick_config;
-        else {
-            fprintf(stderr, "usage: bench_frame [--quick] [--optimizations] [--json FILE] [--scenes DIR]\n");
-            return 2;
-        }
-    }
+    int quick = 0;
+    const sam_arg args[] = {
+        {"--quick", SAM_ARG_FLAG, .target = &quick},
+        {"--optimizations", SAM_ARG_FLAG, .target = &optimizations},
+        {"--json", SAM_ARG_STRING, &json_path, .value = "FILE"},
+        {"--scenes", SAM_ARG_STRING, &scenes, .value = "DIR"},
+    };
+    const sam_args_spec spec = {"bench_frame", args, sizeof args / sizeof *args, NULL, 0, 0, NULL, usage};
+    int r = sam_args_parse(&spec, argc, argv);
+    if (r != SAM_ARGS_OK)
+        return r == SAM_ARGS_EXIT ? 0 : 2;
+    if (quick)
+        cfg = &quick_config;
     sam_gl_context *gl;
     sam_error err;
     if (sam_gl_context_create_headless(&gl, &err) != SAM_OK)
@@ -442,110 +566,8 @@ int main(int argc, char **argv)
            "Mvertices/s", "bound (ms)", "of bound", "SAM share");
     sam_profile skin;
     sam_profile_preset("skin", &skin, NULL);
-    for (int m = 0; m < cfg->mesh_count; ++m) {
-        sam_shape_params sp;
-        sam_shape_default_params("knot", &sp, NULL);
-        sp.resolution = cfg->resolutions[m];
-        sam_shape_mesh s;
-        if (sam_shape_generate("knot", &sp, &s, &err) != SAM_OK)
-            die("knot", &err);
-        sam_mesh_input in = {.name = "knot", .vertex_count = s.vertex_count, .positions = s.positions,
-                             .uvs = s.uvs, .triangle_count = s.triangle_count, .triangles = s.triangles};
-        sam_mesh mesh;
-        if (sam_mesh_create(&in, &mesh, NULL, &err) != SAM_OK)
-            die("mesh", &err);
-        sam_shape_mesh_destroy(&s);
-        samfile_data d;
-        if (sam_build_samfile(&mesh, &skin, 40.0f, NULL, NULL, NULL, NULL, &d, NULL, &err) != SAM_OK)
-            die("build", &err);
-        sam_runtime *rt;
-        if (sam_runtime_create(&d, &skin, 40.0f, &rt, &err) != SAM_OK)
-            die("runtime", &err);
-        light_knot(rt);
-        sam_render_view view;
-        memset(&view, 0, sizeof view);
-        view.width = cfg->width, view.height = cfg->height, view.fov_deg = 40.0f, view.front = 1;
-        view.options.atlas_size = cfg->atlas_size;
-        view.eye[2] = 3.0f, view.up[1] = 1.0f;
-        view.albedo[0] = view.albedo[1] = view.albedo[2] = 0.8f;
-        double irr = median_ms(rt, run_irradiance, NULL, cfg->pass_runs);
-        double tra = median_ms(rt, run_translucency, NULL, cfg->pass_runs);
-        double sha = median_ms(rt, run_shade, &view, cfg->render_runs);
-        /* Every surface-diffusion technique on the same frame. */
-        double diffusion_ms[4], diffusion_gpu[4];
-        sam_pass diffusion_pass = SAM_PASS_DIFFUSION;
-        for (int t = 0; t < 4; ++t) {
-            view.diffusion = t;
-            diffusion_ms[t] = median_ms_gpu(rt, run_shade, &view, cfg->matrix_runs, &diffusion_pass, 1,
-                                            &diffusion_gpu[t]);
-        }
-        view.diffusion = 0;
-        /* Bytes the translucency pass must move per vertex. */
-        double bytes = 16 + 16 + 16 + (double)d.samples_per_vertex * (16 + 16 + 4 + 16);
-        double bound = 1e3 * bytes * d.vertex_count / bandwidth;
-        double share = tra / (irr + tra + sha);
-        printf("%9u %9.3f ms %11.3f ms %8.2f ms %12.1f %13.3f %9.0f%% %10.1f%%\n", d.vertex_count, irr, tra, sha,
-               1e-3 * d.vertex_count / tra, bound, 100 * bound / tra, 100 * share);
-        printf("          shading by diffusion: none %.1f ms, screen %.1f ms, pre-integrated %.1f ms, "
-               "texture %.1f ms",
-               diffusion_ms[0], diffusion_ms[1], diffusion_ms[2], diffusion_ms[3]);
-        if (diffusion_gpu[1] > 0)
-            printf(" (diffusion pass GPU ms: screen %.3f, texture %.3f)", diffusion_gpu[1], diffusion_gpu[3]);
-        printf("\n");
-        /* The "_1080p" keys keep their names in --quick, whose frames are smaller (see "width"). */
-        fprintf(json,
-                "    {\"vertices\": %u, \"samples_per_vertex\": %u, \"irradiance_ms\": %.4f, \"translucency_ms\": "
-                "%.4f, \"shade_1080p_ms\": %.3f, \"translucency_vertices_per_s\": %.0f, \"bytes_per_vertex\": %.0f, "
-                "\"bandwidth_bound_ms\": %.4f, \"fraction_of_bound\": %.4f, \"translucency_share_1080p\": %.4f, "
-                "\"shade_1080p_ms_by_diffusion\": {\"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f, \"%s\": %.3f}, "
-                "\"diffusion_pass_gpu_ms\": {\"screen\": %.4f, \"texture\": %.4f}",
-                d.vertex_count, d.samples_per_vertex, irr, tra, sha, 1e3 * d.vertex_count / tra, bytes, bound,
-                bound / tra, share, diffusion_names[0], diffusion_ms[0], diffusion_names[1], diffusion_ms[1],
-                diffusion_names[2], diffusion_ms[2], diffusion_names[3], diffusion_ms[3], diffusion_gpu[1],
-                diffusion_gpu[3]);
-        if (m == cfg->head || m == cfg->buddha) {
-            if (optimizations) {
-                float centre[3], radius;
-                sam_runtime_bounds(rt, centre, &radius);
-                optimization_table(rt, view, centre, radius, cfg->render_runs, json);
-            }
-            char label[64];
-            snprintf(label, sizeof label, "%s knot", m == cfg->head ? "head-sized" : "buddha-sized");
-            fprintf(matrix, "%s    ", m == cfg->head ? "" : ",\n");
-            technique_matrix(rt, view, label, cfg->matrix_runs, matrix);
-        }
-        /* Last, so the other passes ran on the rest pose: the per-frame
-         * update of a bending mesh (SAM paper Sec. 3.4; its Fig. 12 says an
-         * animated model's frame costs only slightly more). */
-        sam_deformer bend = {.type = SAM_DEFORM_BEND, .axis = {1, 0, 0}, .direction = {0, 1, 0}, .length = 1.0f,
-                             .angle_deg = 60.0f, .period_s = 2.0f};
-        if (sam_runtime_set_deformers(rt, &bend, 1, &err) != SAM_OK)
-            die("deformers", &err);
-        int frame = 0;
-        double upd = median_ms(rt, run_update, &frame, cfg->pass_runs);
-        /* On a deformed pose the translucency pass carries K from rest by
-         * the fans' quadrature (shaders/fan_form_factor.glsl): its own cost. */
-        double posed_tra = median_ms(rt, run_translucency, NULL, cfg->pass_runs);
-        if (sam_runtime_set_posed_k(rt, SAM_POSED_K_EQ15, &err) != SAM_OK)
-            die("posed K", &err);
-        double eq15_tra = median_ms(rt, run_translucency, NULL, cfg->pass_runs);
-        double nv = d.vertex_count;
-        printf("          animated update (deform + walk): %.3f ms, %.1f ns per vertex; translucency %.1f ns per "
-               "vertex at rest, posed %.1f (K carried) or %.1f (eq. 15); SAM passes of a frame %.2fx (%.2fx) the "
-               "static ones\n",
-               upd, 1e6 * upd / nv, 1e6 * tra / nv, 1e6 * posed_tra / nv, 1e6 * eq15_tra / nv,
-               (irr + posed_tra + upd) / (irr + tra), (irr + eq15_tra + upd) / (irr + tra));
-        fprintf(json,
-                ", \"update_ms\": %.4f, \"update_ns_per_vertex\": %.2f, \"translucency_ns_per_vertex\": %.2f, "
-                "\"posed_translucency_ns_per_vertex\": %.2f, \"eq15_translucency_ns_per_vertex\": %.2f, "
-                "\"animated_over_static\": %.4f, \"eq15_animated_over_static\": %.4f",
-                upd, 1e6 * upd / nv, 1e6 * tra / nv, 1e6 * posed_tra / nv, 1e6 * eq15_tra / nv,
-                (irr + posed_tra + upd) / (irr + tra), (irr + eq15_tra + upd) / (irr + tra));
-        fprintf(json, "}%s\n", m < cfg->mesh_count - 1 ? "," : "");
-        sam_runtime_destroy(rt);
-        samfile_free(&d);
-        sam_mesh_destroy(&mesh);
-    }
+    for (int m = 0; m < cfg->mesh_count; ++m)
+        mesh_study(cfg, m, &skin, bandwidth, optimizations, json, matrix);
     fprintf(matrix, ",\n    ");
     knot_scene_matrix(scenes, cfg, matrix);
     if (fclose(matrix) != 0)

@@ -25,6 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sam/sam_args.h"
 #include "sam/sam_truth.h"
 #include "bench_util.h"
 
@@ -145,22 +146,30 @@ static void truth_scene(const char *scenes, const char *file, const uint64_t *co
     sam_scene_destroy(&scene);
 }
 
+static void usage(FILE *out)
+{
+    fprintf(out, "usage: bench_truth [--quick] [--json FILE] [--scenes DIR]\n"
+                 "\n"
+                 "Times the ground truth (sam_truth) on three scenes at growing sample counts, with and without\n"
+                 "its far field; writes FILE (default bench/results/truth.json).\n"
+                 "\n"
+                 "examples:\n"
+                 "  bench_truth --quick --json /tmp/truth.json\n");
+}
+
 int main(int argc, char **argv)
 {
     const char *json_path = "bench/results/truth.json", *scenes = "scenes";
     int quick = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--json") && i + 1 < argc)
-            json_path = argv[++i];
-        else if (!strcmp(argv[i], "--scenes") && i + 1 < argc)
-            scenes = argv[++i];
-        else if (!strcmp(argv[i], "--quick"))
-            quick = 1;
-        else {
-            fprintf(stderr, "usage: bench_truth [--quick] [--json FILE] [--scenes DIR]\n");
-            return 2;
-        }
-    }
+    const sam_arg args[] = {
+        {"--quick", SAM_ARG_FLAG, .target = &quick},
+        {"--json", SAM_ARG_STRING, &json_path, .value = "FILE"},
+        {"--scenes", SAM_ARG_STRING, &scenes, .value = "DIR"},
+    };
+    const sam_args_spec spec = {"bench_truth", args, sizeof args / sizeof *args, NULL, 0, 0, NULL, usage};
+    int r = sam_args_parse(&spec, argc, argv);
+    if (r != SAM_ARGS_OK)
+        return r == SAM_ARGS_EXIT ? 0 : 2;
     static const char *const files[3] = {"ear_backlit.json", "compare_knot.json", "compare_slab_area.json"};
     /* Up to the automatic count's upper bound, SAM_TRUTH_MAX_SAMPLES. */
     static const uint64_t full_counts[4] = {1u << 16, 1u << 18, 1u << 20, SAM_TRUTH_MAX_SAMPLES};

@@ -15,6 +15,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "sam/sam_args.h"
 #include "sam/sam_shape.h"
 
 static void usage(FILE *out)
@@ -118,60 +119,14 @@ static int parse_u64(const char *opt, const char *text, uint64_t *out)
     return 0;
 }
 
-int main(int argc, char **argv)
-{
-    const char *shape = NULL, *output = NULL;
-    const char *values[6] = {0}; /* resolution size depth thickness count seed */
-    static const char *const value_options[6] = {"--resolution", "--size",  "--depth",
-                                                 "--thickness",  "--count", "--seed"};
-    int ascii = 0, force = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            usage(stdout);
-            return 0;
-        }
-        if (strcmp(a, "--ascii") == 0) {
-            ascii = 1;
-            continue;
-        }
-        if (strcmp(a, "--force") == 0) {
-            force = 1;
-            continue;
-        }
-        int slot = -1;
-        for (int k = 0; k < 6; ++k)
-            if (strcmp(a, value_options[k]) == 0)
-                slot = k;
-        int is_output = strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0;
-        if (slot >= 0 || is_output) {
-            if (i + 1 >= argc)
-                return fail("%s needs a value", a);
-            if (is_output)
-                output = argv[++i];
-            else
-                values[slot] = argv[++i];
-            continue;
-        }
-        if (a[0] == '-' && a[1])
-            return fail("unknown option %s", a);
-        if (shape)
-            return fail("one shape only, got \"%s\" and \"%s\"", shape, a);
-        shape = a;
-    }
-    if (!shape)
-        return fail("no shape given");
-    const sam_shape_info *info = sam_shape_find(shape);
-    if (!info)
-        return fail("unknown shape \"%s\"", shape);
-    if (!output)
-        return fail("no output given: -o OUT.obj or OUT.ply");
-    int ply = sam_path_has_extension(output, ".ply");
-    if (!ply && !sam_path_has_extension(output, ".obj"))
-        return fail("output \"%s\" must end in .obj or .ply", output);
+static const char *const value_options[6] = {"--resolution", "--size", "--depth", "--thickness", "--count", "--seed"};
 
-    sam_shape_params p;
-    sam_shape_default_params(shape, &p, NULL);
+/* The options given (values[k] for value_options[k], NULL when absent)
+ * into `p`, with a note for each the shape does not use. Returns 0, or the
+ * exit code of a bad value. */
+static int apply_values(const char *shape, const sam_shape_info *info, const char *const values[6],
+                        sam_shape_params *p)
+{
     static const unsigned slot_uses[6] = {0, 0, SAM_SHAPE_USES_DEPTH, SAM_SHAPE_USES_THICKNESS,
                                           SAM_SHAPE_USES_COUNT, SAM_SHAPE_USES_SEED};
     for (int k = 0; k < 6; ++k) {
@@ -182,25 +137,26 @@ int main(int argc, char **argv)
                     value_options[k], shape);
         int bad = 0;
         switch (k) {
-        case 0: bad = parse_int(value_options[k], values[k], &p.resolution); break;
-        case 1: bad = parse_double(value_options[k], values[k], &p.size); break;
-        case 2: bad = parse_double(value_options[k], values[k], &p.depth); break;
-        case 3: bad = parse_double(value_options[k], values[k], &p.thickness); break;
-        case 4: bad = parse_int(value_options[k], values[k], &p.count); break;
-        default: bad = parse_u64(value_options[k], values[k], &p.seed); break;
+        case 0: bad = parse_int(value_options[k], values[k], &p->resolution); break;
+        case 1: bad = parse_double(value_options[k], values[k], &p->size); break;
+        case 2: bad = parse_double(value_options[k], values[k], &p->depth); break;
+        case 3: bad = parse_double(value_options[k], values[k], &p->thickness); break;
+        case 4: bad = parse_int(value_options[k], values[k], &p->count); break;
+        default: bad = parse_u64(value_options[k], values[k], &p->seed); break;
         }
         if (bad)
             return bad;
     }
-    if (ascii && !ply)
-        fprintf(stderr, "sam_meshgen: note: --ascii applies to PLY only, ignored\n");
-    struct stat st;
-    if (!force && stat(output, &st) == 0)
-        return fail("%s exists; pass --force to overwrite it", output);
+    return 0;
+}
 
+/* Generates the shape, writes it as OBJ or PLY and prints a summary. */
+static int write_mesh(const char *shape, const sam_shape_info *info, const sam_shape_params *params,
+                      const char *output, int ply, int ascii)
+{
     sam_shape_mesh mesh;
     sam_error err;
-    if (sam_shape_generate(shape, &p, &mesh, &err) != SAM_OK) {
+    if (sam_shape_generate(shape, params, &mesh, &err) != SAM_OK) {
         fprintf(stderr, "sam_meshgen: %s\n", err.message);
         return 1;
     }
@@ -224,4 +180,50 @@ int main(int argc, char **argv)
             info->suggested_mm_per_unit);
     sam_shape_mesh_destroy(&mesh);
     return 0;
+}
+
+int main(int argc, char **argv)
+{
+    const char *shape = NULL, *output = NULL;
+    const char *values[6] = {0}; /* resolution size depth thickness count seed */
+    int ascii = 0, force = 0;
+    const sam_arg args[] = {
+        {"-o", SAM_ARG_STRING, &output, .value = "OUT.obj|OUT.ply"},
+        {"--output", SAM_ARG_STRING, &output, .value = "OUT.obj|OUT.ply"},
+        {"--resolution", SAM_ARG_STRING, &values[0], .value = "N"},
+        {"--size", SAM_ARG_STRING, &values[1], .value = "S"},
+        {"--depth", SAM_ARG_STRING, &values[2], .value = "D"},
+        {"--thickness", SAM_ARG_STRING, &values[3], .value = "T"},
+        {"--count", SAM_ARG_STRING, &values[4], .value = "C"},
+        {"--seed", SAM_ARG_STRING, &values[5], .value = "S"},
+        {"--ascii", SAM_ARG_FLAG, .target = &ascii},
+        {"--force", SAM_ARG_FLAG, .target = &force},
+    };
+    const sam_args_spec spec = {"sam_meshgen", args, sizeof args / sizeof *args, &shape, 0, 1, "SHAPE", usage};
+    int r = sam_args_parse(&spec, argc, argv);
+    if (r != SAM_ARGS_OK)
+        return r == SAM_ARGS_EXIT ? 0 : 2;
+    if (!shape)
+        return fail("no shape given");
+    const sam_shape_info *info = sam_shape_find(shape);
+    if (!info)
+        return fail("unknown shape \"%s\"", shape);
+    if (!output)
+        return fail("no output given: -o OUT.obj or OUT.ply");
+    int ply = sam_path_has_extension(output, ".ply");
+    if (!ply && !sam_path_has_extension(output, ".obj"))
+        return fail("output \"%s\" must end in .obj or .ply", output);
+
+    sam_shape_params p;
+    sam_shape_default_params(shape, &p, NULL);
+    int bad = apply_values(shape, info, values, &p);
+    if (bad)
+        return bad;
+    if (ascii && !ply)
+        fprintf(stderr, "sam_meshgen: note: --ascii applies to PLY only, ignored\n");
+    struct stat st;
+    if (!force && stat(output, &st) == 0)
+        return fail("%s exists; pass --force to overwrite it", output);
+
+    return write_mesh(shape, info, &p, output, ply, ascii);
 }

@@ -141,11 +141,11 @@ int sam_args_parse(const sam_args_spec *spec, int argc, char **argv)
             return sam_args_fail(tool, "%s must be %s, got \"%s\"", text, must, value);
         }
     }
+    if (positional < spec->positional_min)
+        return sam_args_fail(tool, "missing %s (see --help)", spec->positional_name ? spec->positional_name : "argument");
     for (size_t k = 0; k < spec->arg_count; ++k)
         if (spec->args[k].required && !seen[k])
             return sam_args_fail(tool, "missing %s %s (see --help)", spec->args[k].name,
                                  spec->args[k].value ? spec->args[k].value : "");
-    if (positional < spec->positional_min)
-        return sam_args_fail(tool, "missing %s (see --help)", spec->positional_name ? spec->positional_name : "argument");
     return SAM_ARGS_OK;
 }

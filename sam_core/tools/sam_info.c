@@ -3,6 +3,7 @@
  * one error line. Exit status: 0 all valid, 1 some file invalid, 2 usage.
  */
 #define _POSIX_C_SOURCE 200809L
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +11,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "sam/sam_args.h"
 #include "sam/sam_mesh.h"
 #include "sam/sam_profile.h"
 #include "sam/sam_scene.h"
@@ -219,33 +221,18 @@ static int is_scene(const char *path)
 int main(int argc, char **argv)
 {
     float mm_per_unit = 1.0f;
+    const char *paths[256] = {0};
+    const sam_arg args[] = {
+        {"--mm-per-unit", SAM_ARG_FLOAT, &mm_per_unit, .lo = 0, .hi = FLT_MAX, .lo_open = 1,
+         .must = "a positive number"},
+    };
+    const sam_args_spec spec = {"sam_info", args, 1, paths, 1, sizeof paths / sizeof *paths, "FILE", usage};
+    int r = sam_args_parse(&spec, argc, argv);
+    if (r != SAM_ARGS_OK)
+        return r == SAM_ARGS_EXIT ? 0 : 2;
     int files = 0, failed = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            usage(stdout);
-            return 0;
-        }
-        if (!strcmp(argv[i], "--mm-per-unit")) {
-            double v = 0;
-            if (i + 1 >= argc || !sam_parse_double(argv[i + 1], &v) || !((mm_per_unit = (float)v) > 0) ||
-                !isfinite(mm_per_unit)) {
-                fprintf(stderr, "sam_info: --mm-per-unit needs a positive number, got \"%s\"\n",
-                        i + 1 < argc ? argv[i + 1] : "");
-                return 2;
-            }
-            ++i;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            fprintf(stderr, "sam_info: unknown option \"%s\" (see --help)\n", argv[i]);
-            return 2;
-        }
-    }
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--mm-per-unit")) {
-            ++i;
-            continue;
-        }
-        ++files;
-        const char *f = argv[i];
+    for (; files < (int)(sizeof paths / sizeof *paths) && paths[files]; ++files) {
+        const char *f = paths[files];
         if (sam_path_has_extension(f, ".sam"))
             failed |= info_sam(f);
         else if (sam_path_has_extension(f, ".json"))
@@ -254,10 +241,6 @@ int main(int argc, char **argv)
             failed |= info_profile(f);
         else
             failed |= info_mesh(f, mm_per_unit);
-    }
-    if (!files) {
-        usage(stderr);
-        return 2;
     }
     return failed ? 1 : 0;
 }

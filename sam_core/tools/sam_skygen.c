@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "sam/sam_args.h"
 #include "sam/sam_image.h"
 #include "sam/sam_light.h"
 
@@ -31,38 +32,18 @@ int main(int argc, char **argv)
     const char *kind_name = NULL, *out = NULL;
     long width = 1024;
     int force = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(argv[i], "-o") && i + 1 < argc) {
-            out = argv[++i];
-        } else if (!strcmp(argv[i], "--width") && i + 1 < argc) {
-            char *end;
-            errno = 0;
-            width = strtol(argv[++i], &end, 10);
-            if (errno || end == argv[i] || *end || width < 8 || width > 16384 || width % 2) {
-                fprintf(stderr, "sam_skygen: --width must be an even integer in 8..16384, got \"%s\"\n",
-                        argv[i]);
-                return 2;
-            }
-        } else if (!strcmp(argv[i], "--force")) {
-            force = 1;
-        } else if (argv[i][0] == '-') {
-            fprintf(stderr, "sam_skygen: unknown or incomplete option \"%s\" (see --help)\n", argv[i]);
-            return 2;
-        } else if (!kind_name) {
-            kind_name = argv[i];
-        } else {
-            fprintf(stderr, "sam_skygen: unexpected argument \"%s\" (see --help)\n", argv[i]);
-            return 2;
-        }
-    }
-    if (!kind_name || !out) {
-        fprintf(stderr, "sam_skygen: %s (see --help)\n",
-                !kind_name ? "missing the kind, studio or outdoor" : "missing -o OUT.exr");
-        return 2;
-    }
+    const sam_arg args[] = {
+        {"-o", SAM_ARG_STRING, &out, .value = "OUT.exr", .required = 1},
+        {"--width", SAM_ARG_INT, &width, .lo = 8, .hi = 16384, .must = "an even integer in 8..16384"},
+        {"--force", SAM_ARG_FLAG, .target = &force},
+    };
+    const sam_args_spec spec = {"sam_skygen", args, sizeof args / sizeof *args, &kind_name, 1, 1,
+                                "the kind, studio or outdoor", usage};
+    int r = sam_args_parse(&spec, argc, argv);
+    if (r != SAM_ARGS_OK)
+        return r == SAM_ARGS_EXIT ? 0 : 2;
+    if (width % 2)
+        return sam_args_fail("sam_skygen", "--width must be an even integer in 8..16384, got \"%ld\"", width);
     int kind;
     if (!strcmp(kind_name, "studio")) {
         kind = SAM_SKY_STUDIO;

@@ -11,7 +11,6 @@
 
 #include <cmocka.h>
 
-#include "sam/sam_gl.h"
 #include "sam/sam_mesh.h"
 #include "sam/sam_shape.h"
 
@@ -79,30 +78,4 @@ void sam_test_shape_mesh(const char *name, int resolution, double size, double t
     sam_shape_mesh_destroy(&s);
     if (st != SAM_OK)
         fail_msg("%s", err.message);
-}
-
-static sam_gl_context *test_gl;
-
-int sam_test_gl_setup(void **state)
-{
-    (void)state;
-    sam_error err;
-    if (sam_gl_context_create_headless(&test_gl, &err) != SAM_OK) {
-        fprintf(stderr, "%s\n", err.message);
-        return -1;
-    }
-    return 0;
-}
-
-int sam_test_gl_teardown(void **state)
-{
-    (void)state;
-    sam_gl_context_destroy(test_gl);
-    test_gl = NULL;
-    return 0;
-}
-
-sam_gl_context *sam_test_gl_context(void)
-{
-    return test_gl;
 }

@@ -1,8 +1,10 @@
 /*
  * sam_app: what the command-line programs share and a library embedding SAM
  * does not need: the build's progress bar on stderr. The option parser
- * (sam_args.h) is part of the same library; a scene's object read or built
- * is sam_app_scene.h, a library of its own because it links the builder.
+ * (sam_args.h) is part of the same library. Two more libraries sit above
+ * it: sam_app_build (sam_app_build.h, sam_app_scene.h: a map from a mesh or
+ * a scene, on the builder) and sam_app_render (sam_app_render.h, on the
+ * runtime).
  *
  * sam_app depends on sam_core only. A renderer that loads prebuilt maps
  * reads the .sam with samfile_read and its material and scale with

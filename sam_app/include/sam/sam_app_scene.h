@@ -1,7 +1,8 @@
 /*
  * sam_app_scene: a scene's object as a map, read from its .sam or built from
  * its mesh, for the tools that render scenes (sam_render, sam_compare,
- * sam_view, the benchmarks). Links the builder.
+ * sam_view, the benchmarks). Part of the sam_app_build library: links the
+ * builder.
  */
 #ifndef SAM_APP_SCENE_H
 #define SAM_APP_SCENE_H

@@ -6,12 +6,14 @@
  * sam_args_parse once:
  *
  *     float fps = 30;
+ *     int quiet = 0;
  *     const char *out = NULL, *scene = NULL;
  *     const sam_arg args[] = {
  *         {"-o", SAM_ARG_STRING, &out, .value = "OUT.exr", .required = 1},
  *         {"--fps", SAM_ARG_FLOAT, &fps, .lo = 0, .hi = 1000, .lo_open = 1},
+ *         {"--quiet", SAM_ARG_FLAG, .target = &quiet}, // designated: -Wextra wants every field or one name
  *     };
- *     const sam_args_spec spec = {"sam_render", args, 2, &scene, 1, 1, "SCENE.json", usage};
+ *     const sam_args_spec spec = {"sam_render", args, 3, &scene, 1, 1, "SCENE.json", usage};
  *     int r = sam_args_parse(&spec, argc, argv);
  *     if (r != SAM_ARGS_OK)
  *         return r == SAM_ARGS_EXIT ? 0 : 2;

@@ -244,6 +244,19 @@ void sam_profile_marginal_mass(const sam_profile *profile, float x_mm, float out
  * (excluding NUL), like snprintf. */
 size_t sam_profile_to_json(const sam_profile *profile, char *buf, size_t n);
 
+struct sam_image;
+
+/* Draws `profile` into a new 2 height x height RGB image (linear; the
+ * caller destroys it with sam_image_destroy): on the left a point of light
+ * seen through the material out to the radius holding 99% of the energy,
+ * on the right the energy per log radius r^2 R_d(r) per channel over three
+ * decades of r up to that radius, the profile solid and its 8-Gaussian fit
+ * dotted. `extent_mm` (may be NULL) gets that radius. `img` is zeroed on
+ * failure. Errors: SAM_ERR_INVALID_ARGUMENT (height outside 64..4096), and
+ * those of sam_profile_fit_gaussians and sam_image_create. */
+sam_status sam_profile_plot(const sam_profile *profile, uint32_t height, struct sam_image *img, float *extent_mm,
+                            sam_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,224 @@
+/* sam_render's job (sam_app_render.h). */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sam/sam_app_render.h"
+#include "sam/sam_app_scene.h"
+#include "sam/sam_runtime_scene.h"
+
+void sam_app_render_defaults(sam_app_render_job *job)
+{
+    memset(job, 0, sizeof *job);
+    job->technique = job->diffusion = job->sss_kernel = job->tonemap = -1;
+    job->exposure = NAN;
+    job->frames = 1;
+    job->fps = 30.0f;
+    job->dt = 1.0f / 60.0f;
+}
+
+int sam_app_render_parse_optimizations(const char *list, sam_diffusion_options *options)
+{
+    sam_diffusion_options probe;
+    sam_diffusion_options *o = options ? options : &probe;
+    o->culled = o->clipped = o->depth_sized = 0;
+    if (!strcmp(list, "none"))
+        return 1;
+    const char *p = list;
+    while (*p) {
+        size_t n = strcspn(p, ",");
+        if (n == 6 && !strncmp(p, "culled", n))
+            o->culled = 1;
+        else if (n == 7 && !strncmp(p, "clipped", n))
+            o->clipped = 1;
+        else if (n == 11 && !strncmp(p, "depth-sized", n))
+            o->depth_sized = 1;
+        else
+            return 0;
+        p += n + (p[n] == ',');
+    }
+    return 1;
+}
+
+static sam_status write_vertices(const char *path, const float *ld, const float *t, uint32_t n, sam_error *err)
+{
+    sam_atomic_file f;
+    sam_status st = sam_atomic_open(&f, path, err);
+    if (st != SAM_OK)
+        return st;
+    fprintf(f.fp, "vertex,ld_r,ld_g,ld_b,t_r,t_g,t_b\n");
+    for (uint32_t v = 0; v < n; ++v)
+        fprintf(f.fp, "%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", v, ld[3 * v], ld[3 * v + 1], ld[3 * v + 2], t[3 * v],
+                t[3 * v + 1], t[3 * v + 2]);
+    return sam_atomic_commit(&f, err);
+}
+
+/* `path` with "_NNNN" before its extension for frame `index` of an
+ * animation; `path` itself when index < 0. */
+static sam_status numbered(const char *path, long index, char *out, size_t n, sam_error *err)
+{
+    int len;
+    if (index < 0) {
+        len = snprintf(out, n, "%s", path);
+    } else {
+        const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+        if (!dot || (slash && dot < slash))
+            dot = path + strlen(path);
+        len = snprintf(out, n, "%.*s_%04ld%s", (int)(dot - path), path, index, dot);
+    }
+    if (len < 0 || (size_t)len >= n)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "output path %s is too long", path);
+    return SAM_OK;
+}
+
+/* The job's overrides of the scene's view. */
+static void apply_overrides(const sam_app_render_job *job, sam_render_view *view)
+{
+    view->front = !job->translucency_only;
+    if (job->sss_kernel >= 0)
+        view->options.sss_kernel = (sam_sss_kernel)job->sss_kernel;
+    if (job->sss_samples)
+        view->options.sss_samples = (uint32_t)job->sss_samples;
+    if (job->atlas_size)
+        view->options.atlas_size = (uint32_t)job->atlas_size;
+    if (job->optimize)
+        sam_app_render_parse_optimizations(job->optimize, &view->options);
+    if (job->texels_per_pixel > 0)
+        view->options.texels_per_pixel = job->texels_per_pixel;
+}
+
+/* The frames and pictures: a still picture is the pose at time 0 after
+ * `frames` passes; an animation one picture per frame, each a new pose. */
+static sam_status run_frames(const sam_app_render_job *job, const char *tool, const sam_scene *scene,
+                             sam_runtime *rt, const sam_render_view *view, sam_error *err)
+{
+    const int posed = scene->deformer_count || scene->keyframe_count;
+    const int use_sam = view->technique == SAM_TECHNIQUE_SAM;
+    const long animate = job->animate, pictures = animate ? animate : 1, passes = animate ? 1 : job->frames;
+    const float step = animate ? 1.0f / job->fps : job->dt;
+    sam_tonemap curve = job->tonemap >= 0 ? (sam_tonemap)job->tonemap : scene->tonemap;
+    float exposure = isnan(job->exposure) ? scene->exposure : job->exposure;
+    sam_image img = {0};
+    sam_status st = SAM_OK;
+    for (long picture = 0; picture < pictures && st == SAM_OK; ++picture) {
+        for (long f = 0; f < passes && st == SAM_OK; ++f) {
+            long frame = animate ? picture : f;
+            if (posed && (frame == 0 || animate) &&
+                ((st = sam_runtime_deform(rt, (float)picture / job->fps, err)) != SAM_OK ||
+                 (st = sam_runtime_walk(rt, err)) != SAM_OK))
+                break;
+            if ((st = sam_runtime_irradiance(rt, err)) == SAM_OK && use_sam)
+                st = sam_runtime_translucency(rt, scene->samples_per_vertex, step, frame == 0, err);
+        }
+        char exr_path[4096], png_path[4096];
+        if (st != SAM_OK || (st = numbered(job->out, animate ? picture : -1, exr_path, sizeof exr_path, err)) != SAM_OK ||
+            (job->png && (st = numbered(job->png, animate ? picture : -1, png_path, sizeof png_path, err)) != SAM_OK))
+            break;
+        sam_image_destroy(&img);
+        if ((st = sam_runtime_render(rt, view, &img, err)) != SAM_OK ||
+            (st = sam_image_write_picture(&img, exr_path, job->png ? png_path : NULL, curve, exposure, err)) != SAM_OK)
+            break;
+        if (animate)
+            fprintf(stderr, "\r%s: frame %ld of %ld%s", tool, picture + 1, animate, picture + 1 == animate ? "\n" : "");
+    }
+    sam_image_destroy(&img);
+    return st;
+}
+
+/* The per-vertex L_d and T after the last frame, as CSV. */
+static sam_status dump_vertices(sam_runtime *rt, const char *path, uint32_t count, sam_error *err)
+{
+    float *ld = malloc((size_t)count * 3 * sizeof *ld), *t = malloc((size_t)count * 3 * sizeof *t);
+    sam_status st = ld && t ? SAM_OK : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory for the vertex dump");
+    if (st == SAM_OK && (st = sam_runtime_read_irradiance(rt, ld, err)) == SAM_OK &&
+        (st = sam_runtime_read_translucency(rt, t, err)) == SAM_OK)
+        st = write_vertices(path, ld, t, count, err);
+    free(ld);
+    free(t);
+    return st;
+}
+
+/* The runtime's part: context, runtime, scene, frames, dump, summary. */
+static sam_status render_map(const sam_app_render_job *job, const char *tool, const sam_scene *scene,
+                             const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
+                             sam_technique chosen, sam_error *err)
+{
+    sam_gl_context *gl = NULL;
+    sam_runtime *rt = NULL;
+    char warning[512];
+    sam_status st;
+    if ((st = sam_gl_context_create_headless(&gl, err)) != SAM_OK ||
+        (st = sam_runtime_create(sam, profile, mm_per_unit, &rt, err)) != SAM_OK ||
+        (st = sam_runtime_scene_setup(rt, scene, NULL, NULL, warning, sizeof warning, err)) != SAM_OK ||
+        (st = sam_runtime_scene_keyframes(rt, scene, sam, err)) != SAM_OK)
+        goto done;
+    if (warning[0])
+        fprintf(stderr, "%s: warning: %s\n", tool, warning);
+    sam_render_view view;
+    sam_runtime_scene_view(rt, scene, &view, warning, sizeof warning);
+    if (chosen == SAM_TECHNIQUE_TSM && view.diffusion != 3) {
+        char reason[160];
+        sam_runtime_uv_status(rt, reason, sizeof reason);
+        st = sam_fail(err, SAM_ERR_UNSUPPORTED, "the tsm technique needs texture-space diffusion, which cannot run: %s",
+                      reason);
+        goto done;
+    }
+    if (warning[0])
+        fprintf(stderr, "%s: warning: %s\n", tool, warning);
+    view.technique = chosen;
+    apply_overrides(job, &view);
+    if ((st = run_frames(job, tool, scene, rt, &view, err)) != SAM_OK ||
+        (job->dump && (st = dump_vertices(rt, job->dump, sam->vertex_count, err)) != SAM_OK))
+        goto done;
+    long frames = job->animate ? job->animate : job->frames;
+    double diffusion_ms = sam_runtime_pass_ms(rt, SAM_PASS_DIFFUSION);
+    fprintf(stderr, "%s: %s: %ux%u, %u vertices, %ld frame%s; GPU ms: irradiance %.3f, translucency %.3f, "
+                    "shade %.3f, diffusion %.3f (%s)\n",
+            tool, job->out, scene->width, scene->height, sam->vertex_count, frames, frames == 1 ? "" : "s",
+            sam_runtime_pass_ms(rt, SAM_PASS_IRRADIANCE),
+            chosen == SAM_TECHNIQUE_SAM ? sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY) : 0.0,
+            sam_runtime_pass_ms(rt, SAM_PASS_SHADE), diffusion_ms > 0 ? diffusion_ms : 0.0,
+            sam_gl_context_info(gl)->renderer);
+done:
+    sam_runtime_destroy(rt);
+    sam_gl_context_destroy(gl);
+    return st;
+}
+
+sam_status sam_app_render_run(const sam_app_render_job *job, const char *tool, sam_error *err)
+{
+    sam_scene scene;
+    sam_status st = sam_scene_load(job->scene_path, &scene, err);
+    if (st != SAM_OK)
+        return st;
+    if (job->animate && !scene.deformer_count && !scene.keyframe_count) {
+        sam_scene_destroy(&scene);
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s has no \"deformers\" or \"keyframes\" to animate",
+                        job->scene_path);
+    }
+    sam_technique chosen = job->technique >= 0 ? (sam_technique)job->technique : scene.technique;
+    if (job->diffusion >= 0)
+        scene.diffusion = (sam_diffusion)job->diffusion;
+    if (chosen == SAM_TECHNIQUE_TSM && scene.diffusion != SAM_DIFFUSION_TEXTURE) {
+        sam_scene_destroy(&scene);
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "the tsm technique needs texture-space diffusion (--diffusion texture or the scene's "
+                        "\"diffusion\": \"texture\")");
+    }
+    samfile_data sam;
+    sam_profile profile;
+    float mm_per_unit;
+    double built_seconds;
+    if ((st = sam_app_scene_object(&scene, NULL, NULL, NULL, &sam, &profile, &mm_per_unit, &built_seconds, err)) ==
+        SAM_OK) {
+        if (!scene.sam_path)
+            fprintf(stderr, "%s: built the map of %s (%u vertices) in %.2f s\n", tool, scene.mesh_path,
+                    sam.vertex_count, built_seconds);
+        st = render_map(job, tool, &scene, &sam, &profile, mm_per_unit, chosen, err);
+        samfile_free(&sam);
+    }
+    sam_scene_destroy(&scene);
+    return st;
+}
