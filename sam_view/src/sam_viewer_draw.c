@@ -26,6 +26,16 @@ static void make_view(const sam_viewer_window *w, int width, int height, sam_ren
     sam_viewer_apply_view(&w->state, view);
 }
 
+/* A new vertex array and buffer, both bound, attribute 0 enabled. */
+static void bind_new_array(GLuint *vao, GLuint *vbo)
+{
+    glGenVertexArrays(1, vao);
+    glGenBuffers(1, vbo);
+    glBindVertexArray(*vao);
+    glBindBuffer(GL_ARRAY_BUFFER, *vbo);
+    glEnableVertexAttribArray(0);
+}
+
 sam_status sam_viewer_draw_create(sam_viewer_window *w, sam_error *err)
 {
     sam_status st = sam_gl_render_program("view_present.vert", "view_present.frag", NULL, &w->present_program, err);
@@ -36,18 +46,10 @@ sam_status sam_viewer_draw_create(sam_viewer_window *w, sam_error *err)
     if (st != SAM_OK)
         return st;
     glGenVertexArrays(1, &w->empty_vao);
-    glGenVertexArrays(1, &w->lines_vao);
-    glGenBuffers(1, &w->lines_vbo);
-    glBindVertexArray(w->lines_vao);
-    glBindBuffer(GL_ARRAY_BUFFER, w->lines_vbo);
-    glEnableVertexAttribArray(0);
+    bind_new_array(&w->lines_vao, &w->lines_vbo);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 12, NULL);
-    glGenVertexArrays(1, &w->text_vao);
-    glGenBuffers(1, &w->text_vbo);
-    glBindVertexArray(w->text_vao);
-    glBindBuffer(GL_ARRAY_BUFFER, w->text_vbo);
+    bind_new_array(&w->text_vao, &w->text_vbo);
     /* stb_easy_font's vertices: x, y, z floats and 4 colour bytes. */
-    glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 16, NULL);
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, 16, (const void *)12);
