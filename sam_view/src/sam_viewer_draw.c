@@ -165,7 +165,8 @@ static void draw_text(sam_viewer_window *w, float x, float y, const char *text, 
     const unsigned char dark[4] = {0, 0, 0, 170};
     for (int q = 0; q <= n; ++q) {
         for (int i = 0; i < 6; ++i, o += 4) {
-            const float *src = q == 0 ? panel[order[i]] : (const float *)(quads + ((size_t)(q - 1) * 4 + order[i]) * 16);
+            const float *src =
+                q == 0 ? panel[order[i]] : (const float *)(quads + ((size_t)(q - 1) * 4 + order[i]) * 16);
             o[0] = q == 0 ? src[0] : x + src[0] * TEXT_SCALE;
             o[1] = q == 0 ? src[1] : y + src[1] * TEXT_SCALE;
             o[2] = 0;
@@ -314,6 +315,7 @@ void sam_viewer_draw_screenshot(sam_viewer_window *w, const char *prefix)
     sam_render_view view;
     make_view(w, width, height, &view);
     sam_image hdr = {0}, shown = {0};
+    int translucency = w->state.mode == SAM_VIEWER_TRANSLUCENCY;
     sam_error err;
     if (sam_runtime_render(w->rt, &view, &hdr, &err) != SAM_OK ||
         sam_image_write_exr(exr, &hdr, SAM_EXR_FLOAT, &err) != SAM_OK ||
@@ -322,9 +324,10 @@ void sam_viewer_draw_screenshot(sam_viewer_window *w, const char *prefix)
         sam_viewer_write_scene(&w->state, json, width, height, &err) != SAM_OK)
         sam_viewer_say(&w->state, "screenshot failed: %s", err.message);
     else
-        sam_viewer_say(&w->state, "wrote %s, %s and %s; sam_render %s -o OUT.exr --png OUT.png%s reproduces the %s view", exr, png,
-            json, json, w->state.mode == SAM_VIEWER_TRANSLUCENCY ? " --translucency-only" : "",
-            w->state.mode == SAM_VIEWER_TRANSLUCENCY ? "translucency" : "final");
+        sam_viewer_say(&w->state,
+                       "wrote %s, %s and %s; sam_render %s -o OUT.exr --png OUT.png%s reproduces the %s view", exr,
+                       png, json, json, translucency ? " --translucency-only" : "",
+                       translucency ? "translucency" : "final");
     sam_image_destroy(&hdr);
     sam_image_destroy(&shown);
 }
