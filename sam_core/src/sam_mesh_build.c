@@ -7,8 +7,6 @@
 /* ---- A small open-addressing map from fixed-size uint32 keys to dense ids.
  * Ids are handed out in insertion order, so results are deterministic. */
 
-#define KEYMAP_MAX_WORDS 6
-
 typedef struct keymap {
     uint32_t words;     /* words per key */
     uint32_t count;     /* keys stored */
@@ -81,17 +79,30 @@ static uint32_t float_bits(float f)
     return u;
 }
 
-/* ---- building */
+/* ---- building: the stages, in the order sam_mesh_build runs them */
 
-/* Everything the build allocates on the way; freed in one place. */
+#define NONE UINT32_MAX
+
+/* The build's inputs, its running counts and everything it allocates on the
+ * way (freed in one place); each stage reads what the earlier ones left. */
 typedef struct build_state {
+    const sam_mesh_soup *in;
+    const char *name;        /* for messages */
+    sam_mesh *mesh;
+    sam_mesh_report *rep;
+    sam_error *err;
+    uint32_t weld_count;     /* distinct positions */
+    uint64_t candidates;     /* triangles the polygon fans make */
+    uint32_t kept;           /* triangles left after the drops */
+    uint32_t topo_count;     /* fans: welded positions, non-manifold ones split */
+    uint32_t render_count;   /* distinct (topo vertex, UV, file normal) */
     uint32_t *weld;          /* per input vertex: welded position id */
     uint32_t *tri_weld;      /* 3 per kept triangle: welded ids */
     uint32_t *kept_corner;   /* 3 per kept triangle: input corner index */
     uint32_t *corner_topo;   /* 3 per kept triangle */
     uint32_t *fan_start;     /* weld_count + 1 */
     uint32_t *fan_corner;    /* 3 * kept: corners grouped by welded vertex */
-    uint32_t *succ, *pred;   /* per corner: linked corner in fan order or UINT32_MAX */
+    uint32_t *succ, *pred;   /* per corner: linked corner in fan order or NONE */
     uint32_t *render_of;     /* per corner: render vertex */
     uint32_t *by_vertex;     /* corners ordered by input vertex */
     keymap map;
@@ -112,119 +123,130 @@ static void build_state_free(build_state *b)
     keymap_free(&b->map);
 }
 
-#define NONE UINT32_MAX
-
 /* Corners of a kept triangle: c = 3t + k; its fan edge runs a -> b. */
 static uint32_t corner_a(uint32_t c) { return c - c % 3 + (c % 3 + 1) % 3; }
 static uint32_t corner_b(uint32_t c) { return c - c % 3 + (c % 3 + 2) % 3; }
+
+/* Where the fan of corner c starts: the head of its chain, or on a cycle,
+ * which has no head, the corner after c. */
+static uint32_t fan_head(const build_state *b, uint32_t c)
+{
+    uint32_t start = c;
+    while (b->pred[start] != NONE && b->pred[start] != c)
+        start = b->pred[start];
+    return start;
+}
 
 sam_status sam_mesh_oom(sam_error *err, const char *name)
 {
     return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory while building the mesh", name);
 }
 
-sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *mesh, sam_mesh_report *rep,
-                          sam_error *err)
+/* Non-finite values would poison welding and normals, bad indices read out of bounds: errors, not repairs. */
+static sam_status check_input(build_state *b)
 {
-    build_state b;
-    memset(&b, 0, sizeof b);
-    sam_status st = SAM_OK;
+    const sam_mesh_soup *in = b->in;
     const uint32_t nv = in->vertex_count;
-
-    rep->file_vertices = nv;
-    rep->file_faces = in->face_count;
-
     for (uint32_t v = 0; v < nv; ++v) {
         const float *p = in->positions + 3 * (size_t)v;
-        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
-            st = sam_fail(err, SAM_ERR_FORMAT, "%s: vertex %u has a non-finite coordinate (%g, %g, %g)",
-                          name, v, p[0], p[1], p[2]);
-            goto done;
-        }
+        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
+            return sam_fail(b->err, SAM_ERR_FORMAT, "%s: vertex %u has a non-finite coordinate (%g, %g, %g)",
+                            b->name, v, p[0], p[1], p[2]);
     }
     for (uint32_t c = 0; c < in->corner_count; ++c) {
-        if (in->corners[c] >= nv) {
-            st = sam_fail(err, SAM_ERR_FORMAT, "%s: face corner %u refers to vertex %u (vertex count %u)",
-                          name, c, in->corners[c], nv);
-            goto done;
-        }
+        if (in->corners[c] >= nv)
+            return sam_fail(b->err, SAM_ERR_FORMAT,
+                            "%s: face corner %u refers to vertex %u (vertex count %u)", b->name, c,
+                            in->corners[c], nv);
     }
     const float *uv_src = in->corner_uvs ? in->corner_uvs : in->uvs;
     if (uv_src) {
         uint32_t n = in->corner_uvs ? in->corner_count : nv;
         for (uint32_t i = 0; i < 2 * n; ++i) {
-            if (!isfinite(uv_src[i])) {
-                st = sam_fail(err, SAM_ERR_FORMAT, "%s: texture coordinate %u is not finite (%g)", name,
-                              i / 2, uv_src[i]);
-                goto done;
-            }
+            if (!isfinite(uv_src[i]))
+                return sam_fail(b->err, SAM_ERR_FORMAT, "%s: texture coordinate %u is not finite (%g)",
+                                b->name, i / 2, uv_src[i]);
         }
     }
+    return SAM_OK;
+}
 
-    /* 1. Weld positions. */
-    b.weld = malloc((size_t)(nv ? nv : 1) * sizeof *b.weld);
-    if (!b.weld || !keymap_init(&b.map, 3, nv)) {
-        st = sam_mesh_oom(err, name);
-        goto done;
-    }
+/* Files repeat a point per face or seam copy; welding equal bits gives the topology one vertex per point. */
+static sam_status weld_positions(build_state *b)
+{
+    const sam_mesh_soup *in = b->in;
+    const uint32_t nv = in->vertex_count;
+    b->weld = malloc((size_t)(nv ? nv : 1) * sizeof *b->weld);
+    if (!b->weld || !keymap_init(&b->map, 3, nv))
+        return sam_mesh_oom(b->err, b->name);
     for (uint32_t v = 0; v < nv; ++v) {
         const float *p = in->positions + 3 * (size_t)v;
         uint32_t key[3] = {float_bits(p[0]), float_bits(p[1]), float_bits(p[2])};
         int inserted;
-        b.weld[v] = keymap_get(&b.map, key, &inserted);
+        b->weld[v] = keymap_get(&b->map, key, &inserted);
     }
-    uint32_t weld_count = b.map.count;
-    keymap_free(&b.map);
+    b->weld_count = b->map.count;
+    keymap_free(&b->map);
+    return SAM_OK;
+}
 
-    /* 2. Triangulate polygons as fans around their first corner. */
+/* Polygons become fans around their first corner; counting first sizes the arrays and bounds the indices. */
+static sam_status count_triangles(build_state *b)
+{
+    const sam_mesh_soup *in = b->in;
     uint64_t candidates = 0;
     for (uint32_t f = 0; f < in->face_count; ++f) {
         uint32_t m = in->face_offsets[f + 1] - in->face_offsets[f];
         if (m < 3)
-            rep->faces_too_small++;
+            b->rep->faces_too_small++;
         else
             candidates += m - 2;
         if (m > 3)
-            rep->polygons_triangulated++;
+            b->rep->polygons_triangulated++;
     }
-    if (candidates > UINT32_MAX / 4) {
-        st = sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: %llu triangles exceed the 32-bit index range", name,
-                      (unsigned long long)candidates);
-        goto done;
-    }
-    b.tri_weld = malloc((size_t)(candidates ? candidates : 1) * 3 * sizeof *b.tri_weld);
-    b.kept_corner = malloc((size_t)(candidates ? candidates : 1) * 3 * sizeof *b.kept_corner);
-    if (!b.tri_weld || !b.kept_corner ||
-        !keymap_init(&b.map, 3, (uint32_t)candidates)) {
-        st = sam_mesh_oom(err, name);
-        goto done;
-    }
+    if (candidates > UINT32_MAX / 4)
+        return sam_fail(b->err, SAM_ERR_UNSUPPORTED, "%s: %llu triangles exceed the 32-bit index range",
+                        b->name, (unsigned long long)candidates);
+    b->candidates = candidates;
+    return SAM_OK;
+}
 
-    /* 3. Drop degenerate, zero-area and duplicate triangles. */
-    uint32_t kept = 0;
+/* |e0 x e1| = |e0||e1| sin(angle); below 1e-7 of the longest edge squared
+ * the triangle is a sliver with no usable normal. */
+static int is_sliver(const float *p0, const float *p1, const float *p2)
+{
+    double e0[3], e1[3], e2[3], n[3];
+    sub3(p1, p0, e0);
+    sub3(p2, p0, e1);
+    sub3(p2, p1, e2);
+    cross3(e0, e1, n);
+    double longest = fmax(dot3(e0, e0), fmax(dot3(e1, e1), dot3(e2, e2)));
+    return len3(n) <= 1e-7 * longest;
+}
+
+/* Triangles on a repeated vertex, slivers and repeats of an earlier triangle would break the fans. */
+static sam_status keep_triangles(build_state *b)
+{
+    const sam_mesh_soup *in = b->in;
+    sam_mesh_report *rep = b->rep;
+    b->tri_weld = malloc((size_t)(b->candidates ? b->candidates : 1) * 3 * sizeof *b->tri_weld);
+    b->kept_corner = malloc((size_t)(b->candidates ? b->candidates : 1) * 3 * sizeof *b->kept_corner);
+    if (!b->tri_weld || !b->kept_corner || !keymap_init(&b->map, 3, (uint32_t)b->candidates))
+        return sam_mesh_oom(b->err, b->name);
     for (uint32_t f = 0; f < in->face_count; ++f) {
         uint32_t first = in->face_offsets[f], m = in->face_offsets[f + 1] - first;
         for (uint32_t k = 1; k + 1 < m; ++k) {
             uint32_t c[3] = {first, first + k, first + k + 1};
             uint32_t w[3];
             for (int i = 0; i < 3; ++i)
-                w[i] = b.weld[in->corners[c[i]]];
+                w[i] = b->weld[in->corners[c[i]]];
             if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
                 rep->degenerate_triangles++;
                 continue;
             }
-            const float *p0 = in->positions + 3 * (size_t)in->corners[c[0]];
-            const float *p1 = in->positions + 3 * (size_t)in->corners[c[1]];
-            const float *p2 = in->positions + 3 * (size_t)in->corners[c[2]];
-            double e0[3], e1[3], e2[3], n[3];
-            sub3(p1, p0, e0);
-            sub3(p2, p0, e1);
-            sub3(p2, p1, e2);
-            cross3(e0, e1, n);
-            double longest = fmax(dot3(e0, e0), fmax(dot3(e1, e1), dot3(e2, e2)));
-            /* |e0 x e1| = |e0||e1| sin(angle); below 1e-7 of the longest
-             * edge squared the triangle is a sliver with no usable normal. */
-            if (len3(n) <= 1e-7 * longest) {
+            if (is_sliver(in->positions + 3 * (size_t)in->corners[c[0]],
+                          in->positions + 3 * (size_t)in->corners[c[1]],
+                          in->positions + 3 * (size_t)in->corners[c[2]])) {
                 rep->zero_area_triangles++;
                 continue;
             }
@@ -237,172 +259,183 @@ sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *m
                         sorted[j] = t;
                     }
             int inserted;
-            keymap_get(&b.map, sorted, &inserted);
+            keymap_get(&b->map, sorted, &inserted);
             if (!inserted) {
                 rep->duplicate_triangles++;
                 continue;
             }
-            memcpy(b.kept_corner + 3 * (size_t)kept, c, sizeof c);
-            memcpy(b.tri_weld + 3 * (size_t)kept, w, sizeof w);
-            kept++;
+            memcpy(b->kept_corner + 3 * (size_t)b->kept, c, sizeof c);
+            memcpy(b->tri_weld + 3 * (size_t)b->kept, w, sizeof w);
+            b->kept++;
         }
     }
-    keymap_free(&b.map);
-    if (kept == 0) {
-        st = sam_fail(err, SAM_ERR_EMPTY,
-                      "%s: no usable triangle (%u faces in the file: %u with fewer than 3 corners, "
-                      "%u degenerate, %u zero-area, %u duplicate)",
-                      name, in->face_count, rep->faces_too_small, rep->degenerate_triangles,
-                      rep->zero_area_triangles, rep->duplicate_triangles);
-        goto done;
-    }
+    keymap_free(&b->map);
+    if (b->kept == 0)
+        return sam_fail(b->err, SAM_ERR_EMPTY,
+                        "%s: no usable triangle (%u faces in the file: %u with fewer than 3 corners, "
+                        "%u degenerate, %u zero-area, %u duplicate)",
+                        b->name, in->face_count, rep->faces_too_small, rep->degenerate_triangles,
+                        rep->zero_area_triangles, rep->duplicate_triangles);
+    return SAM_OK;
+}
 
-    /* 4. Group kept corners by welded vertex (counting sort, stable). */
-    const uint32_t nc = 3 * kept;
-    b.fan_start = calloc((size_t)weld_count + 2, sizeof *b.fan_start);
-    b.fan_corner = malloc((size_t)nc * sizeof *b.fan_corner);
-    b.succ = malloc((size_t)nc * sizeof *b.succ);
-    b.pred = malloc((size_t)nc * sizeof *b.pred);
-    b.corner_topo = malloc((size_t)nc * sizeof *b.corner_topo);
-    if (!b.fan_start || !b.fan_corner || !b.succ || !b.pred || !b.corner_topo) {
-        st = sam_mesh_oom(err, name);
-        goto done;
-    }
+/* Fans are searched among one welded vertex's corners only, so those are grouped (stable counting sort).
+ * The per-corner arrays of the fan stages are allocated here, before either of them counts a repair. */
+static sam_status group_corners(build_state *b)
+{
+    const uint32_t nc = 3 * b->kept;
+    b->fan_start = calloc((size_t)b->weld_count + 2, sizeof *b->fan_start);
+    b->fan_corner = malloc((size_t)nc * sizeof *b->fan_corner);
+    b->succ = malloc((size_t)nc * sizeof *b->succ);
+    b->pred = malloc((size_t)nc * sizeof *b->pred);
+    b->corner_topo = malloc((size_t)nc * sizeof *b->corner_topo);
+    if (!b->fan_start || !b->fan_corner || !b->succ || !b->pred || !b->corner_topo)
+        return sam_mesh_oom(b->err, b->name);
     for (uint32_t c = 0; c < nc; ++c)
-        b.fan_start[b.tri_weld[c] + 2]++;
-    for (uint32_t w = 0; w < weld_count; ++w)
-        b.fan_start[w + 2] += b.fan_start[w + 1];
+        b->fan_start[b->tri_weld[c] + 2]++;
+    for (uint32_t w = 0; w < b->weld_count; ++w)
+        b->fan_start[w + 2] += b->fan_start[w + 1];
     for (uint32_t c = 0; c < nc; ++c)
-        b.fan_corner[b.fan_start[b.tri_weld[c] + 1]++] = c;
+        b->fan_corner[b->fan_start[b->tri_weld[c] + 1]++] = c;
     /* now fan_start[w] .. fan_start[w + 1] holds welded vertex w's corners */
+    return SAM_OK;
+}
 
-    /* 5. Link corners into fans. Corner c of welded vertex w spans the fan
-     * edge a(c) -> b(c). For each neighbour x of w, the edge {w, x} links the
-     * corner ending at x to the corner starting at x only when exactly one
-     * of each exists (two triangles, opposite windings); otherwise the edge
-     * is a boundary (one triangle) or non-manifold and the fans stay apart,
-     * so every corner has at most one successor and one predecessor. */
+/* Linking corners across shared edges orders each vertex's triangles around it, as rings need.
+ *
+ * Corner c of welded vertex w spans the fan edge a(c) -> b(c). For each
+ * neighbour x of w, the edge {w, x} links the corner ending at x to the
+ * corner starting at x only when exactly one of each exists (two triangles,
+ * opposite windings); otherwise the edge is a boundary (one triangle) or
+ * non-manifold and the fans stay apart, so every corner has at most one
+ * successor and one predecessor. */
+static sam_status link_fans(build_state *b)
+{
+    const uint32_t nc = 3 * b->kept;
     for (uint32_t c = 0; c < nc; ++c)
-        b.succ[c] = b.pred[c] = NONE;
-    for (uint32_t w = 0; w < weld_count; ++w) {
-        uint32_t begin = b.fan_start[w], end = b.fan_start[w + 1];
+        b->succ[c] = b->pred[c] = NONE;
+    for (uint32_t w = 0; w < b->weld_count; ++w) {
+        uint32_t begin = b->fan_start[w], end = b->fan_start[w + 1];
         for (uint32_t i = begin; i < end; ++i) {
             for (int side = 0; side < 2; ++side) {
-                uint32_t c = b.fan_corner[i];
-                uint32_t x = b.tri_weld[side ? corner_b(c) : corner_a(c)];
-                int seen = side && b.tri_weld[corner_a(c)] == x;
+                uint32_t c = b->fan_corner[i];
+                uint32_t x = b->tri_weld[side ? corner_b(c) : corner_a(c)];
+                int seen = side && b->tri_weld[corner_a(c)] == x;
                 for (uint32_t j = begin; j < i && !seen; ++j) {
-                    uint32_t d = b.fan_corner[j];
-                    seen = b.tri_weld[corner_a(d)] == x || b.tri_weld[corner_b(d)] == x;
+                    uint32_t d = b->fan_corner[j];
+                    seen = b->tri_weld[corner_a(d)] == x || b->tri_weld[corner_b(d)] == x;
                 }
                 if (seen)
                     continue;
                 uint32_t starts = 0, ends = 0, s_corner = NONE, e_corner = NONE;
                 for (uint32_t j = i; j < end; ++j) {
-                    uint32_t d = b.fan_corner[j];
-                    if (b.tri_weld[corner_a(d)] == x)
+                    uint32_t d = b->fan_corner[j];
+                    if (b->tri_weld[corner_a(d)] == x)
                         starts++, s_corner = d;
-                    if (b.tri_weld[corner_b(d)] == x)
+                    if (b->tri_weld[corner_b(d)] == x)
                         ends++, e_corner = d;
                 }
                 if (starts == 1 && ends == 1) {
-                    b.succ[e_corner] = s_corner;
-                    b.pred[s_corner] = e_corner;
+                    b->succ[e_corner] = s_corner;
+                    b->pred[s_corner] = e_corner;
                 } else if (starts + ends > 1 && w < x) {
-                    rep->non_manifold_edges++;
+                    b->rep->non_manifold_edges++;
                 }
             }
         }
     }
+    return SAM_OK;
+}
 
-    /* 6. Each chain or cycle of linked corners is one fan: one topo vertex.
-     * A welded vertex with several fans is non-manifold and is split. */
-    uint32_t topo_count = 0;
+/* A topo vertex per fan (chain or cycle of linked corners): a welded vertex with several is split. */
+static sam_status assign_topo_vertices(build_state *b)
+{
+    const uint32_t nc = 3 * b->kept;
     for (uint32_t c = 0; c < nc; ++c)
-        b.corner_topo[c] = NONE;
-    for (uint32_t w = 0; w < weld_count; ++w) {
-        uint32_t begin = b.fan_start[w], end = b.fan_start[w + 1], fans = 0;
+        b->corner_topo[c] = NONE;
+    for (uint32_t w = 0; w < b->weld_count; ++w) {
+        uint32_t begin = b->fan_start[w], end = b->fan_start[w + 1], fans = 0;
         for (uint32_t i = begin; i < end; ++i) {
-            uint32_t c = b.fan_corner[i];
-            if (b.corner_topo[c] != NONE)
+            uint32_t c = b->fan_corner[i];
+            if (b->corner_topo[c] != NONE)
                 continue;
-            /* Walk back to the chain's start (or around the cycle). */
-            uint32_t start = c;
-            while (b.pred[start] != NONE && b.pred[start] != c)
-                start = b.pred[start];
-            for (uint32_t d = start; d != NONE && b.corner_topo[d] == NONE; d = b.succ[d])
-                b.corner_topo[d] = topo_count;
-            topo_count++;
+            for (uint32_t d = fan_head(b, c); d != NONE && b->corner_topo[d] == NONE; d = b->succ[d])
+                b->corner_topo[d] = b->topo_count;
+            b->topo_count++;
             fans++;
         }
         if (fans > 1)
-            rep->non_manifold_vertices++;
+            b->rep->non_manifold_vertices++;
     }
+    return SAM_OK;
+}
 
-    /* 7. Rings in fan order: [a(c1), b(c1), ..., b(ck)], with each entry the
-     * topo vertex of that corner of the triangle. */
+/* Fan areas and curvature walk each topo vertex's neighbours in order, so rings list them in fan order:
+ * [a(c1), b(c1), ..., b(ck)], each entry the topo vertex of that corner of the triangle. */
+static sam_status build_rings(build_state *b)
+{
+    sam_mesh *mesh = b->mesh;
+    const uint32_t nc = 3 * b->kept, topo_count = b->topo_count;
     mesh->topo_count = topo_count;
     mesh->ring_offsets = calloc((size_t)topo_count + 1, sizeof *mesh->ring_offsets);
     mesh->ring = malloc(((size_t)nc + topo_count) * sizeof *mesh->ring);
-    if (!mesh->ring_offsets || !mesh->ring) {
-        st = sam_mesh_oom(err, name);
-        goto done;
-    }
+    if (!mesh->ring_offsets || !mesh->ring)
+        return sam_mesh_oom(b->err, b->name);
     uint32_t *fan_size = calloc((size_t)topo_count, sizeof *fan_size);
-    if (!fan_size) {
-        st = sam_mesh_oom(err, name);
-        goto done;
-    }
+    if (!fan_size)
+        return sam_mesh_oom(b->err, b->name);
     for (uint32_t c = 0; c < nc; ++c)
-        fan_size[b.corner_topo[c]]++;
+        fan_size[b->corner_topo[c]]++;
     for (uint32_t t = 0; t < topo_count; ++t)
         mesh->ring_offsets[t + 1] = mesh->ring_offsets[t] + fan_size[t] + 1;
     for (uint32_t c = 0; c < nc; ++c) {
-        uint32_t t = b.corner_topo[c];
+        uint32_t t = b->corner_topo[c];
         if (fan_size[t] == 0)
             continue;
         /* Each fan is written once, from its chain head (or, for a cycle,
          * from the first corner met); a zeroed fan_size marks it written. */
-        uint32_t start = c;
-        while (b.pred[start] != NONE && b.pred[start] != c)
-            start = b.pred[start];
+        uint32_t start = fan_head(b, c);
         uint32_t *out = mesh->ring + mesh->ring_offsets[t];
-        *out++ = b.corner_topo[corner_a(start)];
+        *out++ = b->corner_topo[corner_a(start)];
         uint32_t d = start;
         do {
-            *out++ = b.corner_topo[corner_b(d)];
-            d = b.succ[d];
+            *out++ = b->corner_topo[corner_b(d)];
+            d = b->succ[d];
         } while (d != NONE && d != start);
-        if (b.pred[start] == NONE)
-            rep->boundary_vertices++;
+        if (b->pred[start] == NONE)
+            b->rep->boundary_vertices++;
         fan_size[t] = 0;
     }
     free(fan_size);
+    return SAM_OK;
+}
 
-    /* 8. Render vertices: one per distinct (topo vertex, UV, file normal),
-     * numbered in input vertex order so a clean file keeps its order. */
-    b.render_of = malloc((size_t)nc * sizeof *b.render_of);
-    b.by_vertex = calloc((size_t)nv + 1, sizeof *b.by_vertex);
+/* The GPU needs one vertex per distinct (topo vertex, UV, file normal); input order keeps a clean file's. */
+static sam_status number_render_vertices(build_state *b)
+{
+    const sam_mesh_soup *in = b->in;
+    const uint32_t nv = in->vertex_count, nc = 3 * b->kept;
+    b->render_of = malloc((size_t)nc * sizeof *b->render_of);
+    b->by_vertex = calloc((size_t)nv + 1, sizeof *b->by_vertex);
     uint32_t *order = malloc((size_t)nc * sizeof *order);
-    if (!b.render_of || !b.by_vertex || !order || !keymap_init(&b.map, 6, nc)) {
+    if (!b->render_of || !b->by_vertex || !order || !keymap_init(&b->map, 6, nc)) {
         free(order);
-        st = sam_mesh_oom(err, name);
-        goto done;
+        return sam_mesh_oom(b->err, b->name);
     }
     for (uint32_t c = 0; c < nc; ++c)
-        b.by_vertex[in->corners[b.kept_corner[c]] + 1]++;
+        b->by_vertex[in->corners[b->kept_corner[c]] + 1]++;
     for (uint32_t v = 0; v < nv; ++v)
-        b.by_vertex[v + 1] += b.by_vertex[v];
+        b->by_vertex[v + 1] += b->by_vertex[v];
     for (uint32_t c = 0; c < nc; ++c)
-        order[b.by_vertex[in->corners[b.kept_corner[c]]]++] = c;
+        order[b->by_vertex[in->corners[b->kept_corner[c]]]++] = c;
     for (uint32_t v = 0; v < nv; ++v) {
-        uint32_t used = b.by_vertex[v] - (v ? b.by_vertex[v - 1] : 0);
+        uint32_t used = b->by_vertex[v] - (v ? b->by_vertex[v - 1] : 0);
         if (used == 0)
-            rep->unreferenced_vertices++;
+            b->rep->unreferenced_vertices++;
     }
     for (uint32_t i = 0; i < nc; ++i) {
-        uint32_t c = order[i], ic = b.kept_corner[c], v = in->corners[ic];
-        uint32_t key[6] = {b.corner_topo[c], 0, 0, 0, 0, 0};
+        uint32_t c = order[i], ic = b->kept_corner[c], v = in->corners[ic];
+        uint32_t key[6] = {b->corner_topo[c], 0, 0, 0, 0, 0};
         if (in->corner_uvs) {
             key[1] = float_bits(in->corner_uvs[2 * (size_t)ic]);
             key[2] = float_bits(in->corner_uvs[2 * (size_t)ic + 1]);
@@ -414,35 +447,41 @@ sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *m
             for (int k = 0; k < 3; ++k)
                 key[3 + k] = float_bits(in->normals[3 * (size_t)v + k]);
         int inserted;
-        b.render_of[c] = keymap_get(&b.map, key, &inserted);
+        b->render_of[c] = keymap_get(&b->map, key, &inserted);
     }
     free(order);
+    b->render_count = b->map.count;
+    keymap_free(&b->map);
+    return SAM_OK;
+}
 
-    const uint32_t nr = b.map.count;
+/* The mesh owns its attributes per render vertex, each linked to its topo vertex and its fan's first copy. */
+static sam_status fill_render_vertices(build_state *b)
+{
+    const sam_mesh_soup *in = b->in;
+    sam_mesh *mesh = b->mesh;
+    const uint32_t nr = b->render_count, nc = 3 * b->kept, topo_count = b->topo_count;
+    const int has_uvs = in->corner_uvs || in->uvs;
     mesh->vertex_count = nr;
-    mesh->triangle_count = kept;
+    mesh->triangle_count = b->kept;
     mesh->positions = malloc((size_t)nr * 3 * sizeof *mesh->positions);
     mesh->normals = malloc((size_t)nr * 3 * sizeof *mesh->normals);
-    mesh->uvs = uv_src ? malloc((size_t)nr * 2 * sizeof *mesh->uvs) : NULL;
+    mesh->uvs = has_uvs ? malloc((size_t)nr * 2 * sizeof *mesh->uvs) : NULL;
     mesh->triangles = malloc((size_t)nc * sizeof *mesh->triangles);
     mesh->topo_of = malloc((size_t)nr * sizeof *mesh->topo_of);
     mesh->topo_rep = malloc((size_t)topo_count * sizeof *mesh->topo_rep);
     mesh->topo_normals = calloc((size_t)topo_count * 3, sizeof *mesh->topo_normals);
-    double *acc = calloc((size_t)topo_count * 3, sizeof *acc);
-    if (!mesh->positions || !mesh->normals || (uv_src && !mesh->uvs) || !mesh->triangles ||
-        !mesh->topo_of || !mesh->topo_rep || !mesh->topo_normals || !acc) {
-        free(acc);
-        st = sam_mesh_oom(err, name);
-        goto done;
-    }
+    if (!mesh->positions || !mesh->normals || (has_uvs && !mesh->uvs) || !mesh->triangles || !mesh->topo_of ||
+        !mesh->topo_rep || !mesh->topo_normals)
+        return sam_mesh_oom(b->err, b->name);
     for (uint32_t t = 0; t < topo_count; ++t)
         mesh->topo_rep[t] = NONE;
     for (uint32_t c = 0; c < nc; ++c) {
-        uint32_t r = b.render_of[c], ic = b.kept_corner[c], v = in->corners[ic];
+        uint32_t r = b->render_of[c], ic = b->kept_corner[c], v = in->corners[ic];
         mesh->triangles[c] = r;
-        mesh->topo_of[r] = b.corner_topo[c];
-        if (b.corner_topo[c] < topo_count && r < mesh->topo_rep[b.corner_topo[c]])
-            mesh->topo_rep[b.corner_topo[c]] = r;
+        mesh->topo_of[r] = b->corner_topo[c];
+        if (b->corner_topo[c] < topo_count && r < mesh->topo_rep[b->corner_topo[c]])
+            mesh->topo_rep[b->corner_topo[c]] = r;
         memcpy(mesh->positions + 3 * (size_t)r, in->positions + 3 * (size_t)v, 3 * sizeof(float));
         if (in->corner_uvs)
             memcpy(mesh->uvs + 2 * (size_t)r, in->corner_uvs + 2 * (size_t)ic, 2 * sizeof(float));
@@ -451,10 +490,18 @@ sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *m
         if (in->normals)
             memcpy(mesh->normals + 3 * (size_t)r, in->normals + 3 * (size_t)v, 3 * sizeof(float));
     }
+    return SAM_OK;
+}
 
-    /* 9. Area-weighted topo normals: the unnormalised face normal (twice
-     * the area) added to each corner's vertex. */
-    for (uint32_t t = 0; t < kept; ++t) {
+/* Seam copies of a point must shade alike: one area-weighted normal per fan (face normal = 2 x area). */
+static sam_status compute_topo_normals(build_state *b)
+{
+    sam_mesh *mesh = b->mesh;
+    const uint32_t topo_count = b->topo_count;
+    double *acc = calloc((size_t)topo_count * 3, sizeof *acc);
+    if (!acc)
+        return sam_mesh_oom(b->err, b->name);
+    for (uint32_t t = 0; t < b->kept; ++t) {
         const float *p0 = mesh->positions + 3 * (size_t)mesh->triangles[3 * t];
         const float *p1 = mesh->positions + 3 * (size_t)mesh->triangles[3 * t + 1];
         const float *p2 = mesh->positions + 3 * (size_t)mesh->triangles[3 * t + 2];
@@ -464,7 +511,7 @@ sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *m
         cross3(e0, e1, n);
         for (int k = 0; k < 3; ++k)
             for (int i = 0; i < 3; ++i)
-                acc[3 * (size_t)b.corner_topo[3 * t + k] + i] += n[i];
+                acc[3 * (size_t)b->corner_topo[3 * t + k] + i] += n[i];
     }
     for (uint32_t t = 0; t < topo_count; ++t) {
         double *n = acc + 3 * (size_t)t;
@@ -476,8 +523,16 @@ sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *m
             mesh->topo_normals[3 * (size_t)t + i] = (float)(n[i] / l);
     }
     free(acc);
-    rep->normals_from_file = in->normals != NULL;
-    for (uint32_t r = 0; r < nr; ++r) {
+    return SAM_OK;
+}
+
+/* A file's normals carry its creases, so they are kept (normalised); a zero-length one takes the fan's. */
+static sam_status choose_render_normals(build_state *b)
+{
+    const sam_mesh_soup *in = b->in;
+    sam_mesh *mesh = b->mesh;
+    b->rep->normals_from_file = in->normals != NULL;
+    for (uint32_t r = 0; r < b->render_count; ++r) {
         float *n = mesh->normals + 3 * (size_t)r;
         const float *tn = mesh->topo_normals + 3 * (size_t)mesh->topo_of[r];
         if (in->normals) {
@@ -488,25 +543,56 @@ sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *m
                     n[i] = (float)(d[i] / l);
                 continue;
             }
-            rep->invalid_file_normals++;
+            b->rep->invalid_file_normals++;
         }
         memcpy(n, tn, 3 * sizeof(float));
     }
+    return SAM_OK;
+}
 
-    /* 10. Seams: topo vertices with more than one render copy. */
-    {
-        uint32_t *copies = calloc((size_t)topo_count, sizeof *copies);
-        if (!copies) {
-            st = sam_mesh_oom(err, name);
-            goto done;
-        }
-        for (uint32_t r = 0; r < nr; ++r)
-            if (++copies[mesh->topo_of[r]] == 2)
-                rep->seam_vertices++;
-        free(copies);
-    }
+/* The report names seams: topo vertices with more than one render copy (split by UVs or file normals). */
+static sam_status count_seams(build_state *b)
+{
+    uint32_t *copies = calloc((size_t)b->topo_count, sizeof *copies);
+    if (!copies)
+        return sam_mesh_oom(b->err, b->name);
+    for (uint32_t r = 0; r < b->render_count; ++r)
+        if (++copies[b->mesh->topo_of[r]] == 2)
+            b->rep->seam_vertices++;
+    free(copies);
+    return SAM_OK;
+}
 
-done:
+sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *mesh, sam_mesh_report *rep,
+                          sam_error *err)
+{
+    static sam_status (*const stages[])(build_state *) = {
+        check_input,
+        weld_positions,
+        count_triangles,
+        keep_triangles,
+        group_corners,
+        link_fans,
+        assign_topo_vertices,
+        build_rings,
+        number_render_vertices,
+        fill_render_vertices,
+        compute_topo_normals,
+        choose_render_normals,
+        count_seams,
+    };
+    build_state b;
+    memset(&b, 0, sizeof b);
+    b.in = in;
+    b.name = name;
+    b.mesh = mesh;
+    b.rep = rep;
+    b.err = err;
+    rep->file_vertices = in->vertex_count;
+    rep->file_faces = in->face_count;
+    sam_status st = SAM_OK;
+    for (size_t i = 0; i < sizeof stages / sizeof stages[0] && st == SAM_OK; ++i)
+        st = stages[i](&b);
     build_state_free(&b);
     return st;
 }
