@@ -2,7 +2,7 @@
 //
 // OpenMesh's readers talk to a BaseImporter. Instead of letting them build an
 // OpenMesh mesh (whose add_face silently drops faces on complex edges), this
-// importer records the raw polygon soup, so sam_mesh.c can weld, repair and
+// importer records the raw polygon soup, so sam_mesh_build.c can weld, repair and
 // report every change itself. No exception crosses into C.
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>

@@ -1,7 +1,7 @@
 /*
  * Internal: the raw polygon soup a mesh file holds, before any welding,
  * triangulation or repair. Produced by the OpenMesh reader
- * (sam_mesh_openmesh.cpp, the project's only C++), consumed by sam_mesh.c.
+ * (sam_mesh_openmesh.cpp, the project's only C++), consumed by sam_mesh_build.c.
  */
 #ifndef SAM_MESH_SOUP_H
 #define SAM_MESH_SOUP_H

@@ -1,0 +1,49 @@
+/*
+ * Internal: what sam_mesh.c and sam_mesh_build.c share. sam_mesh.c holds the
+ * public entry points and the computations on a built mesh; sam_mesh_build.c
+ * turns a polygon soup into a mesh (welding, repairs, topology, normals).
+ */
+#ifndef SAM_MESH_INTERNAL_H
+#define SAM_MESH_INTERNAL_H
+
+#include <math.h>
+
+#include "sam/sam_mesh.h"
+#include "sam_mesh_soup.h"
+
+/* Differences are taken in double so that thin triangles far from the
+ * origin keep their shape. */
+static inline void sub3(const float *a, const float *b, double *out)
+{
+    out[0] = (double)a[0] - b[0];
+    out[1] = (double)a[1] - b[1];
+    out[2] = (double)a[2] - b[2];
+}
+
+static inline void cross3(const double *a, const double *b, double *out)
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static inline double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline double len3(const double *a)
+{
+    return sqrt(dot3(a, a));
+}
+
+/* One message for every allocation failure of loading, naming the mesh. */
+sam_status sam_mesh_oom(sam_error *err, const char *name);
+
+/* Welds, triangulates, repairs and builds the topology of `in` into `mesh`,
+ * counting every repair in `rep` (also on failure). `name` is for messages.
+ * On failure `mesh` may hold partial arrays: the caller destroys it. */
+sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *mesh, sam_mesh_report *rep,
+                          sam_error *err);
+
+#endif

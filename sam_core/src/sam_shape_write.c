@@ -1,0 +1,176 @@
+#include "sam/sam_shape.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* ---------------------------------------------------------------- welding */
+
+typedef struct weld_key {
+    uint32_t bits[3];
+    uint32_t index;
+} weld_key;
+
+static int weld_key_cmp(const void *pa, const void *pb)
+{
+    const weld_key *a = pa, *b = pb;
+    for (int k = 0; k < 3; ++k)
+        if (a->bits[k] != b->bits[k])
+            return a->bits[k] < b->bits[k] ? -1 : 1;
+    return a->index < b->index ? -1 : (a->index > b->index);
+}
+
+sam_status sam_shape_weld(const sam_shape_mesh *mesh, uint32_t *ids, uint32_t *unique_count,
+                          sam_error *err)
+{
+    if (!mesh || !ids || !unique_count || (mesh->vertex_count && !mesh->positions))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "shape weld: mesh, ids and count required");
+    uint32_t n = mesh->vertex_count;
+    weld_key *keys = malloc((size_t)n * sizeof *keys + 1);
+    if (!keys)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "shape weld: out of memory for %u vertices",
+                        n);
+    for (uint32_t v = 0; v < n; ++v) {
+        memcpy(keys[v].bits, mesh->positions + 3 * (size_t)v, sizeof keys[v].bits);
+        keys[v].index = v;
+    }
+    qsort(keys, n, sizeof *keys, weld_key_cmp);
+    /* ids first holds each vertex's lowest-index twin, then is renumbered
+     * in order of first appearance (the twin always precedes). */
+    for (uint32_t k = 0, first = 0; k < n; ++k) {
+        if (k == 0 || memcmp(keys[k].bits, keys[k - 1].bits, sizeof keys[k].bits) != 0)
+            first = keys[k].index;
+        ids[keys[k].index] = first;
+    }
+    free(keys);
+    uint32_t next = 0;
+    for (uint32_t v = 0; v < n; ++v)
+        ids[v] = ids[v] == v ? next++ : ids[ids[v]];
+    *unique_count = next;
+    return SAM_OK;
+}
+
+/* ---------------------------------------------------------------- writers */
+
+static sam_status check_mesh(const char *path, const sam_shape_mesh *mesh, sam_error *err)
+{
+    if (!mesh || !mesh->vertex_count || !mesh->triangle_count || !mesh->positions || !mesh->uvs ||
+        !mesh->triangles)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: no mesh to write",
+                        path ? path : "(null)");
+    if (mesh->vertex_count > SAM_SHAPE_MAX_VERTICES || mesh->triangle_count > SAM_SHAPE_MAX_VERTICES)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: %u vertices, %u triangles: too many",
+                        path, mesh->vertex_count, mesh->triangle_count);
+    for (size_t k = 0; k < 3 * (size_t)mesh->triangle_count; ++k)
+        if (mesh->triangles[k] >= mesh->vertex_count)
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                            "%s: triangle %zu has index %u, vertex count %u", path, k / 3,
+                            mesh->triangles[k], mesh->vertex_count);
+    return SAM_OK;
+}
+
+static sam_status finish_write(sam_atomic_file *f, const char *path, sam_error *err)
+{
+    if (ferror(f->fp)) {
+        sam_atomic_abort(f);
+        return sam_fail(err, SAM_ERR_IO, "%s: write failed", path);
+    }
+    return sam_atomic_commit(f, err);
+}
+
+sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam_error *err)
+{
+    sam_status st = check_mesh(path, mesh, err);
+    if (st != SAM_OK)
+        return st;
+    uint32_t n = mesh->vertex_count, unique = 0;
+    uint32_t *ids = malloc((size_t)n * sizeof *ids);
+    if (!ids)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    st = sam_shape_weld(mesh, ids, &unique, err);
+    if (st != SAM_OK) {
+        free(ids);
+        return st;
+    }
+    sam_atomic_file f;
+    st = sam_atomic_open(&f, path, err);
+    if (st != SAM_OK) {
+        free(ids);
+        return st;
+    }
+    fprintf(f.fp, "# sam_shape: %u positions, %u uvs, %u triangles\n", unique, n,
+            mesh->triangle_count);
+    for (uint32_t v = 0, written = 0; v < n; ++v)
+        if (ids[v] == written) {
+            const float *p = mesh->positions + 3 * (size_t)v;
+            fprintf(f.fp, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
+            ++written;
+        }
+    for (uint32_t v = 0; v < n; ++v)
+        fprintf(f.fp, "vt %.9g %.9g\n", mesh->uvs[2 * (size_t)v], mesh->uvs[2 * (size_t)v + 1]);
+    for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
+        const uint32_t *tri = mesh->triangles + 3 * (size_t)t;
+        fprintf(f.fp, "f %u/%u %u/%u %u/%u\n", ids[tri[0]] + 1, tri[0] + 1, ids[tri[1]] + 1,
+                tri[1] + 1, ids[tri[2]] + 1, tri[2] + 1);
+    }
+    free(ids);
+    return finish_write(&f, path, err);
+}
+
+static void put_le32(uint8_t *o, uint32_t x)
+{
+    o[0] = (uint8_t)x;
+    o[1] = (uint8_t)(x >> 8);
+    o[2] = (uint8_t)(x >> 16);
+    o[3] = (uint8_t)(x >> 24);
+}
+
+static void put_float(uint8_t *o, float f)
+{
+    uint32_t x;
+    memcpy(&x, &f, sizeof x);
+    put_le32(o, x);
+}
+
+sam_status sam_shape_write_ply(const char *path, const sam_shape_mesh *mesh, int binary,
+                               sam_error *err)
+{
+    sam_status st = check_mesh(path, mesh, err);
+    if (st != SAM_OK)
+        return st;
+    sam_atomic_file f;
+    st = sam_atomic_open(&f, path, err);
+    if (st != SAM_OK)
+        return st;
+    fprintf(f.fp,
+            "ply\nformat %s 1.0\ncomment sam_shape render vertices (seams are split)\n"
+            "element vertex %u\nproperty float x\nproperty float y\nproperty float z\n"
+            "property float u\nproperty float v\nelement face %u\n"
+            "property list uchar int vertex_indices\nend_header\n",
+            binary ? "binary_little_endian" : "ascii", mesh->vertex_count, mesh->triangle_count);
+    for (uint32_t v = 0; v < mesh->vertex_count; ++v) {
+        const float *p = mesh->positions + 3 * (size_t)v, *uv = mesh->uvs + 2 * (size_t)v;
+        if (binary) {
+            uint8_t rec[20];
+            for (int k = 0; k < 3; ++k)
+                put_float(rec + 4 * k, p[k]);
+            put_float(rec + 12, uv[0]);
+            put_float(rec + 16, uv[1]);
+            fwrite(rec, 1, sizeof rec, f.fp);
+        } else {
+            fprintf(f.fp, "%.9g %.9g %.9g %.9g %.9g\n", p[0], p[1], p[2], uv[0], uv[1]);
+        }
+    }
+    for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
+        const uint32_t *tri = mesh->triangles + 3 * (size_t)t;
+        if (binary) {
+            uint8_t rec[13];
+            rec[0] = 3;
+            for (int k = 0; k < 3; ++k)
+                put_le32(rec + 1 + 4 * k, tri[k]);
+            fwrite(rec, 1, sizeof rec, f.fp);
+        } else {
+            fprintf(f.fp, "3 %u %u %u\n", tri[0], tri[1], tri[2]);
+        }
+    }
+    return finish_write(&f, path, err);
+}
