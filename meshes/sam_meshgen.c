@@ -69,7 +69,11 @@ static void usage(FILE *out)
     }
     fprintf(out, "  --ascii             ASCII PLY instead of binary little-endian\n"
                  "  --force             overwrite OUT if it exists\n"
-                 "  -h, --help          this text\n");
+                 "  -h, --help          this text;  --version  the version\n"
+                 "\n"
+                 "examples:\n"
+                 "  sam_meshgen ear -o ear.obj\n"
+                 "  sam_meshgen knot -o knot.ply --resolution 256 --force\n");
 }
 
 /* Usage errors: one line, exit status 2. */

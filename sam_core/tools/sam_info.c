@@ -30,7 +30,11 @@ static void usage(FILE *out)
             "  --mm-per-unit X  scale used to print a mesh's fan areas in mm^2 (default 1)\n"
             "  -h, --help       show this help\n"
             "\n"
-            "exit status: 0 when every file is valid, 1 when one is not, 2 on bad usage\n");
+            "exit status: 0 when every file is valid, 1 when one is not, 2 on bad usage\n"
+            "\n"
+            "examples:\n"
+            "  sam_info ear.sam\n"
+            "  sam_info meshes/ear.obj scenes/ear_backlit.json --mm-per-unit 60\n");
 }
 
 static void print_bounds(const float *pos, uint32_t count)

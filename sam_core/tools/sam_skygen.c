@@ -24,7 +24,11 @@ static void usage(FILE *out)
             "  outdoor     blue sky to a hazy horizon, ground, a small sun disk (radiance 5000)\n"
             "  -o OUT.exr  output file (written atomically)\n"
             "  --width W   even width in pixels, 8..16384 (default 1024)\n"
-            "  --force     overwrite OUT.exr if it exists\n");
+            "  --force     overwrite OUT.exr if it exists\n"
+            "\n"
+            "examples:\n"
+            "  sam_skygen studio -o studio.exr\n"
+            "  sam_skygen outdoor -o outdoor.exr --width 2048\n");
 }
 
 int main(int argc, char **argv)
