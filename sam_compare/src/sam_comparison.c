@@ -17,8 +17,6 @@
  * library's smallest count to its largest. */
 #define MAX_DOUBLINGS 6
 
-typedef sam_truth_report_technique technique_result;
-
 typedef struct compare_state {
     const sam_comparison_settings *set;
     const char *scene_path;
@@ -36,7 +34,7 @@ typedef struct compare_state {
     sam_truth_scene truth_scene;
     int animated; /* the scene has deformers or keyframes */
     long frame;   /* the frame compared, when animated */
-    technique_result results[TECHNIQUES];
+    sam_truth_report_technique results[TECHNIQUES];
 } compare_state;
 
 static void say(const compare_state *s, const char *fmt, ...)
@@ -179,7 +177,7 @@ typedef struct truth_result {
 static sam_status score_step(const compare_state *s, const sam_image *full, const sam_image *translucency,
                              sam_truth_report_step *step, sam_error *err)
 {
-    const technique_result *sam_r = &s->results[SAM_TECHNIQUE_SAM];
+    const sam_truth_report_technique *sam_r = &s->results[SAM_TECHNIQUE_SAM];
     float max = sam_truth_report_max_value(translucency);
     step->sam_psnr_db = step->sam_psnr_normalised_db = NAN;
     if (!sam_r->available || !(max > 0))
@@ -264,8 +262,8 @@ static sam_status run_sweep(const compare_state *s, const sam_truth_report_refer
         samfile_data sam;
         sam_profile profile;
         float mm;
-        sam_status st =
-            sam_app_scene_object(s->scene, &settings, build_progress, &ps, &sam, &profile, &mm, &out[i].build_seconds, err);
+        sam_status st = sam_app_scene_object(s->scene, &settings, build_progress, &ps, &sam, &profile, &mm,
+                                             &out[i].build_seconds, err);
         if (st != SAM_OK)
             return st;
         sam_runtime *rt = NULL;
@@ -299,7 +297,7 @@ static sam_status run_sweep(const compare_state *s, const sam_truth_report_refer
 static sam_status render_techniques(compare_state *s, sam_error *err)
 {
     for (int t = 0; t < TECHNIQUES; ++t) {
-        technique_result *r = &s->results[t];
+        sam_truth_report_technique *r = &s->results[t];
         r->available = 0;
         if (!r->requested)
             continue;
@@ -323,7 +321,7 @@ static sam_status write_pose(compare_state *s, const truth_result *truth, const 
 {
     const sam_comparison_settings *set = s->set;
     sam_truth_report_reference ref = {0};
-    technique_result self;
+    sam_truth_report_technique self;
     memset(&self, 0, sizeof self);
     sam_truth_report_sweep_point sweep[SAM_COMPARISON_MAX_SWEEP];
     float truth_max = sam_truth_report_max_value(&truth->translucency);
@@ -343,7 +341,7 @@ static sam_status write_pose(compare_state *s, const truth_result *truth, const 
             SAM_OK)
         goto done;
     for (int t = 0; t < TECHNIQUES; ++t) {
-        const technique_result *r = &s->results[t];
+        const sam_truth_report_technique *r = &s->results[t];
         if (r->available)
             say(s, "%-13s PSNR %6.2f dB (differing pixels %6.2f dB), translucency %6.2f dB",
                 sam_truth_report_technique_name(t), r->all.psnr_db, r->all.psnr_differing_db, r->normalised.psnr_db);
@@ -516,6 +514,13 @@ sam_status sam_comparison_run(const sam_scene *scene, const char *scene_path, co
     compare_state *s = calloc(1, sizeof *s);
     sam_truth_report_pose *poses = calloc(SAM_COMPARISON_MAX_FRAMES, sizeof *poses);
     sam_status st;
+    if (!(settings->fps > 0) || settings->sweep_count < 0 || settings->sweep_count > SAM_COMPARISON_MAX_SWEEP ||
+        (settings->frames && (settings->frame_count < 1 || settings->frame_count > SAM_COMPARISON_MAX_FRAMES))) {
+        st = sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "comparison: fps %g, %d sweep counts and %d frames: fps must "
+                      "be > 0, at most %d counts and 1..%d frames", (double)settings->fps, settings->sweep_count,
+                      settings->frame_count, SAM_COMPARISON_MAX_SWEEP, SAM_COMPARISON_MAX_FRAMES);
+        goto done;
+    }
     if (!s || !poses) {
         st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory for a comparison");
         goto done;

@@ -133,7 +133,8 @@ static int parse_lists(const char *sweep_list, const char *frame_list, int fps_g
 {
     sam_comparison_settings *set = &o->set;
     if (sweep_list && !parse_int_list(sweep_list, 1, 64, o->sweep, SAM_COMPARISON_MAX_SWEEP, &set->sweep_count))
-        return sam_args_fail(TOOL, "--samples-sweep must be up to %d comma-separated whole numbers in 1..64, got \"%s\"",
+        return sam_args_fail(TOOL,
+                             "--samples-sweep must be up to %d comma-separated whole numbers in 1..64, got \"%s\"",
                              SAM_COMPARISON_MAX_SWEEP, sweep_list);
     set->sweep = set->sweep_count ? o->sweep : NULL;
     if (!frame_list)

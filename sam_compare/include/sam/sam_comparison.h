@@ -58,7 +58,8 @@ typedef struct sam_comparison_settings {
  * plays it (the pose at t = frame / fps, the sample walk, L_d, T smoothed
  * with dt = 1 / fps), so SAM is scored as a viewer sees it. Nothing is
  * written before the first image is ready.
- * Errors: those of sam_app_scene_object, the GL context, the runtime,
+ * Errors: SAM_ERR_INVALID_ARGUMENT (fps not > 0, too many sweep counts or
+ * frames); those of sam_app_scene_object, the GL context, the runtime,
  * sam_truth and the writers of sam_truth_report.h; SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_comparison_run(const sam_scene *scene, const char *scene_path, const sam_comparison_settings *settings,
                               sam_error *err);
