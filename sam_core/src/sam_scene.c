@@ -59,19 +59,6 @@ const char *sam_sss_kernel_name(sam_sss_kernel kernel)
 /* ------------------------------------------------------------------------ */
 /* Scene lifetime                                                            */
 
-void sam_diffusion_options_default(sam_diffusion_options *options)
-{
-    if (!options)
-        return;
-    options->sss_kernel = SAM_SSS_KERNEL_FIT2D;
-    options->sss_samples = 17;
-    options->atlas_size = 1024;
-    options->culled = 0;
-    options->depth_sized = 0;
-    options->clipped = 1;
-    options->texels_per_pixel = 1.0f;
-}
-
 void sam_scene_init(sam_scene *scene)
 {
     if (!scene)
