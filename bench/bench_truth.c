@@ -25,6 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sam/sam_scene.h"
 #include "sam/sam_truth.h"
 #include "bench_util.h"
 
