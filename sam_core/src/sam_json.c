@@ -228,6 +228,38 @@ sam_status sam_json_typed_object(const sam_json_ctx *ctx, const cJSON *item, con
     return sam_json_fail(ctx, SAM_ERR_FORMAT, at, "missing (expected %s)", list);
 }
 
+sam_status sam_json_checked_number(const sam_json_ctx *ctx, const cJSON *item, const char *key,
+                                   const char *(*check)(double), float *out)
+{
+    if (!cJSON_IsNumber(item))
+        return sam_json_fail(ctx, SAM_ERR_FORMAT, key, "expected a number, found %s", sam_json_kind(item));
+    double v = item->valuedouble;
+    const char *why = check ? check(v) : NULL;
+    if (why)
+        return sam_json_fail(ctx, SAM_ERR_FORMAT, key, "%g %s", v, why);
+    *out = (float)v;
+    return SAM_OK;
+}
+
+sam_status sam_json_checked_rgb(const sam_json_ctx *ctx, const cJSON *item, const char *key,
+                                const char *(*check)(double), float out[3])
+{
+    if (!cJSON_IsArray(item))
+        return sam_json_fail(ctx, SAM_ERR_FORMAT, key, "expected an array of 3 numbers, found %s",
+                             sam_json_kind(item));
+    int n = cJSON_GetArraySize(item);
+    if (n != 3)
+        return sam_json_fail(ctx, SAM_ERR_FORMAT, key, "expected 3 numbers (r, g, b), found %d", n);
+    int c = 0;
+    for (const cJSON *e = item->child; e; e = e->next, c++) {
+        char sub[160];
+        sam_status s = sam_json_checked_number(ctx, e, sam_json_index_path(sub, sizeof sub, key, c), check, &out[c]);
+        if (s != SAM_OK)
+            return s;
+    }
+    return SAM_OK;
+}
+
 void sam_json_line_column(const char *text, size_t offset, size_t *line, size_t *column)
 {
     *line = 1;

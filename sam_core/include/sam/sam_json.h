@@ -2,9 +2,16 @@
  * sam_json: reading and checking JSON files (through cJSON) with messages
  * that name the file, the key's path and the value found, e.g.
  * "scene.json: lights[0].intensity: expected a number >= 0 (finite),
- * found -1". The scene parser (sam_scene.h) reads its files with this
- * vocabulary: key paths, descriptions of wrong values, allowed and
- * repeated keys, typed values, and the line and column of a syntax error.
+ * found -1". The scene parser (sam_scene.h) and the profile loader
+ * (sam_profile_load) share this vocabulary: key paths, descriptions of
+ * wrong values, allowed and repeated keys, typed values, and the line and
+ * column of a syntax error.
+ *
+ * Two styles of number checks exist because the two formats word their
+ * messages differently and their messages are kept: a range that the
+ * message spells out ("expected a number in (0, 180), found 200"; scene
+ * files), or a check function that says what is wrong with the value
+ * ("-0.5 must be > 0"; profile files, whose text format shares the checks).
  *
  * Internal to sam_core: this header names cJSON types, and cJSON is a
  * private dependency of sam_core, so no code outside sam_core includes it.
@@ -115,6 +122,15 @@ sam_status sam_json_enum(const sam_json_ctx *ctx, const cJSON *item, const char 
  * not checked here. */
 sam_status sam_json_typed_object(const sam_json_ctx *ctx, const cJSON *item, const char *path, const char *what,
                                  const char *const *names, size_t count, int *out);
+
+/* A number checked by `check` (may be NULL: any number), which returns
+ * NULL for a good value or why it is wrong ("must be > 0"): refused as
+ * "key: expected a number, found a string" or "key: -0.5 must be > 0". */
+sam_status sam_json_checked_number(const sam_json_ctx *ctx, const cJSON *item, const char *key,
+                                   const char *(*check)(double), float *out);
+/* An array of 3 numbers (r, g, b), each as sam_json_checked_number. */
+sam_status sam_json_checked_rgb(const sam_json_ctx *ctx, const cJSON *item, const char *key,
+                                const char *(*check)(double), float out[3]);
 
 /* Line and column (1-based, counted in bytes) of byte `offset` of `text`
  * (at least `offset` bytes long), for syntax errors. */
