@@ -48,6 +48,7 @@
 #include "sam/sam_build.h"
 #include "sam/sam_deform.h"
 #include "sam/sam_runtime.h"
+#include "sam/sam_scene.h"
 #include "sam/sam_shape.h"
 #include "bench_util.h"
 

@@ -26,6 +26,7 @@
 #include <string.h>
 
 #include "sam/sam_args.h"
+#include "sam/sam_scene.h"
 #include "sam/sam_truth.h"
 #include "bench_util.h"
 

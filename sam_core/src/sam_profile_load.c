@@ -1,5 +1,5 @@
 /*
- * sam_profile_load: user profile files, JSON (through cJSON) or text. The
+ * sam_profile_load: user profile files, JSON (read with sam_json) or text. The
  * formats are described in sam_profile.h. Every value is validated before
  * the profile is built, and every error names the file and the key path or
  * line together with the value found.
@@ -9,8 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
-
+#include "sam/sam_json.h"
 #include "sam/sam_profile.h"
 #include "sam_profile_internal.h"
 
@@ -59,184 +58,98 @@ static const char *shown(const char *s, size_t max, char out[SHOWN_SIZE])
     return out;
 }
 
-/* Line and column (1-based) of byte `offset` in `text`. */
-static void line_column(const char *text, size_t offset, int *line, int *column)
-{
-    *line = 1;
-    *column = 1;
-    for (size_t i = 0; i < offset; i++) {
-        if (text[i] == '\n') {
-            (*line)++;
-            *column = 1;
-        } else {
-            (*column)++;
-        }
-    }
-}
-
 /* ---------------------------------------------------------------------- */
 /* JSON                                                                   */
 
-typedef struct json_ctx {
-    const char *path;
-    sam_error *err;
-} json_ctx;
-
-static const char *json_type_name(const cJSON *item)
+/* Finds the `count` `keys` among an object's members: `found` receives,
+ * per key, the member or NULL. Unknown and duplicate keys are errors,
+ * worded as profile files have always worded them. */
+static sam_status json_members(const sam_json_ctx *ctx, const cJSON *object, const char *where,
+                               const char *const *keys, size_t count, const cJSON **found)
 {
-    if (cJSON_IsNumber(item))
-        return "a number";
-    if (cJSON_IsString(item))
-        return "a string";
-    if (cJSON_IsArray(item))
-        return "an array";
-    if (cJSON_IsObject(item))
-        return "an object";
-    if (cJSON_IsBool(item))
-        return "a boolean";
-    if (cJSON_IsNull(item))
-        return "null";
-    return "an invalid value";
-}
-
-/* Reads a number at `key` and checks it with `check` (may be NULL). */
-static sam_status json_number(const json_ctx *ctx, const cJSON *item, const char *key,
-                              const char *(*check)(double), float *out)
-{
-    if (!cJSON_IsNumber(item))
-        return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s: expected a number, found %s",
-                        ctx->path, key, json_type_name(item));
-    double v = item->valuedouble;
-    const char *why = check ? check(v) : NULL;
-    if (why)
-        return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s: %g %s", ctx->path, key, v, why);
-    *out = (float)v;
-    return SAM_OK;
-}
-
-static sam_status json_rgb(const json_ctx *ctx, const cJSON *item, const char *key,
-                           const char *(*check)(double), float out[3])
-{
-    if (!cJSON_IsArray(item))
-        return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s: expected an array of 3 numbers, found %s",
-                        ctx->path, key, json_type_name(item));
-    int n = cJSON_GetArraySize(item);
-    if (n != 3)
-        return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s: expected 3 numbers (r, g, b), found %d",
-                        ctx->path, key, n);
-    int c = 0;
-    for (const cJSON *e = item->child; e; e = e->next, c++) {
-        char sub[160];
-        snprintf(sub, sizeof sub, "%s[%d]", key, c);
-        sam_status s = json_number(ctx, e, sub, check, &out[c]);
-        if (s != SAM_OK)
-            return s;
+    int duplicate;
+    const cJSON *bad = sam_json_bad_key(object, keys, count, &duplicate);
+    if (bad) {
+        char name_shown[SHOWN_SIZE], at[SAM_ERROR_MESSAGE_SIZE];
+        const char *name = duplicate ? bad->string : shown(bad->string, 64, name_shown);
+        sam_json_key_path(at, sizeof at, where, name);
+        return sam_json_fail(ctx, SAM_ERR_FORMAT, at, duplicate ? "duplicate key" : "unknown key");
     }
-    return SAM_OK;
-}
-
-/* Finds `key` among an object's members; unknown and duplicate keys are
- * errors. `keys` is a NULL-terminated list and `found` receives, per key,
- * the member or NULL. */
-static sam_status json_members(const json_ctx *ctx, const cJSON *object, const char *where,
-                               const char *const *keys, const cJSON **found)
-{
-    size_t nkeys = 0;
-    while (keys[nkeys])
-        nkeys++;
-    for (size_t k = 0; k < nkeys; k++)
-        found[k] = NULL;
-    for (const cJSON *m = object->child; m; m = m->next) {
-        const char *name = m->string ? m->string : "";
-        size_t k = 0;
-        while (k < nkeys && strcmp(keys[k], name) != 0)
-            k++;
-        char name_shown[SHOWN_SIZE];
-        if (k == nkeys)
-            return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s%s%s: unknown key", ctx->path, where,
-                            *where ? "." : "", shown(name, 64, name_shown));
-        if (found[k])
-            return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s%s%s: duplicate key", ctx->path,
-                            where, *where ? "." : "", name);
-        found[k] = m;
-    }
+    for (size_t k = 0; k < count; k++)
+        found[k] = cJSON_GetObjectItemCaseSensitive(object, keys[k]);
     return SAM_OK;
 }
 
 enum { KEY_TYPE, KEY_KIND, KEY_NAME, KEY_GAUSSIANS, KEY_SSP, KEY_SA, KEY_ETA, KEY_COUNT };
 
-static sam_status json_gaussians(const json_ctx *ctx, const cJSON *list, sam_profile *out)
+static sam_status json_gaussians(const sam_json_ctx *ctx, const cJSON *list, sam_profile *out)
 {
-    static const char *const keys[] = {"variance", "weight", NULL};
+    static const char *const keys[] = {"variance", "weight"};
     if (!cJSON_IsArray(list))
-        return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: gaussians: expected an array, found %s",
-                        ctx->path, json_type_name(list));
+        return sam_json_fail(ctx, SAM_ERR_FORMAT, "gaussians", "expected an array, found %s", sam_json_kind(list));
     int n = cJSON_GetArraySize(list);
     if (n < 1 || n > SAM_PROFILE_MAX_GAUSSIANS)
-        return sam_fail(ctx->err, SAM_ERR_FORMAT,
-                        "%s: gaussians: %d entries, expected 1..%d", ctx->path, n,
-                        SAM_PROFILE_MAX_GAUSSIANS);
+        return sam_json_fail(ctx, SAM_ERR_FORMAT, "gaussians", "%d entries, expected 1..%d", n,
+                             SAM_PROFILE_MAX_GAUSSIANS);
     float variance[SAM_PROFILE_MAX_GAUSSIANS], weight[SAM_PROFILE_MAX_GAUSSIANS][3];
     int i = 0;
     for (const cJSON *g = list->child; g; g = g->next, i++) {
         char where[64], key[96];
-        snprintf(where, sizeof where, "gaussians[%d]", i);
+        sam_json_index_path(where, sizeof where, "gaussians", i);
         if (!cJSON_IsObject(g))
-            return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s: expected an object, found %s",
-                            ctx->path, where, json_type_name(g));
+            return sam_json_fail(ctx, SAM_ERR_FORMAT, where, "expected an object, found %s", sam_json_kind(g));
         const cJSON *found[2];
-        sam_status s = json_members(ctx, g, where, keys, found);
+        sam_status s = json_members(ctx, g, where, keys, 2, found);
         if (s != SAM_OK)
             return s;
         for (int k = 0; k < 2; k++)
             if (!found[k])
-                return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s: missing key \"%s\"",
-                                ctx->path, where, keys[k]);
-        snprintf(key, sizeof key, "%s.variance", where);
-        s = json_number(ctx, found[0], key, sam_profile_check_variance, &variance[i]);
+                return sam_json_fail(ctx, SAM_ERR_FORMAT, where, "missing key \"%s\"", keys[k]);
+        s = sam_json_checked_number(ctx, found[0], sam_json_key_path(key, sizeof key, where, "variance"),
+                                    sam_profile_check_variance, &variance[i]);
         if (s != SAM_OK)
             return s;
-        snprintf(key, sizeof key, "%s.weight", where);
-        s = json_rgb(ctx, found[1], key, sam_profile_check_weight, weight[i]);
+        s = sam_json_checked_rgb(ctx, found[1], sam_json_key_path(key, sizeof key, where, "weight"),
+                                 sam_profile_check_weight, weight[i]);
         if (s != SAM_OK)
             return s;
     }
     sam_error inner;
     const float(*w)[3] = weight;
     if (sam_profile_gaussian_sum((uint32_t)n, variance, w, out, &inner) != SAM_OK)
-        return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s", ctx->path, inner.message);
+        return sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s", ctx->name, inner.message);
     return SAM_OK;
 }
 
 static sam_status load_json(const char *path, const char *text, size_t size, sam_profile *out,
                             sam_error *err)
 {
-    static const char *const keys[] = {"type", "kind", "name", "gaussians",
-                                       "sigma_s_prime", "sigma_a", "eta", NULL};
-    json_ctx ctx = {path, err};
+    static const char *const keys[KEY_COUNT] = {"type", "kind", "name", "gaussians",
+                                                "sigma_s_prime", "sigma_a", "eta"};
+    sam_json_ctx ctx = {path, err};
     const char *end = NULL;
     /* The length includes the NUL that sam_read_file appends, so cJSON's
      * "nothing after the value" check has a terminator to find. */
     cJSON *root = cJSON_ParseWithLengthOpts(text, size + 1, &end, 1);
     if (!root) {
         size_t at = (end && end >= text && end <= text + size) ? (size_t)(end - text) : size;
-        int line, column;
-        line_column(text, at, &line, &column);
+        size_t line, column;
+        sam_json_line_column(text, at, &line, &column);
         if (at >= size)
-            return sam_fail(err, SAM_ERR_FORMAT, "%s:%d:%d: JSON ends early (truncated?)", path,
+            return sam_fail(err, SAM_ERR_FORMAT, "%s:%zu:%zu: JSON ends early (truncated?)", path,
                             line, column);
         char near[SHOWN_SIZE];
-        return sam_fail(err, SAM_ERR_FORMAT, "%s:%d:%d: JSON syntax error near '%s'", path, line,
+        return sam_fail(err, SAM_ERR_FORMAT, "%s:%zu:%zu: JSON syntax error near '%s'", path, line,
                         column, shown(text + at, 16, near));
     }
     sam_status s = SAM_OK;
     const cJSON *found[KEY_COUNT];
     if (!cJSON_IsObject(root)) {
         s = sam_fail(err, SAM_ERR_FORMAT, "%s: expected a JSON object at the top level, found %s",
-                     path, json_type_name(root));
+                     path, sam_json_kind(root));
         goto done;
     }
-    s = json_members(&ctx, root, "", keys, found);
+    s = json_members(&ctx, root, "", keys, KEY_COUNT, found);
     if (s != SAM_OK)
         goto done;
     if (found[KEY_TYPE] && found[KEY_KIND]) {
@@ -251,16 +164,15 @@ static sam_status load_json(const char *path, const char *text, size_t size, sam
         goto done;
     }
     if (!cJSON_IsString(type)) {
-        s = sam_fail(err, SAM_ERR_FORMAT, "%s: %s: expected a string, found %s", path, type_key,
-                     json_type_name(type));
+        s = sam_json_fail(&ctx, SAM_ERR_FORMAT, type_key, "expected a string, found %s", sam_json_kind(type));
         goto done;
     }
     int dipole = strcmp(type->valuestring, "dipole") == 0;
     if (!dipole && strcmp(type->valuestring, "gaussians") != 0) {
         char type_shown[SHOWN_SIZE];
-        s = sam_fail(err, SAM_ERR_FORMAT,
-                     "%s: %s: \"%s\" is not a profile type (\"gaussians\" or \"dipole\")", path,
-                     type_key, shown(type->valuestring, 64, type_shown));
+        s = sam_json_fail(&ctx, SAM_ERR_FORMAT, type_key,
+                          "\"%s\" is not a profile type (\"gaussians\" or \"dipole\")",
+                          shown(type->valuestring, 64, type_shown));
         goto done;
     }
     /* Keys of the other kind would be silently ignored: refuse them. */
@@ -268,8 +180,7 @@ static sam_status load_json(const char *path, const char *text, size_t size, sam
     for (int k = 0; k < 3; k++) {
         int key = dipole_keys[k];
         if (found[key] && !dipole) {
-            s = sam_fail(err, SAM_ERR_FORMAT, "%s: %s: not allowed in a \"gaussians\" profile",
-                         path, keys[key]);
+            s = sam_json_fail(&ctx, SAM_ERR_FORMAT, keys[key], "not allowed in a \"gaussians\" profile");
             goto done;
         }
         if (!found[key] && dipole) {
@@ -279,8 +190,7 @@ static sam_status load_json(const char *path, const char *text, size_t size, sam
         }
     }
     if (dipole && found[KEY_GAUSSIANS]) {
-        s = sam_fail(err, SAM_ERR_FORMAT, "%s: gaussians: not allowed in a \"dipole\" profile",
-                     path);
+        s = sam_json_fail(&ctx, SAM_ERR_FORMAT, "gaussians", "not allowed in a \"dipole\" profile");
         goto done;
     }
     if (!dipole && !found[KEY_GAUSSIANS]) {
@@ -292,25 +202,23 @@ static sam_status load_json(const char *path, const char *text, size_t size, sam
     if (found[KEY_NAME]) {
         const cJSON *n = found[KEY_NAME];
         if (!cJSON_IsString(n)) {
-            s = sam_fail(err, SAM_ERR_FORMAT, "%s: name: expected a string, found %s", path,
-                         json_type_name(n));
+            s = sam_json_fail(&ctx, SAM_ERR_FORMAT, "name", "expected a string, found %s", sam_json_kind(n));
             goto done;
         }
         size_t len = strlen(n->valuestring);
         if (len < 1 || len > SAM_PROFILE_NAME_SIZE - 1) {
-            s = sam_fail(err, SAM_ERR_FORMAT, "%s: name: %zu bytes long, expected 1..%d", path,
-                         len, SAM_PROFILE_NAME_SIZE - 1);
+            s = sam_json_fail(&ctx, SAM_ERR_FORMAT, "name", "%zu bytes long, expected 1..%d", len,
+                              SAM_PROFILE_NAME_SIZE - 1);
             goto done;
         }
         replace_name(name, n->valuestring, len);
     }
     if (dipole) {
         float ssp[3], sa[3], eta;
-        if ((s = json_rgb(&ctx, found[KEY_SSP], "sigma_s_prime", sam_profile_check_sigma_s_prime,
-                          ssp)) != SAM_OK ||
-            (s = json_rgb(&ctx, found[KEY_SA], "sigma_a", sam_profile_check_sigma_a, sa)) !=
-                SAM_OK ||
-            (s = json_number(&ctx, found[KEY_ETA], "eta", sam_profile_check_eta, &eta)) != SAM_OK)
+        if ((s = sam_json_checked_rgb(&ctx, found[KEY_SSP], "sigma_s_prime", sam_profile_check_sigma_s_prime,
+                                      ssp)) != SAM_OK ||
+            (s = sam_json_checked_rgb(&ctx, found[KEY_SA], "sigma_a", sam_profile_check_sigma_a, sa)) != SAM_OK ||
+            (s = sam_json_checked_number(&ctx, found[KEY_ETA], "eta", sam_profile_check_eta, &eta)) != SAM_OK)
             goto done;
         sam_error inner;
         if (sam_profile_dipole(ssp, sa, eta, out, &inner) != SAM_OK) {

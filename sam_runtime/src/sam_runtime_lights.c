@@ -30,9 +30,9 @@ int sam_runtime_light_casts_cube(const sam_light *l)
 
 sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size_t count, sam_error *err)
 {
-    if (count > SAM_SCENE_MAX_LIGHTS || (count && !lights))
+    if (count > SAM_LIGHT_MAX_COUNT || (count && !lights))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: %zu lights (at most %d)", count,
-                        SAM_SCENE_MAX_LIGHTS);
+                        SAM_LIGHT_MAX_COUNT);
     uint32_t cubes = 0, flats = 0;
     for (size_t i = 0; i < count; ++i) {
         if (!lights[i].shadow)

@@ -107,8 +107,8 @@
 #define SAM_TRUTH_H
 
 #include "sam/sam_common.h"
+#include "sam/sam_light.h"
 #include "sam/sam_profile.h"
-#include "sam/sam_scene.h"
 
 #ifdef __cplusplus
 extern "C" {

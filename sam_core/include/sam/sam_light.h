@@ -44,7 +44,8 @@
  *    negative facing away from it. Such a source is better taken out of
  *    the map and added as a directional light.
  *
- * 3. Lights of sam_scene.h, irradiance at a point p with unit normal n
+ * 3. Lights (sam_light below; scene files describe them, sam_scene.h),
+ *    irradiance at a point p with unit normal n
  *    (clamp(x) = max(x, 0); color and intensity multiply every result):
  *    point:        l = pos - p, d = |l|:  E = clamp(n . l / d) / d^2
  *    spot:         as point, times falloff(c), c = dot(axis, -l / d):
@@ -83,11 +84,40 @@
 
 #include "sam/sam_common.h"
 #include "sam/sam_image.h"
-#include "sam/sam_scene.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Lights a scene (and the runtime) accepts. */
+#define SAM_LIGHT_MAX_COUNT 64
+#define SAM_AREA_LIGHT_MAX_VERTICES 8
+
+typedef enum sam_light_type {
+    SAM_LIGHT_POINT = 0,
+    SAM_LIGHT_SPOT = 1,
+    SAM_LIGHT_DIRECTIONAL = 2,
+    SAM_LIGHT_AREA = 3
+} sam_light_type;
+
+/* One light; plain data. Units and formulas: the overview (3, 4). */
+typedef struct sam_light {
+    sam_light_type type;
+    float color[3];  /* linear RGB, >= 0 */
+    float intensity; /* >= 0 */
+    int shadow;      /* 1: casts shadows */
+
+    float position[3];       /* point, spot (model units) */
+    float direction[3];      /* spot axis, directional: unit, the way light travels */
+    float inner_angle_deg;   /* spot: full intensity inside this half-angle */
+    float outer_angle_deg;   /* spot: no light outside this half-angle */
+
+    uint32_t vertex_count;                            /* area: 3..8 */
+    float vertices[SAM_AREA_LIGHT_MAX_VERTICES][3];   /* area: convex planar polygon */
+    float normal[3]; /* area: unit normal of the emitting side (derived from the winding) */
+    float area;      /* area: polygon area in model units^2 (derived) */
+    int two_sided;   /* area: 1 emits on both sides */
+} sam_light;
 
 /* SH basis constants (index k as above). */
 #define SAM_SH_C0 0.282094792f /* Y00 */

@@ -112,6 +112,9 @@
  *
  * A sam_scene is plain data. All its pointers are malloc'd and owned by the
  * scene; sam_scene_destroy frees them. Nothing here keeps global state.
+ * The light and rendering-choice types a scene holds belong to sam_light.h
+ * and sam_technique.h, which the runtime uses without the parser; this
+ * header includes both.
  */
 #ifndef SAM_SCENE_H
 #define SAM_SCENE_H
@@ -119,88 +122,23 @@
 #include "sam/sam_common.h"
 #include "sam/sam_deform.h"
 #include "sam/sam_image.h" /* sam_tonemap */
+#include "sam/sam_light.h"
 #include "sam/sam_profile.h"
+#include "sam/sam_technique.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define SAM_SCENE_MAX_LIGHTS 64
-#define SAM_AREA_LIGHT_MAX_VERTICES 8
+/* The light limit of sam_light.h, by the name scene code has used. */
+#define SAM_SCENE_MAX_LIGHTS SAM_LIGHT_MAX_COUNT
 #define SAM_SCENE_MAX_RESOLUTION 16384
-
-typedef enum sam_light_type {
-    SAM_LIGHT_POINT = 0,
-    SAM_LIGHT_SPOT = 1,
-    SAM_LIGHT_DIRECTIONAL = 2,
-    SAM_LIGHT_AREA = 3
-} sam_light_type;
-
-typedef struct sam_light {
-    sam_light_type type;
-    float color[3];  /* linear RGB, >= 0 */
-    float intensity; /* >= 0 */
-    int shadow;      /* 1: casts shadows */
-
-    float position[3];       /* point, spot (model units) */
-    float direction[3];      /* spot axis, directional: unit, the way light travels */
-    float inner_angle_deg;   /* spot: full intensity inside this half-angle */
-    float outer_angle_deg;   /* spot: no light outside this half-angle */
-
-    uint32_t vertex_count;                            /* area: 3..8 */
-    float vertices[SAM_AREA_LIGHT_MAX_VERTICES][3];   /* area: convex planar polygon */
-    float normal[3]; /* area: unit normal of the emitting side (derived from the winding) */
-    float area;      /* area: polygon area in model units^2 (derived) */
-    int two_sided;   /* area: 1 emits on both sides */
-} sam_light;
 
 typedef enum sam_scale_kind {
     SAM_SCALE_FROM_SAM = 0,    /* no "scale" key: the .sam's recorded scale applies */
     SAM_SCALE_MM_PER_UNIT = 1, /* scale_value millimetres per model unit */
     SAM_SCALE_SIZE_MM = 2      /* scale_value = bounding-box diagonal in millimetres */
 } sam_scale_kind;
-
-typedef enum sam_technique {
-    SAM_TECHNIQUE_SAM = 0,          /* spatial adjacency maps */
-    SAM_TECHNIQUE_NONE = 1,         /* no translucency through the object */
-    SAM_TECHNIQUE_TSM = 2,          /* d'Eon's translucent shadow maps */
-    SAM_TECHNIQUE_TRANSMITTANCE = 3 /* Jimenez's shadow-map transmittance */
-} sam_technique;
-
-typedef enum sam_diffusion {
-    SAM_DIFFUSION_SCREEN = 0,       /* separable screen-space blur */
-    SAM_DIFFUSION_TEXTURE = 1,      /* texture-space sum of Gaussians */
-    SAM_DIFFUSION_PREINTEGRATED = 2, /* Penner's pre-integrated lookup */
-    SAM_DIFFUSION_NONE = 3           /* no surface diffusion: per-pixel shading only */
-} sam_diffusion;
-
-/* The screen-space kernel's fit to the profile (sam_profile.h): the
- * energy-conserving separable fit of the 2D kernel (Jimenez eq. 2), each
- * channel's own 1D marginal (exact on straight edges), or eq. 1's width,
- * strength and falloff. */
-typedef enum sam_sss_kernel {
-    SAM_SSS_KERNEL_FIT2D = 0,
-    SAM_SSS_KERNEL_MARGINAL = 1,
-    SAM_SSS_KERNEL_EQ1 = 2
-} sam_sss_kernel;
-
-/* Settings of the surface-diffusion techniques. */
-typedef struct sam_diffusion_options {
-    sam_sss_kernel sss_kernel; /* screen space */
-    uint32_t sss_samples;      /* screen space: taps per pass, odd, 9..33 */
-    uint32_t atlas_size;       /* texture space: the atlas's (largest) side, 64..4096 */
-    int culled;                /* texture space: skip texels facing away past the silhouette by more than
-                                * max(15 degrees, 4 widest-Gaussian sigmas of surface at the vertex's curvature) */
-    int depth_sized;           /* texture space: atlas side from the object's distance */
-    int clipped;               /* texture space: skip texels outside the view frustum */
-    float texels_per_pixel;    /* depth-sized: atlas texels per screen pixel at the nearest point, > 0 */
-} sam_diffusion_options;
-
-/* The defaults: fit2d, 17 samples, a 1024 atlas, clipped on, culled and
- * depth-sized off (they change the picture: culling loses light diffusing
- * around a back-lit silhouette, a depth-sized atlas resamples it), 1 texel
- * per pixel. */
-void sam_diffusion_options_default(sam_diffusion_options *options);
 
 typedef struct sam_environment {
     char *map;          /* absolute path of the EXR, NULL when the scene has no environment */

@@ -54,10 +54,12 @@
 #ifndef SAM_RUNTIME_H
 #define SAM_RUNTIME_H
 
+#include "sam/sam_deform.h"
 #include "sam/sam_gl.h"
 #include "sam/sam_image.h"
+#include "sam/sam_light.h"
 #include "sam/sam_profile.h"
-#include "sam/sam_scene.h"
+#include "sam/sam_technique.h"
 #include "sam/samfile.h"
 
 #ifdef __cplusplus
@@ -208,7 +210,7 @@ sam_status sam_runtime_read_fan_areas(sam_runtime *rt, float *mm2, sam_error *er
  * normals at rest, of the pose's (computed on the GPU) once deformed. */
 sam_status sam_runtime_read_curvature(sam_runtime *rt, float *per_mm, sam_error *err);
 
-/* The lights of a scene (copied; `count` <= SAM_SCENE_MAX_LIGHTS). Lights
+/* The lights of a scene (copied; `count` <= SAM_LIGHT_MAX_COUNT). Lights
  * with `shadow` get a shadow map: a 512^2 cube of distances for point
  * lights and for area lights (seen from the polygon's centroid), a 1024^2
  * depth map with 4x4-texel PCF for spot and directional lights; at most 4

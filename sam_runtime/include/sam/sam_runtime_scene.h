@@ -9,6 +9,7 @@
 #define SAM_RUNTIME_SCENE_H
 
 #include "sam/sam_runtime.h"
+#include "sam/sam_scene.h"
 
 #ifdef __cplusplus
 extern "C" {
