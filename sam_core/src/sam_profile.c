@@ -233,26 +233,6 @@ sam_status sam_profile_gaussian_sum(uint32_t count, const float *variance, const
     return SAM_OK;
 }
 
-sam_status sam_profile_from_spec(const char *spec, sam_profile *out, sam_error *err)
-{
-    if (!spec || !out)
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "sam_profile_from_spec: NULL argument");
-    for (size_t i = 0; i < sam_profile_preset_count(); i++)
-        if (equal_ignoring_case(spec, sam_profile_preset_name(i)))
-            return sam_profile_preset(spec, out, err);
-    sam_error load_err;
-    sam_status s = sam_profile_load(spec, out, &load_err);
-    if (s == SAM_ERR_IO) {
-        /* Say both readings failed: a mistyped preset looks like a path. */
-        sam_error preset_err;
-        sam_profile_preset(spec, out, &preset_err);
-        return sam_fail(err, s, "%s; and %s", preset_err.message, load_err.message);
-    }
-    if (s != SAM_OK && err)
-        *err = load_err;
-    return s;
-}
-
 /* ---------------------------------------------------------------------- */
 /* Evaluation and energies                                                */
 

@@ -470,3 +470,25 @@ sam_status sam_profile_load(const char *path, sam_profile *out, sam_error *err)
         *out = parsed;
     return s;
 }
+
+/* Here rather than beside the presets so that the loader calls the
+ * constructors and nothing calls back into the loader. */
+sam_status sam_profile_from_spec(const char *spec, sam_profile *out, sam_error *err)
+{
+    if (!spec || !out)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "sam_profile_from_spec: NULL argument");
+    /* A preset's name wins: a file named like one needs a path ("./skin"). */
+    if (sam_profile_preset(spec, out, NULL) == SAM_OK)
+        return SAM_OK;
+    sam_error load_err;
+    sam_status s = sam_profile_load(spec, out, &load_err);
+    if (s == SAM_ERR_IO) {
+        /* Say both readings failed: a mistyped preset looks like a path. */
+        sam_error preset_err;
+        sam_profile_preset(spec, out, &preset_err);
+        return sam_fail(err, s, "%s; and %s", preset_err.message, load_err.message);
+    }
+    if (s != SAM_OK && err)
+        *err = load_err;
+    return s;
+}
