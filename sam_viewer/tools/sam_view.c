@@ -37,7 +37,7 @@ static void usage(FILE *out)
             "  --cache DIR          where built maps are kept (default $XDG_CACHE_HOME/sam_view or\n"
             "                       ~/.cache/sam_view)\n"
             "  --no-cache           build without reading or writing the cache\n"
-            "  --script FILE        timed key and mouse events (see README: sam_view)\n"
+            "  --script FILE        timed key and mouse events (see docs/viewer.md)\n"
             "  --fps F              a fixed clock: every frame advances time by 1/F, however long it\n"
             "                       took (frame-exact scripts and animation); default: the wall clock\n"
             "  -h, --help           this help\n"
