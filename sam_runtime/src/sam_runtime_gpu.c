@@ -98,6 +98,14 @@ void sam_runtime_set_box(sam_runtime *rt, const float lo[3], const float hi[3])
     memcpy(rt->box_hi, hi, 3 * sizeof(float));
 }
 
+void sam_runtime_texture_sampling(GLenum target, GLint filter)
+{
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
 GLuint sam_runtime_image_texture(const sam_image *image, GLsizei levels, int flip)
 {
     while (glGetError() != GL_NO_ERROR) {
@@ -111,10 +119,7 @@ GLuint sam_runtime_image_texture(const sam_image *image, GLsizei levels, int fli
     for (uint32_t y = 0; y < image->height; ++y)
         glTexSubImage2D(GL_TEXTURE_2D, 0, 0, (GLint)(flip ? image->height - 1 - y : y), (GLsizei)image->width, 1,
                         format, GL_FLOAT, image->pixels + (size_t)y * image->width * image->channels);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    sam_runtime_texture_sampling(GL_TEXTURE_2D, GL_LINEAR);
     if (glGetError() != GL_NO_ERROR) {
         glDeleteTextures(1, &tex);
         return 0;

@@ -36,6 +36,10 @@ void sam_runtime_set_profile_uniforms(GLuint program, const sam_profile *p);
  * far planes, depth-sized atlases): the box and the sphere around it. */
 void sam_runtime_set_box(sam_runtime *rt, const float lo[3], const float hi[3]);
 
+/* Sets the bound `target` texture's filters (min and mag) to `filter` and
+ * its S and T wrap modes to clamp-to-edge: every map the runtime samples. */
+void sam_runtime_texture_sampling(GLenum target, GLint filter);
+
 /* A new RGBA32F texture of `image` (3 or 4 channels; rows bottom-up when
  * `flip`: image rows run top-down, GL's and UV's v up), with `levels` mip
  * levels (the caller generates them); 0 when the GL could not store it. */

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sam_runtime_gpu.h"
 #include "sam_runtime_lights.h"
 #include "sam_runtime_shadows.h"
 
@@ -33,10 +34,7 @@ static GLuint shadow_texture(GLenum target, GLsizei size)
                          GL_DEPTH_COMPONENT, GL_FLOAT, NULL);
     else
         glTexImage2D(target, 0, GL_DEPTH_COMPONENT32F, size, size, 0, GL_DEPTH_COMPONENT, GL_FLOAT, NULL);
-    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    sam_runtime_texture_sampling(target, GL_LINEAR);
     glTexParameteri(target, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     glTexParameteri(target, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     glTexParameteri(target, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);

@@ -125,10 +125,7 @@ static GLuint tsm_texture(GLenum target, GLsizei side, GLsizei layers)
     glGenTextures(1, &tex);
     glBindTexture(target, tex);
     glTexStorage3D(target, 1, GL_RGBA32F, side, side, layers);
-    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    sam_runtime_texture_sampling(target, GL_NEAREST);
     return tex;
 }
 

@@ -54,10 +54,7 @@ static sam_status ensure_atlas(sam_runtime *rt, uint32_t side, sam_error *err)
         /* Read bilinearly: the sum by the mesh at its UVs, the levels by the
          * blur's taps between texels. */
         GLint filter = i == ATLAS_STRETCH ? GL_NEAREST : GL_LINEAR;
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        sam_runtime_texture_sampling(GL_TEXTURE_2D, filter);
     }
     if (glGetError() != GL_NO_ERROR) {
         release_maps(rt);
@@ -127,19 +124,13 @@ static sam_status ensure_levels(sam_runtime *rt, sam_error *err)
     glGenTextures(1, &rt->tsd.level_array);
     glBindTexture(GL_TEXTURE_2D_ARRAY, rt->tsd.level_array);
     glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F, side, side, count);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    sam_runtime_texture_sampling(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
     glGenTextures(count, rt->tsd.level_view);
     rt->tsd.level_count = rt->fit.count;
     for (GLsizei i = 0; i < count; ++i) {
         glTextureView(rt->tsd.level_view[i], GL_TEXTURE_2D, rt->tsd.level_array, GL_RGBA32F, 0, 1, (GLuint)i, 1);
         glBindTexture(GL_TEXTURE_2D, rt->tsd.level_view[i]);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        sam_runtime_texture_sampling(GL_TEXTURE_2D, GL_LINEAR);
     }
     if (glGetError() != GL_NO_ERROR) {
         release_maps(rt);
