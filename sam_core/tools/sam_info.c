@@ -96,19 +96,6 @@ static int info_mesh(const char *path, float mm_per_unit)
     return 0;
 }
 
-static void print_json_value(const cJSON *item)
-{
-    char *text = cJSON_PrintUnformatted(item);
-    if (!text)
-        return;
-    /* Strings print bare; objects and arrays as compact JSON. */
-    if (cJSON_IsString(item))
-        printf("%s", item->valuestring);
-    else
-        printf("%s", text);
-    cJSON_free(text);
-}
-
 static int info_sam(const char *path)
 {
     samfile_data d;
@@ -137,19 +124,7 @@ static int info_sam(const char *path)
         printf("  unknown chunks:    %u (skipped)\n", d.unknown_chunk_count);
     print_bounds(d.positions, d.vertex_count);
     print_range("fan area:", d.fan_area, d.vertex_count, " mm^2");
-    /* INFO is validated JSON; print every key so new build settings show up. */
-    cJSON *info = cJSON_Parse(d.info_json);
-    if (info) {
-        for (const cJSON *item = info->child; item; item = item->next) {
-            if (!strcmp(item->string, "vertex_count") || !strcmp(item->string, "triangle_count") ||
-                !strcmp(item->string, "samples_per_vertex"))
-                continue;
-            printf("  %-18s ", item->string);
-            print_json_value(item);
-            printf("\n");
-        }
-        cJSON_Delete(info);
-    }
+    samfile_info_print(&d, stdout);
     samfile_free(&d);
     return 0;
 }

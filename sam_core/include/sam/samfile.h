@@ -31,6 +31,8 @@
 #ifndef SAMFILE_H
 #define SAMFILE_H
 
+#include <stdio.h>
+
 #include "sam/sam_common.h"
 #include "sam/sam_profile.h"
 
@@ -138,6 +140,15 @@ typedef struct samfile_info {
  * valid one (the message names the field), SAM_ERR_OUT_OF_MEMORY.
  */
 sam_status samfile_info_read(const samfile_data *data, const char *name, samfile_info *out, sam_error *err);
+
+/*
+ * Prints every INFO key but the counts to `out`, one line each ("  key
+ * value": strings bare, objects and arrays as compact JSON), so a map's
+ * material, scale, build settings and source show up, new keys included.
+ * Prints nothing when INFO cannot be parsed (out of memory: a read has
+ * already validated it).
+ */
+void samfile_info_print(const samfile_data *data, FILE *out);
 
 #ifdef __cplusplus
 }

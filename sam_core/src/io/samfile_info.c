@@ -1,4 +1,6 @@
-/* The INFO chunk's fields that tools read back (samfile_info_read). */
+/* The INFO chunk read back: its fields (samfile_info_read) and its keys
+ * printed (samfile_info_print). INFO is parsed only here and, for the
+ * container's own checks, in samfile.c. */
 #include <stdio.h>
 #include <string.h>
 
@@ -36,4 +38,20 @@ sam_status samfile_info_read(const samfile_data *data, const char *name, samfile
     }
     cJSON_Delete(info);
     return st;
+}
+
+void samfile_info_print(const samfile_data *data, FILE *out)
+{
+    cJSON *info = cJSON_Parse(data->info_json);
+    if (!info)
+        return;
+    for (const cJSON *item = info->child; item; item = item->next) {
+        if (!strcmp(item->string, "vertex_count") || !strcmp(item->string, "triangle_count") ||
+            !strcmp(item->string, "samples_per_vertex"))
+            continue;
+        char *text = cJSON_IsString(item) ? NULL : cJSON_PrintUnformatted(item);
+        fprintf(out, "  %-18s %s\n", item->string, cJSON_IsString(item) ? item->valuestring : text ? text : "");
+        cJSON_free(text);
+    }
+    cJSON_Delete(info);
 }
