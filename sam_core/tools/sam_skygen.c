@@ -36,9 +36,10 @@ int main(int argc, char **argv)
     const char *kind_name = NULL, *out = NULL;
     long width = 1024;
     int force = 0;
+    static const char even_width[] = "an even integer in 8..16384";
     const sam_arg args[] = {
         {"-o", SAM_ARG_STRING, &out, .value = "OUT.exr", .required = 1},
-        {"--width", SAM_ARG_INT, &width, .lo = 8, .hi = 16384, .must = "an even integer in 8..16384"},
+        {"--width", SAM_ARG_INT, &width, .lo = 8, .hi = 16384, .must = even_width},
         {"--force", SAM_ARG_FLAG, .target = &force},
     };
     const sam_args_spec spec = {"sam_skygen", args, sizeof args / sizeof *args, &kind_name, 1, 1,
@@ -47,7 +48,7 @@ int main(int argc, char **argv)
     if (r != SAM_ARGS_OK)
         return r == SAM_ARGS_EXIT ? 0 : 2;
     if (width % 2)
-        return sam_args_fail("sam_skygen", "--width must be an even integer in 8..16384, got \"%ld\"", width);
+        return sam_args_fail("sam_skygen", "--width must be %s, got \"%ld\"", even_width, width);
     int kind;
     if (!strcmp(kind_name, "studio")) {
         kind = SAM_SKY_STUDIO;

@@ -16,8 +16,7 @@ sam_status sam_runtime_shadows_create(sam_runtime *rt, sam_error *err)
 
 void sam_runtime_shadows_destroy(sam_runtime *rt)
 {
-    if (rt->shadows.program)
-        glDeleteProgram(rt->shadows.program);
+    sam_runtime_delete_program(&rt->shadows.program);
     glDeleteFramebuffers(1, &rt->shadows.fbo);
     glDeleteTextures(MAX_CUBE_SHADOWS, rt->shadows.cube_tex);
     glDeleteTextures(MAX_FLAT_SHADOWS, rt->shadows.flat_tex);

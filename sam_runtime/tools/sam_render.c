@@ -61,6 +61,7 @@ int main(int argc, char **argv)
     static const char *const diffusions[] = {"screen", "texture", "preintegrated", "none", NULL};
     static const char *const kernels[] = {"fit2d", "marginal", "eq1", NULL};
     static const char *const tonemaps[] = {"aces", "reinhard", NULL};
+    static const char odd_taps[] = "an odd integer in 9..33";
     sam_app_render_job job;
     sam_app_render_defaults(&job);
     int frames_given = 0;
@@ -73,7 +74,7 @@ int main(int argc, char **argv)
         {"--tonemap", SAM_ARG_CHOICE, &job.tonemap, .choices = tonemaps},
         {"--exposure", SAM_ARG_FLOAT, &job.exposure, .lo = -32, .hi = 32, .must = "a number of EV in [-32, 32]"},
         {"--sss-kernel", SAM_ARG_CHOICE, &job.sss_kernel, .choices = kernels},
-        {"--sss-samples", SAM_ARG_INT, &job.sss_samples, .lo = 9, .hi = 33, .must = "an odd integer in 9..33"},
+        {"--sss-samples", SAM_ARG_INT, &job.sss_samples, .lo = 9, .hi = 33, .must = odd_taps},
         {"--atlas-size", SAM_ARG_INT, &job.atlas_size, .lo = 64, .hi = 4096},
         {"--optimize", SAM_ARG_STRING, &job.optimize, .value = "LIST"},
         {"--texels-per-pixel", SAM_ARG_FLOAT, &job.texels_per_pixel, .lo = 0, .hi = 16, .lo_open = 1},
@@ -89,7 +90,7 @@ int main(int argc, char **argv)
     if (r != SAM_ARGS_OK)
         return r == SAM_ARGS_EXIT ? 0 : 2;
     if (job.sss_samples && job.sss_samples % 2 == 0)
-        return sam_args_fail("sam_render", "--sss-samples must be an odd integer in 9..33, got \"%ld\"", job.sss_samples);
+        return sam_args_fail("sam_render", "--sss-samples must be %s, got \"%ld\"", odd_taps, job.sss_samples);
     if (job.optimize && !sam_app_render_parse_optimizations(job.optimize, NULL))
         return sam_args_fail("sam_render",
                              "--optimize takes culled, clipped, depth-sized (comma-separated) or none, got \"%s\"",
