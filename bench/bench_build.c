@@ -150,6 +150,7 @@ static void candidates_study(FILE *json)
         for (uint32_t n = 3; n <= 8; n += 5) {
             sam_build_settings s, rs;
             sam_build_default_settings(&s);
+        s.map = SAM_BUILD_MAP_FLAT;
             s.samples_per_vertex = n;
             rs = s;
             rs.seed = 999;
@@ -197,6 +198,7 @@ static void brute_study(FILE *json, int quick)
         float mm = 40.0f / (float)sam_mesh_diagonal(&mesh);
         sam_build_settings s, rs;
         sam_build_default_settings(&s);
+        s.map = SAM_BUILD_MAP_FLAT;
         rs = s;
         rs.seed = 999;
         sam_build_result fast, ref;
@@ -236,6 +238,7 @@ static void scaling_study(FILE *json, int quick)
         float mm = 120.0f / (float)sam_mesh_diagonal(&mesh);
         sam_build_settings s;
         sam_build_default_settings(&s);
+        s.map = SAM_BUILD_MAP_FLAT;
         run r = build(&mesh, &skin, mm, &s, 0, NULL);
         per[i] = 1e6 * r.seconds / mesh.topo_count;
         printf("%-10u %10.3f %14.2f\n", mesh.topo_count, r.seconds, per[i]);
@@ -350,6 +353,7 @@ static void large_study(FILE *json, const char *scans)
         }
         sam_build_settings s;
         sam_build_default_settings(&s);
+        s.map = SAM_BUILD_MAP_FLAT;
         run r = build(&mesh, &skin, mm, &s, 0, NULL);
         printf("%-40s %9u %9.2f %11.0fx\n", label, mesh.topo_count, r.seconds, 20.16 * 60 / r.seconds);
         fprintf(json, "    {\"mesh\": \"%s\", \"vertices\": %u, \"seconds\": %.3f, \"speedup_vs_paper\": %.1f}%s\n",
@@ -370,6 +374,7 @@ static void dragon_study(FILE *json, const char *scans)
     for (int i = 0; i < 2; ++i) {
         sam_build_settings s;
         sam_build_default_settings(&s);
+        s.map = SAM_BUILD_MAP_FLAT;
         run r = build(&mesh, &marble, sizes[i] / (float)sam_mesh_diagonal(&mesh), &s, 0, NULL);
         t[i] = r.seconds;
         printf("dragon %u vertices, marble, %3.0f mm: %.3f s, %llu candidates scored\n", mesh.topo_count, sizes[i],

@@ -24,12 +24,15 @@
 #define SAM_B_PRE_DIFFUSE 12  /* pre-integrated diffuse falloff table */
 #define SAM_B_PRE_PENUMBRA 13 /* pre-integrated penumbra table */
 #define SAM_B_UVS 14          /* vec2 per vertex */
-#define SAM_B_COUNT 15
+#define SAM_B_NODES 15        /* per tree node {vec4 centroid, area; vec4 L_d; vec4 mean normal} */
+#define SAM_B_NODE_CHILDREN 16 /* uvec2 per tree node: sample indices of its children */
+#define SAM_B_NODE_PARENTS 17 /* uint per vertex and node: its parent node, 0xFFFFFFFF for the root */
+#define SAM_B_COUNT 18
 
 /* Bound only by the passes that need them, after the shared ones. */
-#define SAM_B_REST_POSITIONS 15 /* the rest pose a posed K is carried from */
-#define SAM_B_BOUNDS 16         /* the posed box: 6 order-preserving uint keys */
-#define SAM_B_LIMIT 17          /* bindings a context must offer */
+#define SAM_B_REST_POSITIONS 18 /* the rest pose a posed K is carried from */
+#define SAM_B_BOUNDS 19         /* the posed box: 6 order-preserving uint keys */
+#define SAM_B_LIMIT 20          /* bindings a context must offer */
 
 /* The deform pass reads its inputs where the normals and samples usually
  * are: it writes positions only, and the normals pass runs after it. */

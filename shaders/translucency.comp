@@ -6,7 +6,11 @@
 // a sample that has left the back side (eq. 13-14 fail at the pose)
 // contributes 0: its K would add light through the front. It stays stored,
 // so it counts again when the pose brings it back (walk.comp replaces it
-// when it can).
+// when it can). A cut map's sample may be a tree node (index >=
+// u_vertex_count), read from the node pass's output as a vertex would be:
+// its centroid, area and L_d; posed, its K follows eq. 15 at the posed
+// centroid and it is skipped when its centroid and mean normal fail eq.
+// 13-14.
 #include "sam_bindings.h"
 #include "profile.glsl"
 
@@ -23,6 +27,10 @@ layout(std430, binding = SAM_B_SAMPLES) readonly buffer Samples { Sample samples
 layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_area[]; };
 layout(std430, binding = SAM_B_IRRADIANCE) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = SAM_B_TRANSLUCENCY) buffer Translucency { vec4 translucency[]; };
+struct Node {
+    vec4 centroid_area, ld, normal; // nodes.comp
+};
+layout(std430, binding = SAM_B_NODES) readonly buffer Nodes { Node nodes[]; };
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
 layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
@@ -56,17 +64,32 @@ void main()
         Sample s = samples[v * u_stride + k];
         if (s.index == 0xFFFFFFFFu)
             break;
+        vec3 q, m, L;
+        float area;
+        bool node = s.index >= u_vertex_count;
+        if (node) {
+            Node d = nodes[s.index - u_vertex_count];
+            q = d.centroid_area.xyz;
+            area = d.centroid_area.w;
+            L = d.ld.rgb;
+            m = d.normal.xyz;
+        } else {
+            q = positions[s.index].xyz;
+            area = fan_area[s.index];
+            L = irradiance[s.index].rgb;
+            m = normals[s.index].xyz;
+        }
 #ifdef SAM_POSED
-        if (!(dot(positions[s.index].xyz - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
+        if (!(dot(q - p, n) < 0.0 && dot(m, n) < 0.0))
             continue;
 #endif
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
-        sum += irradiance[s.index].rgb * posed_form_factor(v, s.index, vec3(s.kr, s.kg, s.kb));
-#else
-        float d = u_mm_per_unit * distance(positions[s.index].xyz, p);
-        vec3 K = vec3(s.kr, s.kg, s.kb) * fan_area[s.index] * profile_rd(d);
-        sum += irradiance[s.index].rgb * K;
+        if (!node) {
+            sum += L * posed_form_factor(v, s.index, vec3(s.kr, s.kg, s.kb));
+            continue;
+        }
 #endif
+        sum += L * (vec3(s.kr, s.kg, s.kb) * area * profile_rd(u_mm_per_unit * distance(q, p)));
     }
     // mix() may be x + (y - x) a, which with a = 1 leaves the history's last
     // bits in: a reset must not depend on what came before.

@@ -44,6 +44,7 @@ layout(std430, binding = SAM_B_SAMPLES) buffer Samples { Sample samples[]; };
 layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_area[]; };
 layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
 layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
+layout(std430, binding = SAM_B_NODE_PARENTS) readonly buffer Parents { uint parents[]; };
 
 uniform uint u_vertex_count;
 uniform uint u_stride;
@@ -58,6 +59,23 @@ bool back_side(uint i, vec3 p, vec3 n)
 }
 
 // The mean over R, G, B of K = K' F'_i R_d(|v_i - v_o|) (eq. 15).
+// A cut map's tree nodes stay as built: the walk moves vertex samples
+// only, and never onto a vertex that a node of the same cut already holds
+// (it would count twice).
+bool is_node(uint i)
+{
+    return i != NO_SAMPLE && i >= u_vertex_count;
+}
+
+bool under_cut_node(uint c)
+{
+    for (uint a = parents[c]; a != NO_SAMPLE; a = parents[u_vertex_count + a])
+        for (uint j = 0u; j < u_stride; ++j)
+            if (chosen[j].index == u_vertex_count + a)
+                return true;
+    return false;
+}
+
 float approximate_k(uint i, vec3 kprime, vec3 p)
 {
     vec3 k = kprime * fan_area[i] * profile_rd(u_mm_per_unit * distance(positions[i].xyz, p));
@@ -75,6 +93,7 @@ void main()
         chosen[k] = samples[base + k];
         uint i = chosen[k].index;
         score[k] = i == NO_SAMPLE ? -1.0
+                   : is_node(i)       ? 3.0e38
                    : back_side(i, p, n) ? approximate_k(i, vec3(chosen[k].kr, chosen[k].kg, chosen[k].kb), p)
                                         : 0.0;
     }
@@ -85,6 +104,8 @@ void main()
         Sample from = samples[base + k];
         if (from.index == NO_SAMPLE)
             break;
+        if (is_node(from.index))
+            continue;
         for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
             uint c = adjacency[a];
             uint worst = 0u;
@@ -94,7 +115,7 @@ void main()
                 if (score[j] < score[worst])
                     worst = j;
             }
-            if (taken || !back_side(c, p, n))
+            if (taken || !back_side(c, p, n) || under_cut_node(c))
                 continue;
             vec3 kp = vec3(1.0);
             float s = approximate_k(c, kp, p);

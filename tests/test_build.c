@@ -72,6 +72,7 @@ static void test_far_small_fans(void **state)
     assert_int_equal(sam_profile_preset("marble", &marble, NULL), SAM_OK);
     sam_build_settings s;
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     sam_build_context *ctx = context(&mesh, &marble, 1.0f, &s);
     uint32_t o = mesh.topo_of[0], i = mesh.topo_of[7];
     float k[3], e, rd[3];
@@ -101,6 +102,7 @@ static void test_constant_profile(void **state)
     assert_int_equal(sam_profile_gaussian_sum(1, &variance, weight, &flat, NULL), SAM_OK);
     sam_build_settings s;
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     sam_build_context *ctx = context(&mesh, &flat, 1.0f, &s);
     float rd0[3];
     sam_profile_eval(&flat, 0.0f, rd0);
@@ -126,6 +128,7 @@ static void test_self_form_factor_against_quadrature(void **state)
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_settings s;
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     sam_build_context *ctx = context(&mesh, &skin, 1.0f, &s);
     uint32_t o = mesh.topo_of[0];
     /* Quadrature points: each of the 12 half-quads (vertex, edge midpoint,
@@ -195,6 +198,7 @@ static double compare_with_reference(const char *label, const sam_mesh *mesh, co
 {
     sam_build_settings s;
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     s.samples_per_vertex = n;
     sam_build_context *ctx = context(mesh, profile, mm_per_unit, &s);
     sam_build_settings rs = s;
@@ -313,6 +317,7 @@ static void test_matches_reference_blobs(void **state)
     assert_int_equal(ncomp, 8);
     sam_build_settings s;
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     s.samples_per_vertex = n;
     sam_build_context *ctx = context(&mesh, &potato, mm, &s);
     sam_build_result r;
@@ -344,6 +349,7 @@ static void test_thin_slab(void **state)
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_settings s;
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     sam_build_context *ctx = context(&mesh, &skin, 1.0f, &s);
     sam_build_result r;
     assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, NULL), SAM_OK);
@@ -387,6 +393,7 @@ static void test_large_and_small_sphere(void **state)
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_settings s;
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     for (int big = 1; big >= 0; --big) {
         float diameter_mm = big ? 1000.0f : 6.0f;
         sam_build_context *ctx = context(&mesh, &skin, diameter_mm, &s);
@@ -417,6 +424,7 @@ static void test_bit_identical_for_any_thread_count(void **state)
     for (int t = 0; t < 3; ++t) {
         sam_build_settings s;
         sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
         s.threads = t + 1;
         sam_build_context *ctx = context(&mesh, &skin, 60.0f, &s);
         assert_int_equal(sam_build_run(ctx, NULL, NULL, &r[t], NULL), SAM_OK);
@@ -445,6 +453,7 @@ static void test_samfile_output(void **state)
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_settings s;
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     sam_build_context *ctx = context(&mesh, &skin, 60.0f, &s);
     sam_build_result r;
     sam_error err;
@@ -526,16 +535,18 @@ static void test_settings_and_cancel(void **state)
     (void)state;
     sam_build_settings s;
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     sam_error err;
     assert_int_equal(sam_build_check_settings(&s, 0.0f, &err), SAM_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(err.message, "got 0"));
     assert_int_equal(sam_build_check_settings(&s, NAN, &err), SAM_ERR_INVALID_ARGUMENT);
     assert_int_equal(sam_build_check_settings(&s, -2.0f, &err), SAM_ERR_INVALID_ARGUMENT);
-    s.samples_per_vertex = 0;
-    assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_ERR_INVALID_ARGUMENT);
-    assert_non_null(strstr(err.message, "1..64, got 0"));
+    s.samples_per_vertex = 0; /* the map's default */
+    assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_OK);
+    assert_int_equal(sam_build_samples(&s), SAM_BUILD_FLAT_DEFAULT_SAMPLES);
     s.samples_per_vertex = 65;
     assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "1..64 (0: default), got 65"));
     s.samples_per_vertex = 64;
     assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_OK);
     s.candidates = 10;
@@ -546,6 +557,7 @@ static void test_settings_and_cancel(void **state)
     sam_profile skin;
     assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
     sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
     sam_build_context *ctx = context(&mesh, &skin, 60.0f, &s);
     sam_build_result r;
     int calls = 0;

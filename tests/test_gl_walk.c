@@ -49,6 +49,8 @@ static int fixture_init(fixture *f, const char *shape, int resolution, double si
     if (sam_profile_preset("skin", &f->profile, &err) != SAM_OK)
         return -1;
     sam_build_default_settings(&f->settings);
+    /* The walk moves the flat map's vertex samples. */
+    f->settings.map = SAM_BUILD_MAP_FLAT;
     f->settings.samples_per_vertex = 4;
     f->settings.mc_samples = 4096;
     if (sam_build_samfile(&f->mesh, &f->profile, mm_per_unit, &f->settings, NULL, NULL, NULL, &f->sam, NULL,

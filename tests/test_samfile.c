@@ -444,9 +444,11 @@ static void test_header_errors(void **state)
     b.p[3] = 'G';
     expect_read_error(&b, SAM_ERR_FORMAT, "t.sam: not a .sam file: magic is \"SAMG\", expected \"SAMF\"");
     b.p[3] = 'F';
-    b.p[4] = 2;
+    b.p[4] = 3;
     expect_read_error(&b, SAM_ERR_UNSUPPORTED,
-                      "t.sam: version 2 is not supported (this build reads version 1)");
+                      "t.sam: version 3 is not supported (this build reads versions 1 to 2)");
+    b.p[4] = 2; /* a flat map's chunks without the tree version 2 needs */
+    expect_read_error(&b, SAM_ERR_FORMAT, "t.sam: chunk NODE is missing (required in version 2)");
     b.p[4] = 1;
     b.p[12] = 4;
     expect_read_error(&b, SAM_ERR_UNSUPPORTED, "t.sam: header flags 0x00000004 are not supported");

@@ -122,9 +122,10 @@ int sam_app_build_run(const sam_app_build_job *job, const char *tool)
         goto done;
     view.start = sam_seconds();
     if (!job->quiet)
-        fprintf(stderr, "%s: %s: %u vertices (%u welded), %s at %g mm per unit, N=%u, search radius %.3g mm\n", tool,
-                job->mesh_path, mesh.vertex_count, mesh.topo_count, profile.name, mm_per_unit,
-                job->settings.samples_per_vertex, sam_profile_radius(&profile, job->settings.radius_tolerance));
+        fprintf(stderr, "%s: %s: %u vertices (%u welded), %s at %g mm per unit, %s map, N=%u, search radius %.3g mm\n",
+                tool, job->mesh_path, mesh.vertex_count, mesh.topo_count, profile.name, mm_per_unit,
+                sam_build_map_name(job->settings.map),
+                sam_build_samples(&job->settings), sam_profile_radius(&profile, job->settings.radius_tolerance));
     if (sam_build_run(ctx, sam_app_progress_update, &view, &result, &err) != SAM_OK)
         goto done;
     sam_build_source source = {job->mesh_path, sha};

@@ -10,7 +10,9 @@
 void sam_build_default_settings(sam_build_settings *s)
 {
     memset(s, 0, sizeof *s);
-    s->samples_per_vertex = 3;
+    s->map = SAM_BUILD_MAP_CUT;
+    s->samples_per_vertex = 0;
+    s->cut_tolerance = 0.01f;
     s->mc_samples = 64;
     s->candidates = 0;
     s->radius_tolerance = 1e-4f;
@@ -18,20 +20,45 @@ void sam_build_default_settings(sam_build_settings *s)
     s->threads = 0;
 }
 
+const char *sam_build_map_name(sam_build_map map)
+{
+    switch (map) {
+    case SAM_BUILD_MAP_CUT:
+        return "cut";
+    case SAM_BUILD_MAP_FLAT:
+        return "flat";
+    case SAM_BUILD_MAP_FLAT_SCALED:
+        return "flat-scaled";
+    }
+    return "?";
+}
+
+uint32_t sam_build_samples(const sam_build_settings *s)
+{
+    if (s->samples_per_vertex)
+        return s->samples_per_vertex;
+    return s->map == SAM_BUILD_MAP_CUT ? SAM_BUILD_CUT_DEFAULT_SAMPLES : SAM_BUILD_FLAT_DEFAULT_SAMPLES;
+}
+
 sam_status sam_build_check_settings(const sam_build_settings *s, float mm_per_unit, sam_error *err)
 {
     if (!(mm_per_unit > 0) || !isfinite(mm_per_unit))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "scale: millimetres per unit must be a finite number > 0, got %g",
                         mm_per_unit);
-    if (s->samples_per_vertex < 1 || s->samples_per_vertex > SAMFILE_MAX_SAMPLES_PER_VERTEX)
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "samples per vertex must be in 1..%d, got %u",
+    if (s->samples_per_vertex > SAMFILE_MAX_SAMPLES_PER_VERTEX)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "samples per vertex must be in 1..%d (0: default), got %u",
                         SAMFILE_MAX_SAMPLES_PER_VERTEX, s->samples_per_vertex);
+    if (s->map != SAM_BUILD_MAP_CUT && s->map != SAM_BUILD_MAP_FLAT && s->map != SAM_BUILD_MAP_FLAT_SCALED)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "map kind must be cut, flat or flat-scaled, got %d",
+                        (int)s->map);
+    if (!(s->cut_tolerance > 0 && s->cut_tolerance < 1))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "cut tolerance must be in (0, 1), got %g", s->cut_tolerance);
     if (s->mc_samples < 4 || s->mc_samples > 65536)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "Monte Carlo samples must be in 4..65536, got %u", s->mc_samples);
-    if (s->candidates && (s->candidates < s->samples_per_vertex || s->candidates > 4096))
+    if (s->candidates && (s->candidates < sam_build_samples(s) || s->candidates > 4096))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
                         "candidates must be 0 (automatic) or in %u..4096 (at least the samples per vertex), got %u",
-                        s->samples_per_vertex, s->candidates);
+                        sam_build_samples(s), s->candidates);
     if (!(s->radius_tolerance > 0 && s->radius_tolerance < 0.5f))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "radius tolerance must be in (0, 0.5), got %g",
                         s->radius_tolerance);
@@ -107,7 +134,9 @@ sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *pro
     ctx->profile = profile;
     ctx->mm_per_unit = mm_per_unit;
     ctx->settings = *settings;
-    ctx->candidates = settings->candidates ? settings->candidates : settings->samples_per_vertex + 2;
+    /* The builders read N from here, resolved. */
+    ctx->settings.samples_per_vertex = sam_build_samples(settings);
+    ctx->candidates = settings->candidates ? settings->candidates : ctx->settings.samples_per_vertex + 2;
     const uint32_t n = mesh->topo_count, ring_total = mesh->ring_offsets[n];
     ctx->pos = malloc((size_t)n * 3 * sizeof *ctx->pos);
     ctx->fan_area = malloc((size_t)n * sizeof *ctx->fan_area);
@@ -192,8 +221,7 @@ int sam_build_is_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i)
     return d < 0.0f && c < 0.0f;
 }
 
-/* A uniform point on the reduced fan of topo vertex t. */
-static void sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3])
+void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3])
 {
     const sam_mesh *m = ctx->mesh;
     uint32_t begin = m->ring_offsets[t], end = m->ring_offsets[t + 1];
@@ -230,7 +258,7 @@ void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_
     sam_rng rng;
     sam_rng_seed(&rng, seed, o, RECEIVER_STREAM);
     for (uint32_t s = 0; s < samples; ++s)
-        sample_fan(ctx, o, &rng, points + 3 * (size_t)s);
+        sam_build_sample_fan(ctx, o, &rng, points + 3 * (size_t)s);
 }
 
 void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
@@ -242,7 +270,7 @@ void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const 
     for (uint32_t s = 0; s < samples; ++s) {
         float xi[3], rd[4];
         const float *xo = points + 3 * (size_t)s;
-        sample_fan(ctx, i, &rng, xi);
+        sam_build_sample_fan(ctx, i, &rng, xi);
         float dx = xi[0] - xo[0], dy = xi[1] - xo[1], dz = xi[2] - xo[2];
         sam_build_rd(ctx, sqrtf(dx * dx + dy * dy + dz * dz), rd);
         for (int c = 0; c < 3; ++c)

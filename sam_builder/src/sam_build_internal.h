@@ -3,6 +3,7 @@
 #define SAM_BUILD_INTERNAL_H
 
 #include "sam/sam_build.h"
+#include "sam/sam_rng.h"
 
 /* R_d sampled on a uniform grid in r: RGB and their mean, linear interpolation. */
 #define SAM_RD_TABLE_SIZE 16384
@@ -37,6 +38,9 @@ float sam_build_rd_mean(const sam_build_context *ctx, float r);
  * `threshold`; table_radius when none is. */
 float sam_build_bound_radius(const sam_build_context *ctx, float threshold);
 
+/* A uniform point on the reduced fan of topo vertex t, from `rng`. */
+void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3]);
+
 /* The `samples` points (3 floats each) on vertex o's reduced fan that every
  * form factor of o shares: drawn from the stream (seed, o), so each K_oi is
  * the same whichever caller computes it, and candidates of one vertex are
@@ -47,5 +51,75 @@ void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_
 /* K_oi from o's shared points and a stream (seed, o, i) for points on F'_i. */
 void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
                                 uint32_t samples, uint64_t seed, float k[3], float *k_error);
+
+/* ---- the cluster tree (sam_build_tree.c) */
+
+/* A node over the topo vertices perm[first, first + count): their boxes of
+ * positions (mm) and normals, summed fan area (mm^2) and area-weighted
+ * centroid (mm). child[c] < topo_count is a topo vertex, else node
+ * child[c] - topo_count. */
+typedef struct sam_build_node {
+    float lo[3], hi[3], nlo[3], nhi[3];
+    float centroid[3];
+    float area;
+    uint32_t first, count;
+    uint32_t child[2];
+} sam_build_node;
+
+/* A binary tree whose leaves are the topo vertices, nodes numbered level by
+ * level from the root (node 0). */
+typedef struct sam_build_tree {
+    uint32_t node_count;     /* topo_count - 1 */
+    sam_build_node *node;
+    uint32_t *perm;          /* topo_count: topo vertices in tree order; a node's members are a range */
+    double *area_prefix;     /* topo_count + 1: summed fan areas along perm */
+    uint32_t level_count;
+    uint32_t *level_offsets; /* level_count + 1 */
+} sam_build_tree;
+
+/* Builds the tree by median splits on the axis of widest extent among the
+ * positions and the normals scaled by the mesh's diagonal (so normals part
+ * first and whole back sides form early).
+ * Deterministic. A mesh of one vertex gets no nodes.
+ * Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_build_tree_create(const sam_build_context *ctx, sam_build_tree *tree, sam_error *err);
+void sam_build_tree_destroy(sam_build_tree *tree);
+
+/* The flat builder (sam_build_search.c): the N best vertices. */
+sam_status sam_build_run_flat(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
+                              sam_build_result *result, sam_error *err);
+
+/* The cut builder (sam_build_cut.c): tree and cuts. */
+sam_status sam_build_run_cut(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
+                             sam_build_result *result, sam_error *err);
+
+/* ---- what the flat and cut builders share (sam_build_search.c) */
+
+/* Allocates a result of `stride` samples per vertex, all empty. */
+sam_status sam_build_result_alloc(const sam_build_context *ctx, uint32_t stride, sam_build_result *r,
+                                  sam_error *err);
+
+/* Progress and cancellation shared by the worker threads. */
+typedef struct sam_build_progress {
+    sam_build_progress_fn fn;
+    void *user;
+    uint64_t done, total, next_report;
+    int cancelled;
+} sam_build_progress;
+
+/* Counts one finished vertex; thread 0 reports. Returns 1 when cancelled. */
+int sam_build_progress_step(sam_build_progress *p);
+
+/* Ends a parallel loop: the "cancelled" error (destroying the result), or
+ * the final report and the result's wall time since `start`. */
+sam_status sam_build_progress_finish(sam_build_progress *p, sam_build_result *r, double start, sam_error *err);
+
+/* OpenMP threads the settings ask for. */
+int sam_build_thread_count(const sam_build_context *ctx);
+
+/* K' of eq. 15 for a sample of K `k` at `distance` mm from the receiver,
+ * standing for `area` mm^2: against the exact profile, which is what the
+ * runtime evaluates. */
+void sam_build_kprime(const sam_build_context *ctx, const float k[3], float area, float distance, float out[3]);
 
 #endif

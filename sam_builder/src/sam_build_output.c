@@ -27,8 +27,14 @@ static cJSON *info_json(const sam_build_context *ctx, const sam_build_result *r,
     if (b) {
         cJSON_AddStringToObject(b, "name", "sam_build");
         cJSON_AddStringToObject(b, "version", SAM_BUILD_VERSION);
+        cJSON_AddStringToObject(b, "map", sam_build_map_name(ctx->settings.map));
+        if (ctx->settings.map == SAM_BUILD_MAP_CUT) {
+            cJSON_AddNumberToObject(b, "cut_tolerance", ctx->settings.cut_tolerance);
+            cJSON_AddNumberToObject(b, "tree_nodes", r->node_count);
+        } else {
+            cJSON_AddNumberToObject(b, "candidates", ctx->candidates);
+        }
         cJSON_AddNumberToObject(b, "mc_samples", ctx->settings.mc_samples);
-        cJSON_AddNumberToObject(b, "candidates", ctx->candidates);
         cJSON_AddNumberToObject(b, "radius_tolerance", ctx->settings.radius_tolerance);
         cJSON_AddNumberToObject(b, "search_radius_mm", ctx->search_radius);
         /* A u64 seed may not fit a JSON number exactly: keep its digits. */
@@ -47,6 +53,16 @@ static cJSON *info_json(const sam_build_context *ctx, const sam_build_result *r,
     }
     cJSON_AddNumberToObject(info, "build_seconds", r->seconds);
     return info;
+}
+
+/* A sample or child in topo numbering (samfile.h's layout with topo
+ * vertices) in render numbering: a topo vertex becomes its representative
+ * render vertex, node j becomes vertex_count + j. */
+static uint32_t render_index(const sam_mesh *m, uint32_t s)
+{
+    if (s == SAM_BUILD_NO_SAMPLE)
+        return SAMFILE_NO_SAMPLE;
+    return s < m->topo_count ? m->topo_rep[s] : m->vertex_count + (s - m->topo_count);
 }
 
 sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_result *r,
@@ -77,11 +93,18 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
     out->adjacency_offsets = malloc((nv + 1) * sizeof(uint32_t));
     out->adjacency_count = (uint32_t)adjacency;
     out->adjacency = malloc((adjacency ? adjacency : 1) * sizeof(uint32_t));
+    if (r->node_count) {
+        out->node_count = r->node_count;
+        out->level_count = r->level_count;
+        out->node_children = malloc((size_t)r->node_count * 2 * sizeof(uint32_t));
+        out->level_offsets = malloc(((size_t)r->level_count + 1) * sizeof(uint32_t));
+    }
     cJSON *info = info_json(ctx, r, source);
     out->info_json = info ? cJSON_PrintUnformatted(info) : NULL;
     cJSON_Delete(info);
     if (!out->positions || !out->normals || (m->uvs && !out->uvs) || !out->triangles || !out->sample_index ||
-        !out->sample_kprime || !out->fan_area || !out->adjacency_offsets || !out->adjacency || !out->info_json) {
+        !out->sample_kprime || !out->fan_area || !out->adjacency_offsets || !out->adjacency || !out->info_json ||
+        (r->node_count && (!out->node_children || !out->level_offsets))) {
         samfile_free(out);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory assembling the .sam of %zu vertices", nv);
     }
@@ -94,8 +117,7 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
     for (size_t v = 0; v < nv; ++v) {
         uint32_t t = m->topo_of[v];
         for (size_t k = 0; k < n; ++k) {
-            uint32_t s = r->sample[(size_t)t * n + k];
-            out->sample_index[v * n + k] = s == SAM_BUILD_NO_SAMPLE ? SAMFILE_NO_SAMPLE : m->topo_rep[s];
+            out->sample_index[v * n + k] = render_index(m, r->sample[(size_t)t * n + k]);
             memcpy(out->sample_kprime + 3 * (v * n + k), r->kprime + 3 * ((size_t)t * n + k), 3 * sizeof(float));
         }
         out->fan_area[v] = r->fan_area[t];
@@ -104,6 +126,10 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
             out->adjacency[a++] = m->topo_rep[m->ring[k]];
     }
     out->adjacency_offsets[nv] = (uint32_t)a;
+    for (size_t j = 0; j < 2 * (size_t)r->node_count; ++j)
+        out->node_children[j] = render_index(m, r->node_children[j]);
+    if (r->node_count)
+        memcpy(out->level_offsets, r->level_offsets, ((size_t)r->level_count + 1) * sizeof(uint32_t));
     return SAM_OK;
 }
 

@@ -11,10 +11,11 @@
 
 #include "sam_build_internal.h"
 
-static sam_status result_alloc(const sam_build_context *ctx, sam_build_result *r, sam_error *err)
+sam_status sam_build_result_alloc(const sam_build_context *ctx, uint32_t stride, sam_build_result *r,
+                                  sam_error *err)
 {
     memset(r, 0, sizeof *r);
-    size_t n = ctx->mesh->topo_count, s = ctx->settings.samples_per_vertex;
+    size_t n = ctx->mesh->topo_count, s = stride;
     r->topo_count = (uint32_t)n;
     r->samples_per_vertex = (uint32_t)s;
     r->sample = malloc(n * s * sizeof *r->sample);
@@ -42,7 +43,23 @@ void sam_build_result_destroy(sam_build_result *r)
     free(r->k_error);
     free(r->kprime);
     free(r->fan_area);
+    free(r->node_children);
+    free(r->level_offsets);
     memset(r, 0, sizeof *r);
+}
+
+void sam_build_kprime(const sam_build_context *ctx, const float k[3], float area, float distance, float out[3])
+{
+    float rd[3];
+    sam_profile_eval(ctx->profile, distance, rd);
+    for (int c = 0; c < 3; ++c) {
+        float denom = area * rd[c];
+        /* Where R_d underflows, K does too; K' = 1 is its far-field limit.
+         * A node's centroid can lie where one channel's R_d is denormal
+         * while a nearer member still carries a little K: the same limit
+         * keeps K' finite (and that channel's sliver of light is lost). */
+        out[c] = denom > 1e-30f ? k[c] / denom : 1.0f;
+    }
 }
 
 /* A scored candidate. Order: larger value first, then smaller index, so
@@ -161,15 +178,9 @@ static void choose(const sam_build_context *ctx, uint32_t o, scratch *sc, uint32
         r->sample[slot] = i;
         r->k_error[slot] = kerr[keep];
         const float *po = ctx->pos + 3 * (size_t)o, *pi = ctx->pos + 3 * (size_t)i;
-        float dx = pi[0] - po[0], dy = pi[1] - po[1], dz = pi[2] - po[2], rd[3];
-        /* K' against the exact profile, which is what the runtime evaluates. */
-        sam_profile_eval(ctx->profile, sqrtf(dx * dx + dy * dy + dz * dz), rd);
-        for (int c = 0; c < 3; ++c) {
-            r->k[3 * slot + c] = k[keep][c];
-            float denom = ctx->fan_area[i] * rd[c];
-            /* Where R_d underflows, K does too; K' = 1 is its far-field limit. */
-            r->kprime[3 * slot + c] = denom > 0 ? k[keep][c] / denom : 1.0f;
-        }
+        float dx = pi[0] - po[0], dy = pi[1] - po[1], dz = pi[2] - po[2];
+        memcpy(r->k + 3 * slot, k[keep], 3 * sizeof(float));
+        sam_build_kprime(ctx, k[keep], ctx->fan_area[i], sqrtf(dx * dx + dy * dy + dz * dz), r->kprime + 3 * slot);
     }
 }
 
@@ -391,16 +402,7 @@ static void embree_error(void *user, enum RTCError code, const char *str)
         snprintf(msg, 256, "Embree error %d: %s", (int)code, str ? str : "");
 }
 
-/* Progress and cancellation shared by the worker threads. */
-typedef struct progress_state {
-    sam_build_progress_fn fn;
-    void *user;
-    uint64_t done, total, next_report;
-    int cancelled;
-} progress_state;
-
-/* Counts one finished vertex; thread 0 reports. Returns 1 when cancelled. */
-static int progress_step(progress_state *p)
+int sam_build_progress_step(sam_build_progress *p)
 {
     uint64_t done;
 #pragma omp atomic capture
@@ -421,7 +423,7 @@ static int progress_step(progress_state *p)
     return 0;
 }
 
-static sam_status finish_progress(progress_state *p, sam_build_result *r, double start, sam_error *err)
+sam_status sam_build_progress_finish(sam_build_progress *p, sam_build_result *r, double start, sam_error *err)
 {
     if (p->cancelled) {
         sam_build_result_destroy(r);
@@ -434,7 +436,7 @@ static sam_status finish_progress(progress_state *p, sam_build_result *r, double
     return SAM_OK;
 }
 
-static int thread_count(const sam_build_context *ctx)
+int sam_build_thread_count(const sam_build_context *ctx)
 {
     return ctx->settings.threads > 0 ? ctx->settings.threads : omp_get_max_threads();
 }
@@ -453,10 +455,10 @@ static sam_status search_vertices(const sam_build_context *ctx, vertex_search_fn
                                   void *user, double start, sam_build_result *result, sam_error *err)
 {
     const uint32_t n = ctx->mesh->topo_count;
-    progress_state prog = {progress, user, 0, n, 0, 0};
+    sam_build_progress prog = {progress, user, 0, n, 0, 0};
     uint64_t seen = 0, form_factors = 0;
     int oom = 0;
-#pragma omp parallel num_threads(thread_count(ctx)) reduction(+ : seen, form_factors)
+#pragma omp parallel num_threads(sam_build_thread_count(ctx)) reduction(+ : seen, form_factors)
     {
         scratch sc;
         if (!scratch_alloc(&sc, capacity, ctx->settings.mc_samples)) {
@@ -467,7 +469,7 @@ static sam_status search_vertices(const sam_build_context *ctx, vertex_search_fn
         }
 #pragma omp for schedule(dynamic, chunk)
         for (uint32_t o = 0; o < n; ++o)
-            if (!progress_step(&prog))
+            if (!sam_build_progress_step(&prog))
                 search(ctx, data, o, &sc, result, &seen, &form_factors);
         scratch_free(&sc);
     }
@@ -477,7 +479,7 @@ static sam_status search_vertices(const sam_build_context *ctx, vertex_search_fn
     }
     result->candidates_seen = seen;
     result->form_factors = form_factors;
-    return finish_progress(&prog, result, start, err);
+    return sam_build_progress_finish(&prog, result, start, err);
 }
 
 /* What the fast search's vertices share: the clusters and their BVH. */
@@ -508,11 +510,11 @@ static void search_fast(const sam_build_context *ctx, const void *data, uint32_t
     *form_factors += q.heap.count;
 }
 
-sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
-                         sam_build_result *result, sam_error *err)
+sam_status sam_build_run_flat(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
+                              sam_build_result *result, sam_error *err)
 {
     double start = sam_seconds();
-    sam_status st = result_alloc(ctx, result, err);
+    sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, result, err);
     if (st != SAM_OK)
         return st;
     cluster_set clusters;
@@ -572,7 +574,7 @@ sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_
                                sam_build_result *result, sam_error *err)
 {
     double start = sam_seconds();
-    sam_status st = result_alloc(ctx, result, err);
+    sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, result, err);
     if (st != SAM_OK)
         return st;
     return search_vertices(ctx, search_all, NULL, ctx->mesh->topo_count, 16, "reference build", progress, user,

@@ -30,8 +30,10 @@ static void usage(FILE *out)
     fprintf(out,
             "usage: sam_build MESH -o OUT.sam --material NAME|FILE (--mm-per-unit X | --size-mm D) [options]\n"
             "\n"
-            "Precomputes a Spatial Adjacency Map: for every vertex, the back-side vertices that\n"
-            "transport the most light to it through the material, with Monte Carlo form factors.\n"
+            "Precomputes a Spatial Adjacency Map: for every vertex, N patches of its back side\n"
+            "that together carry the light transported to it through the material: a cut\n"
+            "through a tree of surface clusters, fine where the profile changes fast, coarse\n"
+            "where it does not, with Monte Carlo form factors.\n"
             "\n"
             "  MESH                .obj, .ply, .off or .stl\n"
             "  -o OUT.sam          output, written atomically; an existing file needs --force\n"
@@ -40,9 +42,13 @@ static void usage(FILE *out)
             "  --mm-per-unit X     millimetres per model unit, or\n"
             "  --size-mm D         the bounding-box diagonal in millimetres\n"
             "options:\n"
-            "  --samples N         back-side samples per vertex, 1..64 (default %u)\n"
+            "  --samples N         back-side samples per vertex, 1..64 (default %u; %u with --flat)\n"
+            "  --flat              the paper's map: the N back-side vertices with the most transport\n"
+            "  --flat-scaled       a baseline: the flat map with K scaled to the vertex's total transport\n"
+            "  --cut-tolerance E   refine a cut while a node's R_d bound exceeds E of its total\n"
+            "                      (default %g)\n"
             "  --mc-samples M      Monte Carlo point pairs per form factor, 4..65536 (default %u)\n"
-            "  --candidates C      cheap-ranked candidates given Monte Carlo per vertex (default N+2)\n"
+            "  --candidates C      flat maps: cheap-ranked candidates given Monte Carlo (default N+2)\n"
             "  --radius-tolerance E energy fraction of the profile left beyond the search radius\n"
             "                      (default %g)\n"
             "  --seed S            random seed (default %llu); the output is identical for any --threads\n"
@@ -53,8 +59,9 @@ static void usage(FILE *out)
             "\n"
             "examples:\n"
             "  sam_build meshes/ear.obj -o ear.sam --material skin --mm-per-unit 60\n"
-            "  sam_build head.ply -o head.sam --material skin --size-mm 250 --samples 10\n",
-            d.samples_per_vertex, d.mc_samples, d.radius_tolerance, (unsigned long long)d.seed);
+            "  sam_build head.ply -o head.sam --material skin --size-mm 250 --samples 16\n"
+            "  sam_build head.ply -o head_flat.sam --material skin --size-mm 250 --flat\n",
+            SAM_BUILD_CUT_DEFAULT_SAMPLES, SAM_BUILD_FLAT_DEFAULT_SAMPLES, d.cut_tolerance, d.mc_samples, d.radius_tolerance, (unsigned long long)d.seed);
 }
 
 int main(int argc, char **argv)
@@ -64,12 +71,16 @@ int main(int argc, char **argv)
     sam_build_settings *s = &job.settings;
     long samples = s->samples_per_vertex, mc = s->mc_samples, candidates = s->candidates, threads = s->threads;
     const char *seed = NULL;
+    int flat = 0, flat_scaled = 0;
     const sam_arg args[] = {
         {"-o", SAM_ARG_STRING, &job.out_path, .value = "OUT.sam", .required = 1},
         {"--material", SAM_ARG_STRING, &job.material, .value = "NAME|FILE", .required = 1},
         {"--mm-per-unit", SAM_ARG_FLOAT, &job.mm_per_unit, .lo = -FLT_MAX, .hi = FLT_MAX, .must = "a number"},
         {"--size-mm", SAM_ARG_FLOAT, &job.size_mm, .lo = -FLT_MAX, .hi = FLT_MAX, .must = "a number"},
-        {"--samples", SAM_ARG_INT, &samples, .lo = 0, .hi = 1000000},
+        {"--samples", SAM_ARG_INT, &samples, .lo = 1, .hi = 1000000},
+        {"--flat", SAM_ARG_FLAG, .target = &flat},
+        {"--flat-scaled", SAM_ARG_FLAG, .target = &flat_scaled},
+        {"--cut-tolerance", SAM_ARG_FLOAT, &s->cut_tolerance, .lo = -FLT_MAX, .hi = FLT_MAX, .must = "a number"},
         {"--mc-samples", SAM_ARG_INT, &mc, .lo = 0, .hi = 100000000},
         {"--candidates", SAM_ARG_INT, &candidates, .lo = 0, .hi = 1000000},
         {"--radius-tolerance", SAM_ARG_FLOAT, &s->radius_tolerance, .lo = -FLT_MAX, .hi = FLT_MAX, .must = "a number"},
@@ -89,6 +100,9 @@ int main(int argc, char **argv)
         if (!*seed || *end || errno || seed[0] == '-')
             return sam_args_fail("sam_build", "--seed must be a whole number in 0..%llu, got \"%s\"", ~0ull, seed);
     }
+    if (flat && flat_scaled)
+        return sam_args_fail("sam_build", "--flat and --flat-scaled exclude each other");
+    s->map = flat ? SAM_BUILD_MAP_FLAT : flat_scaled ? SAM_BUILD_MAP_FLAT_SCALED : SAM_BUILD_MAP_CUT;
     s->samples_per_vertex = (uint32_t)samples;
     s->mc_samples = (uint32_t)mc;
     s->candidates = (uint32_t)candidates;

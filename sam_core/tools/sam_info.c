@@ -113,7 +113,7 @@ static int info_sam(const char *path)
         valid += k;
         empty += k == 0;
     }
-    printf("%s: SAM v1\n", path);
+    printf("%s: SAM v%u\n", path, d.node_count ? 2u : 1u);
     printf("  vertices:          %u\n", d.vertex_count);
     printf("  triangles:         %u\n", d.triangle_count);
     printf("  samples per vertex: %u (mean %.2f used; %u vertices without back-side samples)\n", n,

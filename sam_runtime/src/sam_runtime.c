@@ -11,6 +11,7 @@
 #include "sam_runtime_gpu.h"
 #include "sam_runtime_irradiance.h"
 #include "sam_runtime_lights.h"
+#include "sam_runtime_nodes.h"
 #include "sam_runtime_shadows.h"
 #include "sam_runtime_surface.h"
 #include "sam_runtime_technique.h"
@@ -142,6 +143,7 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
         if ((st = sam_runtime_lights_create(rt, err)) == SAM_OK && (st = sam_runtime_surface_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_shadows_create(rt, err)) == SAM_OK && (st = sam_runtime_deform_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_irradiance_create(rt, err)) == SAM_OK &&
+            (st = sam_runtime_nodes_create(rt, sam, err)) == SAM_OK &&
             (st = sam_runtime_translucency_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_technique_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_tsd_create(rt, sam, err)) == SAM_OK &&
@@ -165,6 +167,7 @@ void sam_runtime_destroy(sam_runtime *rt)
     sam_runtime_tsd_destroy(rt);
     sam_runtime_technique_destroy(rt);
     sam_runtime_translucency_destroy(rt);
+    sam_runtime_nodes_destroy(rt);
     sam_runtime_irradiance_destroy(rt);
     sam_runtime_deform_destroy(rt);
     sam_runtime_shadows_destroy(rt);

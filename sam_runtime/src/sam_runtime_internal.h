@@ -120,6 +120,13 @@ typedef struct sam_rt_translucency {
     sam_posed_k posed_k;
 } sam_rt_translucency;
 
+/* sam_runtime_nodes.c */
+typedef struct sam_rt_nodes {
+    GLuint program;
+    uint32_t node_count, level_count;
+    uint32_t *level_offsets; /* level_count + 1, host copy for the dispatches */
+} sam_rt_nodes;
+
 /* sam_runtime_technique.c: transmittance's distance reads and the
  * translucent shadow maps (allocated on first use: layers 2k and 2k + 1 of
  * shadow map k hold (u, v, distance, 1) and (normal, 1)). */
@@ -183,6 +190,7 @@ struct sam_runtime {
     sam_rt_shadows shadows;
     sam_rt_deform deform;
     sam_rt_irradiance irradiance;
+    sam_rt_nodes nodes;
     sam_rt_translucency translucency;
     sam_rt_technique technique;
     sam_rt_diffusion diffusion;

@@ -2,6 +2,7 @@
 #include <math.h>
 
 #include "sam_runtime_gpu.h"
+#include "sam_runtime_nodes.h"
 #include "sam_runtime_translucency.h"
 
 sam_status sam_runtime_translucency_create(sam_runtime *rt, sam_error *err)
@@ -46,6 +47,7 @@ sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt,
 {
     if (!(dt >= 0) || !isfinite(dt))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: frame time must be finite and >= 0, got %g", dt);
+    sam_runtime_nodes_update(rt);
     int carried = rt->deform.posed && rt->translucency.posed_k == SAM_POSED_K_CARRIED;
     GLuint p = !rt->deform.posed ? rt->translucency.rest_program : carried ? rt->translucency.posed_program
                                                                : rt->translucency.eq15_program;

@@ -258,6 +258,7 @@ static sam_status run_sweep(const compare_state *s, const sam_truth_report_refer
         progress_state ps = {s->set->tool, what, -1};
         sam_build_settings settings;
         sam_build_default_settings(&settings);
+        settings.map = (sam_build_map)s->set->map;
         settings.samples_per_vertex = (uint32_t)n;
         samfile_data sam;
         sam_profile profile;
@@ -435,6 +436,7 @@ static sam_status setup(compare_state *s, sam_error *err)
     progress_state bps = {s->set->tool, "building the map", -1};
     sam_build_settings build;
     sam_build_default_settings(&build);
+    build.map = (sam_build_map)s->set->map;
     if (s->set->map_samples)
         build.samples_per_vertex = s->set->map_samples;
     sam_status st;

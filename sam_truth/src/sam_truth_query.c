@@ -3,6 +3,8 @@
  * radius. */
 #include "sam_truth_internal.h"
 
+#include "sam/sam_bounds.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -174,18 +176,10 @@ static void query(const sam_truth *t, const float p[3], const float n[3], float 
     while (top) {
         const uint32_t index = stack[--top];
         const truth_node *node = &t->nodes[index];
-        float near2 = 0, far2 = 0, dn_lo = 0, dn_hi = 0, nn_lo = 0, nn_hi = 0;
-        for (int k = 0; k < 3; ++k) {
-            float a = node->lo[k] - p[k], b = node->hi[k] - p[k];
-            float d = a > 0 ? a : b < 0 ? -b : 0.0f, e = fmaxf(fabsf(a), fabsf(b));
-            near2 += d * d;
-            far2 += e * e;
-            dn_lo += fminf(a * n[k], b * n[k]);
-            dn_hi += fmaxf(a * n[k], b * n[k]);
-            nn_lo += fminf(node->nlo[k] * n[k], node->nhi[k] * n[k]);
-            nn_hi += fmaxf(node->nlo[k] * n[k], node->nhi[k] * n[k]);
-        }
-        if (near2 >= radius2 || dn_lo >= 0 || nn_lo >= 0)
+        sam_bounds_range b;
+        sam_bounds_classify(node->lo, node->hi, node->nlo, node->nhi, p, n, &b);
+        const float near2 = b.near2, far2 = b.far2, dn_hi = b.dn_hi, nn_hi = b.nn_hi;
+        if (near2 >= radius2 || b.dn_lo >= 0 || b.nn_lo >= 0)
             continue;
         const int leaf = 2 * index + 2 >= t->node_count || node->end - node->begin <= LEAF_SAMPLES;
         if (!leaf && t->tolerance > 0 && dn_hi < 0 && nn_hi < 0 && far2 < radius2) {

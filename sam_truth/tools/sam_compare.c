@@ -47,7 +47,11 @@ static void usage(FILE *out)
             "                         1..64) and plot SAM's RMSE against N (needs a scene with a mesh\n"
             "                         and gnuplot)\n"
             "  --samples N            back-side samples per vertex of the map SAM is shown with\n"
-            "                         (default 3; a scene's prebuilt .sam keeps its own)\n"
+            "                         (default 8 for a cut map, 3 for a flat one; a scene's prebuilt\n"
+            "                         .sam keeps its own)\n"
+            "  --map cut|flat|flat-scaled\n"
+            "                         the kind of map built for SAM and its sweep (default cut; see\n"
+            "                         sam_build --help)\n"
             "  --truth-samples N      the ground truth's first surface sample count (default 65536);\n"
             "                         it is doubled (up to 6 times) until doubling changes SAM's\n"
             "                         PSNRs by under 0.5 dB\n"
@@ -163,6 +167,8 @@ static int parse_options(int argc, char **argv, options *o)
     set->tool = TOOL;
     set->truth_tolerance = 0.01f;
     set->fps = DEFAULT_FPS;
+    /* In sam_build_map's order. */
+    static const char *const map_names[] = {"cut", "flat", "flat-scaled", NULL};
     const sam_arg args[] = {
         {"--out", SAM_ARG_STRING, &set->out, .value = "DIR", .required = 1},
         {"--techniques", SAM_ARG_STRING, &techniques, .value = "LIST"},
@@ -171,6 +177,7 @@ static int parse_options(int argc, char **argv, options *o)
         {"--fps", SAM_ARG_FLOAT, &set->fps, .lo = 0, .hi = 1000, .lo_open = 1, .value = "F", .given = &fps_given},
         {"--truth-tolerance", SAM_ARG_FLOAT, &set->truth_tolerance, .lo = 0, .hi = 0.5, .hi_open = 1, .value = "X"},
         {"--samples", SAM_ARG_INT, &map_samples, .lo = 1, .hi = 64, .value = "N"},
+        {"--map", SAM_ARG_CHOICE, &set->map, .choices = map_names},
         {"--truth-samples", SAM_ARG_INT, &truth_samples, .lo = 1, .hi = 100000000, .value = "N"},
         {.name = "--force", .kind = SAM_ARG_FLAG, .target = &o->force},
     };

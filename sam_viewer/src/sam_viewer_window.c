@@ -283,8 +283,8 @@ static void refresh_readout(sam_viewer_window *w, double now)
     if (!sam_viewer_count_frame(&w->state, now))
         return;
     static const sam_pass passes[] = {SAM_PASS_IRRADIANCE, SAM_PASS_TRANSLUCENCY, SAM_PASS_SHADE,
-                                      SAM_PASS_DIFFUSION, SAM_PASS_DEFORM, SAM_PASS_WALK};
-    static const char *const names[] = {"irr", "transl", "shade", "diff", "deform", "walk"};
+                                      SAM_PASS_DIFFUSION, SAM_PASS_DEFORM, SAM_PASS_WALK, SAM_PASS_NODES};
+    static const char *const names[] = {"irr", "transl", "shade", "diff", "deform", "walk", "nodes"};
     char ms[160] = "";
     size_t len = 0;
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; ++i) {

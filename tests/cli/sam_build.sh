@@ -12,7 +12,19 @@ fail() { echo "FAIL: $*"; exit 1; }
 grep -q "wrote .*ear.sam" "$tmp/log.txt" || fail "no summary line: $(cat "$tmp/log.txt")"
 grep -q "100%" "$tmp/log.txt" || fail "no progress: $(cat "$tmp/log.txt")"
 out=$("$bin/sam_info" "$tmp/ear.sam") || fail "sam_info rejects the build"
-grep -q "samples per vertex: 3" <<<"$out" || fail "$out"
+grep -q "SAM v2" <<<"$out" || fail "the default map is not a cut map (version 2): $out"
+grep -q "samples per vertex: 8" <<<"$out" || fail "$out"
+# --flat: the paper's map, version 1; --flat-scaled likewise; not both.
+"$bin/sam_build" "$tmp/ear.obj" -o "$tmp/flat.sam" --material skin --mm-per-unit 60 --flat --quiet 2>/dev/null \
+  || fail "--flat"
+out=$("$bin/sam_info" "$tmp/flat.sam") || fail "sam_info rejects the flat build"
+grep -q "SAM v1" <<<"$out" && grep -q "samples per vertex: 3" <<<"$out" || fail "--flat: $out"
+"$bin/sam_build" "$tmp/ear.obj" -o "$tmp/scaled.sam" --material skin --mm-per-unit 60 --flat-scaled --quiet \
+  2>/dev/null || fail "--flat-scaled"
+grep -q '"map":"flat-scaled"' <<<"$("$bin/sam_info" "$tmp/scaled.sam")" || fail "--flat-scaled not recorded"
+if "$bin/sam_build" "$tmp/ear.obj" -o "$tmp/x.sam" --material skin --mm-per-unit 60 --flat --flat-scaled \
+  2> "$tmp/err.txt"; then fail "--flat --flat-scaled accepted"; fi
+grep -q "exclude each other" "$tmp/err.txt" || fail "$(cat "$tmp/err.txt")"
 grep -q '"sha256":"'"$(sha256sum "$tmp/ear.obj" | cut -c1-64)"'"' <<<"$out" || fail "INFO lacks the source hash: $out"
 
 # --size-mm, --samples and --threads; the data chunks match across thread counts.

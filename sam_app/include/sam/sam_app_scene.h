@@ -18,7 +18,7 @@ extern "C" {
  * scene naming a .sam has it read (checked against the scene's mesh, when it
  * names one too, by the SHA-256 INFO records), its material and scale taken
  * from the scene where given, else from INFO; a scene naming only a mesh has
- * its map built with `settings` (NULL: the defaults, N = 3) and the scene's
+ * its map built with `settings` (NULL: the defaults, a cut map) and the scene's
  * material and scale, `progress` as in sam_build_run (may be NULL), and
  * INFO recording the mesh's path and SHA-256 so a saved copy can be checked.
  * `*built_seconds` (may be NULL) gets the build time, 0 when read.

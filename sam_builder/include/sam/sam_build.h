@@ -23,6 +23,18 @@
  * and the vertex and candidate indices, so the result is bit-identical for
  * any thread count.
  *
+ * That is the flat map (SAM_BUILD_MAP_FLAT). By default the builder makes a
+ * cut map instead (sam_build_cut.c): a binary tree of surface clusters over
+ * the vertices (median splits on position and normal, sam_build_tree.c),
+ * and per vertex a cut through it, as lightcuts choose one: the nodes wholly
+ * on the back side, refined where R_d changes most across a node, until
+ * N nodes are held or the largest node's bound on its R_d variation
+ * is below `cut_tolerance` of the vertex's estimated total. Each node's K is
+ * eq. 11 summed over its members: stratified Monte Carlo over its area, a
+ * point on a member's fan and one on o's fan per sample. A node so stands
+ * for a patch of the back side, and a small fixed budget covers a vertex's
+ * whole back side within the profile's reach on any tessellation.
+ *
  * Lengths inside the builder are millimetres: positions are scaled by
  * mm_per_unit, fan areas are mm^2 and R_d is in mm^-2, so K is unitless.
  */
@@ -41,10 +53,22 @@ extern "C" {
 #define SAM_BUILD_VERSION "1.0"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
+/* Which map the builder makes. */
+typedef enum sam_build_map {
+    SAM_BUILD_MAP_CUT = 0,        /* a cluster tree and a cut per vertex (default; a version-2 .sam) */
+    SAM_BUILD_MAP_FLAT = 1,       /* the paper's N best back-side vertices (a version-1 .sam) */
+    SAM_BUILD_MAP_FLAT_SCALED = 2 /* the flat map with each vertex's K scaled so that its samples carry
+                                   * the vertex's total back-side transport (the cut's): a baseline */
+} sam_build_map;
+
 typedef struct sam_build_settings {
-    uint32_t samples_per_vertex; /* N, 1..64 (default 3) */
+    sam_build_map map;           /* default SAM_BUILD_MAP_CUT */
+    uint32_t samples_per_vertex; /* N, 0..64: samples stored per vertex, the cut's budget of nodes in a cut
+                                  * map; 0 (default) = the map's default: 8 for a cut, 3 for a flat map */
+    float cut_tolerance;         /* cut map: refine while a node's R_d bound exceeds this fraction of the
+                                  * vertex's total, in (0, 1) (default 0.01) */
     uint32_t mc_samples;         /* Monte Carlo point pairs per form factor, 4..65536 (default 64) */
-    uint32_t candidates;         /* C: cheap-ranked candidates that get Monte Carlo, >= N (0: N + 2) */
+    uint32_t candidates;         /* flat maps: cheap-ranked candidates that get Monte Carlo, >= N (0: N + 2) */
     float radius_tolerance;      /* energy fraction of R_d left beyond the search radius (default 1e-4) */
     uint64_t seed;               /* default 1 */
     int threads;                 /* OpenMP threads, 0 = all cores (does not change the result) */
@@ -55,15 +79,24 @@ typedef struct sam_build_settings {
  * then fails with SAM_ERR_INVALID_ARGUMENT "cancelled". May be NULL. */
 typedef int (*sam_build_progress_fn)(void *user, uint64_t done, uint64_t total);
 
-/* Per topological vertex results, N entries each, best first. */
+/* Per topological vertex results, N entries each, best first (N is the
+ * budget of a cut map). A sample s < topo_count is a topo vertex, s >=
+ * topo_count tree node s - topo_count. */
 typedef struct sam_build_result {
     uint32_t topo_count;
     uint32_t samples_per_vertex;
-    uint32_t *sample;    /* topo_count * N: topo vertex index or SAM_BUILD_NO_SAMPLE */
+    uint32_t *sample;    /* topo_count * N: topo vertex, topo_count + node, or SAM_BUILD_NO_SAMPLE */
     float *k;            /* topo_count * N * 3: Monte Carlo K (RGB), 0 for no sample */
     float *k_error;      /* topo_count * N: standard error of the mean-RGB K estimate */
     float *kprime;       /* topo_count * N * 3: K' of eq. 15 */
     float *fan_area;     /* topo_count: reduced fan area in mm^2 */
+    /* The cluster tree of a cut map (node_count 0 and NULL arrays in a flat
+     * one), in samfile.h's layout with topo vertices for render vertices:
+     * children < topo_count are topo vertices, else topo_count + node. */
+    uint32_t node_count;
+    uint32_t *node_children;  /* 2 * node_count */
+    uint32_t level_count;
+    uint32_t *level_offsets;  /* level_count + 1 */
     float search_radius_mm;   /* the initial query radius */
     uint64_t candidates_seen; /* back-side vertices the queries scored */
     uint64_t form_factors;    /* Monte Carlo estimates computed */
@@ -74,8 +107,18 @@ typedef struct sam_build_result {
  * areas, fan sampling tables and an R_d lookup table. Opaque. */
 typedef struct sam_build_context sam_build_context;
 
+#define SAM_BUILD_CUT_DEFAULT_SAMPLES 8u
+#define SAM_BUILD_FLAT_DEFAULT_SAMPLES 3u
+
 /* Fills the defaults documented on sam_build_settings. */
 void sam_build_default_settings(sam_build_settings *settings);
+
+/* "cut", "flat" or "flat-scaled" (sam_build's option names); "?" for
+ * another value. */
+const char *sam_build_map_name(sam_build_map map);
+
+/* N for `settings`: samples_per_vertex, or the map's default when it is 0. */
+uint32_t sam_build_samples(const sam_build_settings *settings);
 
 /* Checks settings and scale. Errors: SAM_ERR_INVALID_ARGUMENT naming the
  * setting and value. */
@@ -102,14 +145,16 @@ float sam_build_fan_area(const sam_build_context *ctx, uint32_t t);
 /* 1 when topo vertex i is on the back side of o (eq. 13-14). */
 int sam_build_is_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i);
 
-/* The fast builder. `result` is filled (caller destroys) on success.
+/* The builder of the map that settings.map names. `result` is filled
+ * (caller destroys) on success.
  * Errors: those of context creation, SAM_ERR_INVALID_ARGUMENT ("cancelled"
  * by the progress callback), SAM_ERR_UNSUPPORTED (Embree failure). */
 sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
                          sam_build_result *result, sam_error *err);
 
-/* The O(m^2) reference: Monte Carlo for every back-side vertex of every
- * vertex, keep the best N. For tests and benchmarks on small meshes. */
+/* The O(m^2) reference of the flat map: Monte Carlo for every back-side
+ * vertex of every vertex, keep the best N. For tests and benchmarks on
+ * small meshes. */
 sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
                                sam_build_result *result, sam_error *err);
 

@@ -1,14 +1,24 @@
 /*
- * samfile: the .sam container (version 1) that sam_build writes and the
- * runtime loads: a mesh extended, per vertex, with its n best back-side
- * samples and their form-factor constants K', plus the adjacency buffer.
+ * samfile: the .sam container that sam_build writes and the runtime loads:
+ * a mesh extended, per vertex, with n back-side samples and their
+ * form-factor constants K', plus the adjacency buffer.
+ *
+ * Version 1 (a flat map): each sample is one back-side vertex. Version 2 (a
+ * cut map) adds a binary tree of surface clusters over the vertices (chunks
+ * NODE and NLVL) and lets a sample name a tree node: sample index s < vc is
+ * vertex s, s >= vc is node s - vc, which stands for the vertices below it
+ * (its area is the sum of their fan areas, its position their area-weighted
+ * centroid, its L_d their area-weighted mean). A reader of this build loads
+ * both versions; the writer emits version 1 when there is no tree, so flat
+ * maps stay readable by version-1 readers.
  *
  * On disk (little-endian whatever the host): a 16-byte header
  *   "SAMF", u32 version = 1, u32 chunk count, u32 flags = 0,
  * then chunks, each
  *   4-byte tag, u32 reserved = 0, u64 payload length, payload,
  *   zero padding to a multiple of 8, u32 CRC-32 (zlib) of the payload, u32 0.
- * Required tags: INFO (JSON), POS , NRM , TRI , SIDX, SKPR, FANA, ADJO, ADJV;
+ * Required tags: INFO (JSON), POS , NRM , TRI , SIDX, SKPR, FANA, ADJO, ADJV,
+ * and in version 2 NODE and NLVL (which version 1 must not have);
  * optional: UV  . Unknown tags are skipped and counted; a duplicated tag is
  * an error. The writer emits the chunks in the order of samfile_data below,
  * so reading a file and writing it again gives the same bytes (less any
@@ -40,7 +50,8 @@
 extern "C" {
 #endif
 
-#define SAMFILE_VERSION 1u
+/* The newest version this build reads and writes; it reads version 1 too. */
+#define SAMFILE_VERSION 2u
 /* Pads a vertex's sample list when it has fewer than n back-side vertices. */
 #define SAMFILE_NO_SAMPLE 0xFFFFFFFFu
 #define SAMFILE_MAX_SAMPLES_PER_VERTEX 64u
@@ -66,13 +77,23 @@ typedef struct samfile_data {
     float *normals;               /* NRM : 3*vc, unit length (SAMFILE_NORMAL_TOLERANCE) */
     float *uvs;                   /* UV  : 2*vc, finite, or NULL */
     uint32_t *triangles;          /* TRI : 3*tc vertex indices < vc */
-    uint32_t *sample_index;       /* SIDX: n*vc, per vertex best first; each < vc or
-                                   * SAMFILE_NO_SAMPLE, and only pads after a pad */
+    uint32_t *sample_index;       /* SIDX: n*vc, per vertex best first; each < vc + node_count
+                                   * or SAMFILE_NO_SAMPLE, and only pads after a pad */
     float *sample_kprime;         /* SKPR: 3*n*vc, RGB K' per sample, finite, >= 0 */
     float *fan_area;              /* FANA: vc, reduced fan area in mm^2 at rest, finite, >= 0 */
     uint32_t *adjacency_offsets;  /* ADJO: vc+1, [0] = 0, non-decreasing, [vc] = adjacency_count */
     uint32_t adjacency_count;     /* entries in ADJV */
     uint32_t *adjacency;          /* ADJV: one-ring neighbours < vc, in fan order */
+    /* The cluster tree (version 2); node_count 0 and both arrays NULL in a
+     * flat map. Nodes are grouped by depth, root level first; a node's
+     * children come from deeper levels, so summing the levels deepest first
+     * has every child ready before its parent. */
+    uint32_t node_count;          /* NODE: tree nodes; vc + node_count < SAMFILE_NO_SAMPLE */
+    uint32_t *node_children;      /* NODE: 2*node_count sample indices: < vc a vertex, else a node of a
+                                   * level after its parent's */
+    uint32_t level_count;         /* NLVL: depth levels, >= 1 when node_count > 0 */
+    uint32_t *level_offsets;      /* NLVL: level_count+1 node indices: [0] = 0, increasing,
+                                   * [level_count] = node_count */
     uint32_t unknown_chunk_count; /* set by read: chunks with unknown tags skipped; ignored by write */
 } samfile_data;
 
@@ -105,7 +126,7 @@ sam_status samfile_read(const char *path, samfile_data *out, sam_error *err);
  * As samfile_read, from `size` bytes at `bytes` (not kept, not modified).
  * `name` labels messages; NULL gives "<memory>".
  * Errors: SAM_ERR_FORMAT (bad magic, truncation, framing, payload sizes),
- * SAM_ERR_UNSUPPORTED (version other than 1, nonzero header flags),
+ * SAM_ERR_UNSUPPORTED (version other than 1 and 2, nonzero header flags),
  * SAM_ERR_CORRUPT (CRC mismatch, counts that disagree between chunks,
  * values out of range), SAM_ERR_EMPTY (no vertices or no triangles),
  * SAM_ERR_OUT_OF_MEMORY.

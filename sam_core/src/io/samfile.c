@@ -2,6 +2,7 @@
 
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -155,11 +156,13 @@ static sam_status check_samples(const samfile_data *d, const char *name, sam_sta
                     first_pad = k;
                 continue;
             }
-            if (list[k] >= d->vertex_count)
-                return sam_fail(
-                    err, bad,
-                    "%s: chunk SIDX: sample index %u of vertex %zu is out of range (vertex_count %u)", name,
-                    (unsigned)list[k], v, (unsigned)d->vertex_count);
+            if (list[k] >= (uint64_t)d->vertex_count + d->node_count) {
+                char range[64];
+                snprintf(range, sizeof range, d->node_count ? " + node_count %u" : "", (unsigned)d->node_count);
+                return sam_fail(err, bad,
+                                "%s: chunk SIDX: sample index %u of vertex %zu is out of range (vertex_count %u%s)",
+                                name, (unsigned)list[k], v, (unsigned)d->vertex_count, range);
+            }
             if (first_pad < k)
                 return sam_fail(err, bad,
                                 "%s: chunk SIDX: vertex %zu has sample index %u in slot %zu after a pad "
@@ -200,6 +203,37 @@ static sam_status check_adjacency(const samfile_data *d, const char *name, sam_s
                                 name, (unsigned)d->adjacency[e], e, v, (unsigned)d->vertex_count);
     return SAM_OK;
 }
+/* The tree's rules (samfile.h): levels partition the nodes in order, and a
+ * node's children are vertices or nodes of deeper levels, which also rules
+ * out cycles. */
+static sam_status check_tree(const samfile_data *d, const char *name, sam_status bad, sam_error *err)
+{
+    const uint32_t vc = d->vertex_count, nc = d->node_count, *lo = d->level_offsets;
+    if ((uint64_t)vc + nc >= SAMFILE_NO_SAMPLE)
+        return sam_fail(err, bad, "%s: chunk NODE: %u vertices + %u nodes do not fit 32-bit sample indices", name,
+                        (unsigned)vc, (unsigned)nc);
+    if (d->level_count == 0 || lo[0] != 0 || lo[d->level_count] != nc)
+        return sam_fail(err, bad, "%s: chunk NLVL: %u levels from node %u to %u, expected from 0 to node_count %u",
+                        name, (unsigned)d->level_count, (unsigned)lo[0], (unsigned)lo[d->level_count],
+                        (unsigned)nc);
+    for (uint32_t l = 0; l < d->level_count; ++l) {
+        if (lo[l + 1] <= lo[l])
+            return sam_fail(err, bad, "%s: chunk NLVL: level %u is empty or reversed (nodes %u to %u)", name,
+                            (unsigned)l, (unsigned)lo[l], (unsigned)lo[l + 1]);
+        for (uint32_t j = lo[l]; j < lo[l + 1]; ++j)
+            for (int c = 0; c < 2; ++c) {
+                uint32_t child = d->node_children[2 * (size_t)j + c];
+                if (child >= vc && (child - vc >= nc || child - vc < lo[l + 1]))
+                    return sam_fail(err, bad,
+                                    "%s: chunk NODE: child %d of node %u (level %u) is %u, expected a vertex "
+                                    "< %u or a node of a deeper level (%u..%u)",
+                                    name, c, (unsigned)j, (unsigned)l, (unsigned)child, (unsigned)vc,
+                                    (unsigned)(vc + lo[l + 1]), (unsigned)(vc + nc - 1));
+            }
+    }
+    return SAM_OK;
+}
+
 sam_status samfile_check_data(const samfile_data *d, const char *name, sam_status bad, sam_error *err)
 {
     if (!d)
@@ -213,6 +247,8 @@ sam_status samfile_check_data(const samfile_data *d, const char *name, sam_statu
                           : !d->fan_area                          ? "FANA"
                           : !d->adjacency_offsets                 ? "ADJO"
                           : (!d->adjacency && d->adjacency_count) ? "ADJV"
+                          : (!d->node_children && d->node_count)  ? "NODE"
+                          : (!d->level_offsets && d->node_count)  ? "NLVL"
                                                                   : NULL;
     if (missing)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: chunk %s: array is NULL", name, missing);
@@ -258,6 +294,8 @@ sam_status samfile_check_data(const samfile_data *d, const char *name, sam_statu
             return sam_fail(err, bad,
                             "%s: chunk TRI : index %u of triangle %zu is out of range (vertex_count %u)",
                             name, (unsigned)d->triangles[i], i / 3, (unsigned)d->vertex_count);
+    if (d->node_count && (st = check_tree(d, name, bad, err)) != SAM_OK)
+        return st;
     if ((st = check_samples(d, name, bad, err)) != SAM_OK)
         return st;
     for (size_t v = 0; v < vc; ++v)
@@ -287,5 +325,7 @@ void samfile_free(samfile_data *data)
     free(data->fan_area);
     free(data->adjacency_offsets);
     free(data->adjacency);
+    free(data->node_children);
+    free(data->level_offsets);
     memset(data, 0, sizeof *data);
 }

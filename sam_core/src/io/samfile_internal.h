@@ -23,12 +23,14 @@ enum {
     TAG_FANA,
     TAG_ADJO,
     TAG_ADJV,
+    TAG_NODE,
+    TAG_NLVL,
     TAG_COUNT
 };
 
 /* Also the order in which the writer emits chunks. */
 static const char k_tags[TAG_COUNT][5] = {"INFO", "POS ", "NRM ", "UV  ", "TRI ",
-                                          "SIDX", "SKPR", "FANA", "ADJO", "ADJV"};
+                                          "SIDX", "SKPR", "FANA", "ADJO", "ADJV", "NODE", "NLVL"};
 
 /* ---- little-endian encoding, independent of the host's byte order ---- */
 

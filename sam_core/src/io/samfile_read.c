@@ -140,14 +140,14 @@ static sam_status parse_frame(const uint8_t *b, size_t size, const char *name, c
         return sam_fail(err, SAM_ERR_FORMAT, "%s: truncated: %zu bytes, shorter than the 16-byte header",
                         name, size);
     uint32_t version = get_u32(b + 4), declared = get_u32(b + 8), flags = get_u32(b + 12);
-    if (version != SAMFILE_VERSION)
+    if (version < 1 || version > SAMFILE_VERSION)
         return sam_fail(err, SAM_ERR_UNSUPPORTED,
-                        "%s: version %u is not supported (this build reads version %u)", name,
+                        "%s: version %u is not supported (this build reads versions 1 to %u)", name,
                         (unsigned)version, SAMFILE_VERSION);
     if (flags != 0)
         return sam_fail(err, SAM_ERR_UNSUPPORTED,
-                        "%s: header flags 0x%08x are not supported (version 1 has none)", name,
-                        (unsigned)flags);
+                        "%s: header flags 0x%08x are not supported (version %u has none)", name,
+                        (unsigned)flags, (unsigned)version);
 
     /* Every chunk takes at least 24 bytes, which bounds this allocation by
      * the input size whatever the header declares. */
@@ -194,9 +194,15 @@ static sam_status parse_frame(const uint8_t *b, size_t size, const char *name, c
     free(unknown);
     if (st != SAM_OK)
         return st;
-    for (int t = 0; t < TAG_COUNT; ++t)
-        if (t != TAG_UV && !known[t].payload)
-            return sam_fail(err, SAM_ERR_FORMAT, "%s: chunk %s is missing (required)", name, k_tags[t]);
+    for (int t = 0; t < TAG_COUNT; ++t) {
+        const int tree = t == TAG_NODE || t == TAG_NLVL;
+        if (t != TAG_UV && !known[t].payload && (!tree || version >= 2))
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: chunk %s is missing (required%s)", name, k_tags[t],
+                            tree ? " in version 2" : "");
+        if (tree && known[t].payload && version < 2)
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: chunk %s at offset %zu is not allowed in version %u", name,
+                            k_tags[t], known[t].offset, (unsigned)version);
+    }
     *unknown_count = (uint32_t)unknowns;
     return SAM_OK;
 }
@@ -279,6 +285,18 @@ static sam_status check_sizes(const chunk_ref *k, const char *name, samfile_data
     uint32_t adj;
     if ((st = record_count(&k[TAG_ADJV], TAG_ADJV, 4, "u32 per neighbour", &adj, name, err)) != SAM_OK)
         return st;
+    if (k[TAG_NODE].payload) {
+        uint32_t nodes, offsets;
+        if ((st = record_count(&k[TAG_NODE], TAG_NODE, 8, "u32 child pair per node", &nodes, name, err)) !=
+                SAM_OK ||
+            (st = record_count(&k[TAG_NLVL], TAG_NLVL, 4, "u32 per level offset", &offsets, name, err)) != SAM_OK)
+            return st;
+        if (nodes == 0 || offsets < 2)
+            return sam_fail(err, SAM_ERR_CORRUPT, "%s: chunk %s: empty tree (%u nodes, %u level offsets)", name,
+                            k_tags[nodes == 0 ? TAG_NODE : TAG_NLVL], (unsigned)nodes, (unsigned)offsets);
+        d->node_count = nodes;
+        d->level_count = offsets - 1;
+    }
     const chunk_ref *info = &k[TAG_INFO];
     const void *nul = memchr(info->payload, 0, info->length);
     if (nul)
@@ -336,6 +354,11 @@ static sam_status decode_arrays(const chunk_ref *k, const char *name, samfile_da
     if (d->adjacency_count) {
         d->adjacency = decode_u32(&k[TAG_ADJV]);
         failed |= !d->adjacency;
+    }
+    if (d->node_count) {
+        d->node_children = decode_u32(&k[TAG_NODE]);
+        d->level_offsets = decode_u32(&k[TAG_NLVL]);
+        failed |= !d->node_children || !d->level_offsets;
     }
     if (failed)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory decoding %u vertices", name,

@@ -105,8 +105,10 @@ sam_status samfile_write(const char *path, const samfile_data *data, sam_error *
     size_t vc = data->vertex_count, n = data->samples_per_vertex;
     uint8_t header[FILE_HEADER_SIZE];
     memcpy(header, "SAMF", 4);
-    put_u32(header + 4, SAMFILE_VERSION);
-    put_u32(header + 8, data->uvs ? TAG_COUNT : TAG_COUNT - 1);
+    /* A flat map stays version 1, readable by version-1 readers. */
+    const int tree = data->node_count > 0;
+    put_u32(header + 4, tree ? SAMFILE_VERSION : 1u);
+    put_u32(header + 8, TAG_COUNT - (data->uvs ? 0 : 1) - (tree ? 0 : 2));
     put_u32(header + 12, 0);
     write_raw(w, header, sizeof header);
 
@@ -125,6 +127,10 @@ sam_status samfile_write(const char *path, const samfile_data *data, sam_error *
     write_f32_chunk(w, TAG_FANA, data->fan_area, vc);
     write_u32_chunk(w, TAG_ADJO, data->adjacency_offsets, vc + 1);
     write_u32_chunk(w, TAG_ADJV, data->adjacency, data->adjacency_count);
+    if (tree) {
+        write_u32_chunk(w, TAG_NODE, data->node_children, 2 * (size_t)data->node_count);
+        write_u32_chunk(w, TAG_NLVL, data->level_offsets, (size_t)data->level_count + 1);
+    }
 
     int e = w->error;
     free(w);

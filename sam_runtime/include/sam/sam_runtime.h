@@ -20,8 +20,9 @@
  *                                   fan areas, curvature and bounds
  *     2. sam_runtime_walk           animated only: samples follow the pose
  *     3. sam_runtime_irradiance     shadow maps, then L_d at every vertex (eq. 4)
- *     4. sam_runtime_translucency   T at every vertex (eq. 12), smoothed in
- *                                   time (eq. 17-18)
+ *     4. sam_runtime_translucency   a cut map's node pass, then T at every
+ *                                   vertex (eq. 12), smoothed in time
+ *                                   (eq. 17-18)
  *     5. sam_runtime_render         shading and the chosen diffusion and
  *        (or _render_texture)       technique into an image
  *
@@ -44,7 +45,11 @@
  * formulas of sam_light_irradiance times rho_dt(N.L) = 1 - k (1 -
  * table(N.L, m)) (d'Eon Sec. 6; k = pi rho_s, the specular lobe's scale),
  * plus the environment's SH-9 irradiance times the cosine-weighted mean of
- * rho_dt over the hemisphere. The translucency pass evaluates eq. 12 with
+ * rho_dt over the hemisphere. A cut map's samples may name tree nodes
+ * (samfile.h): the node pass sums, level by level from the deepest, each
+ * node's area and its area-weighted centroid, normal and L_d from its two
+ * children, so a node is to the translucency pass what a vertex is. The
+ * translucency pass evaluates eq. 12 with
  * K = K' F'_b R_d(|v_b - v|) (eq. 15) at rest and, on a deformed pose, K
  * carried from rest (sam_runtime_set_posed_k), and smooths it in time
  * (eq. 17-18), T <- (1 - alpha) T_prev + alpha T, alpha = 1 - (1e-10)^dt.
@@ -75,6 +80,7 @@ typedef enum sam_pass {
     SAM_PASS_DIFFUSION,      /* screen or texture-space diffusion (atlas, blurs, sum; compose) */
     SAM_PASS_DEFORM,         /* deformed positions, then normals and fan areas */
     SAM_PASS_WALK,           /* the sample walk (Sec. 3.4) */
+    SAM_PASS_NODES,          /* a cut map's tree nodes: area, centroid, normal and L_d of each */
     SAM_PASS_COUNT
 } sam_pass;
 
@@ -90,6 +96,8 @@ void sam_runtime_destroy(sam_runtime *rt);
 uint32_t sam_runtime_vertex_count(const sam_runtime *rt);
 /* Samples stored per vertex (the .sam's n). */
 uint32_t sam_runtime_samples_per_vertex(const sam_runtime *rt);
+/* Tree nodes of a cut map (the .sam's node_count); 0 for a flat map. */
+uint32_t sam_runtime_node_count(const sam_runtime *rt);
 
 /* The deformers of an animated pose (copied; `count` <= SAM_DEFORM_MAX,
  * each as sam_scene accepts them), replacing any earlier ones; 0 removes
@@ -194,7 +202,8 @@ typedef enum sam_posed_k {
 sam_status sam_runtime_set_posed_k(sam_runtime *rt, sam_posed_k mode, sam_error *err);
 
 /* Reads the samples buffer: `index` (vertex_count * n, n =
- * sam_runtime_samples_per_vertex) the back-side vertex of each sample,
+ * sam_runtime_samples_per_vertex) the back-side vertex of each sample (or
+ * vertex_count + node for a cut map's tree node),
  * SAMFILE_NO_SAMPLE for an empty slot, and `kprime` (vertex_count * n * 3)
  * its K'. For tests and tools. Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_read_samples(sam_runtime *rt, uint32_t *index, float *kprime, sam_error *err);

@@ -1,0 +1,171 @@
+/* The cut map's cluster tree: median splits over positions and normals. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sam_build_internal.h"
+
+/* The split key of topo vertex t on axis 0..5: position, then normal times
+ * `normal_scale`. */
+static float key_of(const sam_build_context *ctx, uint32_t t, int axis, float normal_scale)
+{
+    return axis < 3 ? ctx->pos[3 * (size_t)t + axis] : normal_scale * ctx->mesh->topo_normals[3 * (size_t)t + axis - 3];
+}
+
+/* Reorders v[0, count) so that the element of rank `nth` by key is in
+ * place, smaller keys before it and larger after (quickselect; ties by
+ * vertex index, so the order is a function of the input alone). */
+static void select_nth(const sam_build_context *ctx, uint32_t *v, uint32_t count, uint32_t nth, int axis,
+                       float normal_scale)
+{
+    uint32_t begin = 0, end = count;
+    while (end - begin > 1) {
+        uint32_t pv = v[begin + (end - begin) / 2];
+        float pk = key_of(ctx, pv, axis, normal_scale);
+#define LESS(a, ka) ((ka) < pk || ((ka) == pk && (a) < pv))
+        uint32_t store = begin;
+        /* Lomuto partition around the pivot, pivot moved to the end first. */
+        uint32_t pi = begin + (end - begin) / 2, last = end - 1;
+        uint32_t tmp = v[pi];
+        v[pi] = v[last];
+        v[last] = tmp;
+        for (uint32_t i = begin; i < last; ++i) {
+            float ki = key_of(ctx, v[i], axis, normal_scale);
+            if (LESS(v[i], ki)) {
+                tmp = v[i];
+                v[i] = v[store];
+                v[store] = tmp;
+                ++store;
+            }
+        }
+#undef LESS
+        tmp = v[store];
+        v[store] = v[last];
+        v[last] = tmp;
+        if (nth == store)
+            return;
+        if (nth < store)
+            end = store;
+        else
+            begin = store + 1;
+    }
+}
+
+/* A node's boxes, area and centroid from its members. */
+static void node_bounds(const sam_build_context *ctx, const uint32_t *perm, sam_build_node *node)
+{
+    double centre[3] = {0, 0, 0}, area = 0;
+    for (int c = 0; c < 3; ++c) {
+        node->lo[c] = node->nlo[c] = INFINITY;
+        node->hi[c] = node->nhi[c] = -INFINITY;
+    }
+    for (uint32_t k = node->first; k < node->first + node->count; ++k) {
+        const uint32_t t = perm[k];
+        const float *p = ctx->pos + 3 * (size_t)t, *n = ctx->mesh->topo_normals + 3 * (size_t)t;
+        const double a = ctx->fan_area[t];
+        for (int c = 0; c < 3; ++c) {
+            node->lo[c] = fminf(node->lo[c], p[c]);
+            node->hi[c] = fmaxf(node->hi[c], p[c]);
+            node->nlo[c] = fminf(node->nlo[c], n[c]);
+            node->nhi[c] = fmaxf(node->nhi[c], n[c]);
+            centre[c] += a * p[c];
+        }
+        area += a;
+    }
+    node->area = (float)area;
+    for (int c = 0; c < 3; ++c)
+        node->centroid[c] = area > 0 ? (float)(centre[c] / area) : 0.5f * (node->lo[c] + node->hi[c]);
+}
+
+void sam_build_tree_destroy(sam_build_tree *tree)
+{
+    if (!tree)
+        return;
+    free(tree->node);
+    free(tree->perm);
+    free(tree->area_prefix);
+    free(tree->level_offsets);
+    memset(tree, 0, sizeof *tree);
+}
+
+sam_status sam_build_tree_create(const sam_build_context *ctx, sam_build_tree *tree, sam_error *err)
+{
+    memset(tree, 0, sizeof *tree);
+    const uint32_t n = ctx->mesh->topo_count;
+    const uint32_t nodes = n > 1 ? n - 1 : 0;
+    tree->node = malloc((nodes ? nodes : 1) * sizeof *tree->node);
+    tree->perm = malloc((size_t)n * sizeof *tree->perm);
+    tree->area_prefix = malloc(((size_t)n + 1) * sizeof *tree->area_prefix);
+    uint32_t *depth = malloc((nodes ? nodes : 1) * sizeof *depth);
+    if (!tree->node || !tree->perm || !tree->area_prefix || !depth) {
+        free(depth);
+        sam_build_tree_destroy(tree);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for the cluster tree of %u vertices", n);
+    }
+    for (uint32_t t = 0; t < n; ++t)
+        tree->perm[t] = t;
+    /* Normals weigh as much as the whole mesh's extent: a node splits by
+     * normal before position whenever its normals spread much, so the
+     * front and back of thin parts part early and whole back sides form. */
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t t = 0; t < n; ++t)
+        for (int c = 0; c < 3; ++c) {
+            lo[c] = fminf(lo[c], ctx->pos[3 * (size_t)t + c]);
+            hi[c] = fmaxf(hi[c], ctx->pos[3 * (size_t)t + c]);
+        }
+    const float normal_scale = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                     (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    uint32_t count = 0;
+    if (nodes) {
+        tree->node[0].first = 0;
+        tree->node[0].count = n;
+        depth[0] = 0;
+        count = 1;
+    }
+    /* Breadth first: a node's children are appended after every node of its
+     * level, so the numbering is level by level. */
+    for (uint32_t j = 0; j < count; ++j) {
+        sam_build_node *node = &tree->node[j];
+        node_bounds(ctx, tree->perm, node);
+        int axis = 0;
+        float widest = -1;
+        for (int a = 0; a < 6; ++a) {
+            float extent = a < 3 ? node->hi[a] - node->lo[a] : normal_scale * (node->nhi[a - 3] - node->nlo[a - 3]);
+            if (extent > widest)
+                widest = extent, axis = a;
+        }
+        const uint32_t half = node->count / 2;
+        select_nth(ctx, tree->perm + node->first, node->count, half, axis, normal_scale);
+        const uint32_t part_first[2] = {node->first, node->first + half}, part_count[2] = {half, node->count - half};
+        for (int c = 0; c < 2; ++c) {
+            if (part_count[c] == 1) {
+                node->child[c] = tree->perm[part_first[c]];
+                continue;
+            }
+            sam_build_node *child = &tree->node[count];
+            child->first = part_first[c];
+            child->count = part_count[c];
+            depth[count] = depth[j] + 1;
+            node->child[c] = n + count++;
+        }
+    }
+    tree->node_count = count;
+    tree->area_prefix[0] = 0;
+    for (uint32_t k = 0; k < n; ++k)
+        tree->area_prefix[k + 1] = tree->area_prefix[k] + ctx->fan_area[tree->perm[k]];
+    tree->level_count = count ? depth[count - 1] + 1 : 0;
+    tree->level_offsets = malloc(((size_t)tree->level_count + 1) * sizeof *tree->level_offsets);
+    if (!tree->level_offsets) {
+        free(depth);
+        sam_build_tree_destroy(tree);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for the cluster tree of %u vertices", n);
+    }
+    /* Depths never fall along the numbering and rise by one at a time. */
+    tree->level_offsets[0] = 0;
+    for (uint32_t j = 0, l = 0; j < count; ++j)
+        while (depth[j] > l)
+            tree->level_offsets[++l] = j;
+    tree->level_offsets[tree->level_count] = count;
+    free(depth);
+    return SAM_OK;
+}

@@ -1,0 +1,72 @@
+/* The node pass (sam_runtime_nodes.h). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "sam_runtime_gpu.h"
+#include "sam_runtime_nodes.h"
+
+sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sam_error *err)
+{
+    sam_rt_nodes *t = &rt->nodes;
+    const size_t nc = sam->node_count, total = (size_t)sam->vertex_count + nc;
+    t->node_count = sam->node_count;
+    /* A flat map binds one zeroed node so every buffer exists. */
+    float *zero = calloc((nc ? nc : 1) * 12, sizeof *zero);
+    uint32_t *parent = malloc(total * sizeof *parent);
+    t->level_count = sam->level_count;
+    t->level_offsets = malloc(((size_t)sam->level_count + 1) * sizeof *t->level_offsets);
+    if (!zero || !parent || !t->level_offsets) {
+        free(zero);
+        free(parent);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for the tree of %zu nodes", nc);
+    }
+    if (nc)
+        memcpy(t->level_offsets, sam->level_offsets, ((size_t)sam->level_count + 1) * sizeof *t->level_offsets);
+    for (size_t i = 0; i < total; ++i)
+        parent[i] = SAMFILE_NO_SAMPLE;
+    for (size_t j = 0; j < 2 * nc; ++j)
+        parent[sam->node_children[j]] = (uint32_t)(j / 2);
+    const uint32_t none[2] = {SAMFILE_NO_SAMPLE, SAMFILE_NO_SAMPLE};
+    sam_status st;
+    if ((st = sam_runtime_upload(rt, SAM_B_NODES, zero, (nc ? nc : 1) * 12 * sizeof(float), err)) == SAM_OK &&
+        (st = sam_runtime_upload(rt, SAM_B_NODE_CHILDREN, nc ? (const void *)sam->node_children : none,
+                                 (nc ? nc : 1) * 2 * sizeof(uint32_t), err)) == SAM_OK &&
+        (st = sam_runtime_upload(rt, SAM_B_NODE_PARENTS, parent, total * sizeof(uint32_t), err)) == SAM_OK)
+        st = sam_gl_compute_program("nodes.comp", NULL, &t->program, err);
+    free(zero);
+    free(parent);
+    return st;
+}
+
+void sam_runtime_nodes_destroy(sam_runtime *rt)
+{
+    sam_runtime_delete_program(&rt->nodes.program);
+    free(rt->nodes.level_offsets);
+    rt->nodes.level_offsets = NULL;
+}
+
+uint32_t sam_runtime_node_count(const sam_runtime *rt)
+{
+    return rt->nodes.node_count;
+}
+
+void sam_runtime_nodes_update(sam_runtime *rt)
+{
+    const sam_rt_nodes *t = &rt->nodes;
+    if (!t->node_count)
+        return;
+    GLuint p = t->program;
+    glUseProgram(p);
+    glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
+    GLint first = glGetUniformLocation(p, "u_first"), count = glGetUniformLocation(p, "u_count");
+    sam_runtime_bind_buffers(rt);
+    sam_runtime_begin_timer(rt, SAM_PASS_NODES);
+    for (uint32_t l = t->level_count; l-- > 0;) {
+        const uint32_t n = t->level_offsets[l + 1] - t->level_offsets[l];
+        glUniform1ui(first, t->level_offsets[l]);
+        glUniform1ui(count, n);
+        glDispatchCompute((n + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    sam_runtime_end_timer(rt, SAM_PASS_NODES);
+}
