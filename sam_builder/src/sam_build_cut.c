@@ -21,7 +21,7 @@ typedef struct cut_entry {
 } cut_entry;
 
 /* The working cut (stored and mixed entries) is at most this times N. */
-#define CUT_WORK_FACTOR 4u
+#define CUT_WORK_FACTOR 16u
 
 /* Classifies `id` for receiver o. Returns 0 when no member can contribute
  * (all in front, all facing o's way, or all beyond the search radius). */
@@ -69,8 +69,9 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
  * changes by a ratio of at most `flat_ratio` = exp(sqrt(8 tol)) counts as
  * one point at its centroid, F R_d(|c - x_o|), where every channel's does (the error of evaluating a
  * falloff at the mean distance is second order: about tol of that part);
- * a member reached on the way gets the fans' Monte Carlo form factor, as in
- * a flat map, and the standard errors add in quadrature. Deterministic but
+ * so does a member whose R_d is flat across its fan; a nearer member gets
+ * the fans' Monte Carlo form factor, as in a flat map, and the standard
+ * errors add in quadrature. Deterministic but
  * for those members, so neighbouring vertices get smoothly varying K. */
 static void node_form_factor(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o,
                              const float *points, uint32_t j, float flat_ratio, float k[3], float *k_error)
@@ -84,8 +85,26 @@ static void node_form_factor(const sam_build_context *ctx, const sam_build_tree 
     while (top) {
         const uint32_t id = stack[--top];
         if (id < n) {
-            float kv[3], ev;
-            sam_build_form_factor_from(ctx, o, points, id, ctx->settings.mc_samples, ctx->settings.seed, kv, &ev);
+            /* A member whose fan R_d hardly changes across (its fan's
+             * radius taken as sqrt(F')) takes the point form too; only the
+             * near ones need the fans' Monte Carlo. */
+            const float *q = ctx->pos + 3 * (size_t)id, area = ctx->fan_area[id], r = sqrtf(area);
+            float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2], d = sqrtf(dx * dx + dy * dy + dz * dz);
+            float r_near[4], r_far[4];
+            sam_build_rd(ctx, fmaxf(d - r, 0.0f), r_near);
+            sam_build_rd(ctx, d + r, r_far);
+            int flat = 1;
+            for (int ch = 0; ch < 3; ++ch)
+                flat &= r_near[ch] <= flat_ratio * r_far[ch];
+            float kv[3], ev = 0;
+            if (flat) {
+                float rd[4];
+                sam_build_rd(ctx, d, rd);
+                for (int ch = 0; ch < 3; ++ch)
+                    kv[ch] = area * rd[ch];
+            } else {
+                sam_build_form_factor_from(ctx, o, points, id, ctx->settings.mc_samples, ctx->settings.seed, kv, &ev);
+            }
             for (int c = 0; c < 3; ++c)
                 sum[c] += kv[c];
             var += (double)ev * ev;

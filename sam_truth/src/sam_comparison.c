@@ -246,47 +246,64 @@ static sam_status converge_truth(compare_state *s, const sam_image *positions, c
     }
 }
 
+/* Builds the scene's map of kind `map` with n samples per vertex and
+ * scores SAM with it against `ref`. */
+static sam_status score_map(const compare_state *s, const sam_truth_report_reference *ref, sam_build_map map,
+                            long n, double *build_seconds, sam_image_comparison *all,
+                            sam_image_comparison *normalised, sam_error *err)
+{
+    char what[96];
+    snprintf(what, sizeof what, "sweep: building the %s map with N = %ld", sam_build_map_name(map), n);
+    progress_state ps = {s->set->tool, what, -1};
+    sam_build_settings settings;
+    sam_build_default_settings(&settings);
+    settings.map = map;
+    settings.samples_per_vertex = (uint32_t)n;
+    samfile_data sam;
+    sam_profile profile;
+    float mm;
+    sam_status st = sam_app_scene_object(s->scene, &settings, build_progress, &ps, &sam, &profile, &mm,
+                                         build_seconds, err);
+    if (st != SAM_OK)
+        return st;
+    sam_runtime *rt = NULL;
+    sam_image full = {0}, translucency = {0};
+    st = sam_runtime_create(&sam, &profile, mm, &rt, err);
+    if (st == SAM_OK)
+        st = sam_runtime_scene_setup(rt, s->scene, NULL, NULL, NULL, 0, err);
+    if (st == SAM_OK)
+        st = sam_runtime_irradiance(rt, err);
+    if (st == SAM_OK)
+        st = sam_runtime_translucency(rt, 0, 0.0f, 1, err);
+    if (st == SAM_OK)
+        st = render_pair(rt, &s->view, SAM_TECHNIQUE_SAM, NULL, &full, &translucency, err);
+    if (st == SAM_OK)
+        st = sam_truth_report_score(ref, &full, &translucency, all, normalised, NULL, NULL, err);
+    if (st == SAM_OK)
+        say(s, "sweep: %s map, N = %ld: RMSE %.4f, translucency RMSE %.4f", sam_build_map_name(map), n, all->rmse,
+            normalised->rmse);
+    sam_image_destroy(&full);
+    sam_image_destroy(&translucency);
+    sam_runtime_destroy(rt);
+    samfile_free(&sam);
+    return st;
+}
+
 /* Rebuilds the map with N samples per vertex for each N of the settings'
- * sweep and scores SAM against `ref`. */
+ * sweep and scores SAM against `ref`; a cut map's sweep scores the flat map
+ * with the same N beside it. */
 static sam_status run_sweep(const compare_state *s, const sam_truth_report_reference *ref,
                             sam_truth_report_sweep_point *out, sam_error *err)
 {
+    const sam_build_map map = (sam_build_map)s->set->map;
     for (int i = 0; i < s->set->sweep_count; ++i) {
-        long n = s->set->sweep[i];
-        char what[64];
-        snprintf(what, sizeof what, "sweep: building the map with N = %ld", n);
-        progress_state ps = {s->set->tool, what, -1};
-        sam_build_settings settings;
-        sam_build_default_settings(&settings);
-        settings.map = (sam_build_map)s->set->map;
-        settings.samples_per_vertex = (uint32_t)n;
-        samfile_data sam;
-        sam_profile profile;
-        float mm;
-        sam_status st = sam_app_scene_object(s->scene, &settings, build_progress, &ps, &sam, &profile, &mm,
-                                             &out[i].build_seconds, err);
-        if (st != SAM_OK)
-            return st;
-        sam_runtime *rt = NULL;
-        sam_image full = {0}, translucency = {0};
-        st = sam_runtime_create(&sam, &profile, mm, &rt, err);
-        if (st == SAM_OK)
-            st = sam_runtime_scene_setup(rt, s->scene, NULL, NULL, NULL, 0, err);
-        if (st == SAM_OK)
-            st = sam_runtime_irradiance(rt, err);
-        if (st == SAM_OK)
-            st = sam_runtime_translucency(rt, 0, 0.0f, 1, err);
-        if (st == SAM_OK)
-            st = render_pair(rt, &s->view, SAM_TECHNIQUE_SAM, NULL, &full, &translucency, err);
-        if (st == SAM_OK)
-            st = sam_truth_report_score(ref, &full, &translucency, &out[i].all, &out[i].normalised, NULL, NULL, err);
-        out[i].n = n;
-        if (st == SAM_OK)
-            say(s, "sweep: N = %ld: RMSE %.4f, translucency RMSE %.4f", n, out[i].all.rmse, out[i].normalised.rmse);
-        sam_image_destroy(&full);
-        sam_image_destroy(&translucency);
-        sam_runtime_destroy(rt);
-        samfile_free(&sam);
+        double flat_seconds;
+        out[i].n = s->set->sweep[i];
+        out[i].has_flat = map == SAM_BUILD_MAP_CUT;
+        sam_status st = score_map(s, ref, map, out[i].n, &out[i].build_seconds, &out[i].all, &out[i].normalised, err);
+        if (st == SAM_OK && out[i].has_flat)
+            st = score_map(s, ref, SAM_BUILD_MAP_FLAT, out[i].n, &flat_seconds, &out[i].flat_all,
+                           &out[i].flat_normalised, err);
         if (st != SAM_OK)
             return st;
     }

@@ -110,6 +110,9 @@ static void write_json(FILE *f, const void *what)
                        "\"psnr_db\": ",
                     i ? ", " : "", p->n, p->build_seconds, p->all.rmse, p->normalised.rmse);
             json_number(f, p->all.psnr_db);
+            if (p->has_flat)
+                fprintf(f, ", \"flat_rmse\": %.4f, \"flat_rmse_translucency\": %.4f", p->flat_all.rmse,
+                        p->flat_normalised.rmse);
             fprintf(f, "}");
         }
         fprintf(f, "]}");
@@ -172,12 +175,18 @@ static void write_md(FILE *f, const void *what)
             (double)r->truth_max);
     md_techniques(f, r->techniques);
     if (r->sweep_count) {
+        const int flat = r->sweep[0].has_flat;
         fprintf(f, "\nSAM against the truth as the map is rebuilt with N samples per vertex (rmse_vs_samples.png); "
-                   "RMSE %s monotonically:\n\n| N | build s | RMSE | translucency RMSE |\n| --- | --- | --- | --- |\n",
-                r->monotonic ? "falls" : "does not fall");
-        for (int i = 0; i < r->sweep_count; ++i)
-            fprintf(f, "| %ld | %.2f | %.4f | %.4f |\n", r->sweep[i].n, r->sweep[i].build_seconds,
+                   "RMSE %s monotonically%s:\n\n| N | build s | RMSE | translucency RMSE |%s\n| --- | --- | --- | --- |%s\n",
+                r->monotonic ? "falls" : "does not fall", flat ? " (the flat map's beside it)" : "",
+                flat ? " flat map RMSE | flat map translucency RMSE |" : "", flat ? " --- | --- |" : "");
+        for (int i = 0; i < r->sweep_count; ++i) {
+            fprintf(f, "| %ld | %.2f | %.4f | %.4f |", r->sweep[i].n, r->sweep[i].build_seconds,
                     r->sweep[i].all.rmse, r->sweep[i].normalised.rmse);
+            if (flat)
+                fprintf(f, " %.4f | %.4f |", r->sweep[i].flat_all.rmse, r->sweep[i].flat_normalised.rmse);
+            fprintf(f, "\n");
+        }
     }
 }
 
@@ -343,9 +352,14 @@ sam_status sam_truth_report_plot_sweep(const char *dir, const char *mesh_path,
     sam_atomic_file f;
     if ((st = sam_atomic_open(&f, dat, err)) != SAM_OK)
         return st;
-    fprintf(f.fp, "# N rmse rmse_translucency (8-bit levels)\n");
-    for (int i = 0; i < count; ++i)
-        fprintf(f.fp, "%ld %.6f %.6f\n", sweep[i].n, sweep[i].all.rmse, sweep[i].normalised.rmse);
+    const int flat = count > 0 && sweep[0].has_flat;
+    fprintf(f.fp, "# N rmse rmse_translucency%s (8-bit levels)\n", flat ? " flat_rmse flat_rmse_translucency" : "");
+    for (int i = 0; i < count; ++i) {
+        fprintf(f.fp, "%ld %.6f %.6f", sweep[i].n, sweep[i].all.rmse, sweep[i].normalised.rmse);
+        if (flat)
+            fprintf(f.fp, " %.6f %.6f", sweep[i].flat_all.rmse, sweep[i].flat_normalised.rmse);
+        fprintf(f.fp, "\n");
+    }
     if ((st = sam_atomic_commit(&f, err)) != SAM_OK)
         return st;
     if ((st = sam_atomic_open(&f, script, err)) != SAM_OK)
@@ -357,8 +371,11 @@ sam_status sam_truth_report_plot_sweep(const char *dir, const char *mesh_path,
             "set title 'SAM against the ground truth (%s)'\nset xlabel 'back-side samples per vertex N'\n"
             "set ylabel 'RMSE (8-bit sRGB levels)'\nset grid\nset key top right\n"
             "plot '%s' using 1:2 with linespoints lw 2 title 'full shading', '' using 1:3 with linespoints lw 2 "
-            "title 'translucency (normalised)'\n",
-            png, sam_path_basename(mesh_path ? mesh_path : "scene"), dat);
+            "title 'translucency (normalised)'%s\n",
+            png, sam_path_basename(mesh_path ? mesh_path : "scene"), dat,
+            flat ? ", '' using 1:4 with linespoints lw 2 dt 2 title 'full shading, flat map', '' using 1:5 with "
+                   "linespoints lw 2 dt 2 title 'translucency, flat map'"
+                 : "");
     if ((st = sam_atomic_commit(&f, err)) != SAM_OK || (st = run_gnuplot(script, dat, err)) != SAM_OK)
         return st;
     char tmp[4200];

@@ -60,11 +60,14 @@ typedef struct sam_truth_report_step {
     double seconds, sam_psnr_db, sam_psnr_normalised_db;
 } sam_truth_report_step;
 
-/* SAM's scores with the map rebuilt at n samples per vertex. */
+/* SAM's scores with the map rebuilt at n samples per vertex; for a cut
+ * map's sweep also the flat map's with the same n, to plot beside it. */
 typedef struct sam_truth_report_sweep_point {
     long n;
     double build_seconds;
     sam_image_comparison all, normalised;
+    int has_flat;
+    sam_image_comparison flat_all, flat_normalised;
 } sam_truth_report_sweep_point;
 
 /* What report.json and report.md of one pose say. The pointers are the
