@@ -29,7 +29,8 @@
 /* Bound only by the passes that need them, after the shared ones. */
 #define SAM_B_REST_POSITIONS 15 /* the rest pose a posed K is carried from */
 #define SAM_B_BOUNDS 16         /* the posed box: 6 order-preserving uint keys */
-#define SAM_B_LIMIT 17          /* bindings a context must offer */
+#define SAM_B_TRANSMISSION 17   /* vec4 per vertex: G(t) of the vertex's local thickness */
+#define SAM_B_LIMIT 18          /* bindings a context must offer */
 
 /* The deform pass reads its inputs where the normals and samples usually
  * are: it writes positions only, and the normals pass runs after it. */
