@@ -434,6 +434,11 @@ void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius);
 /* Reads L_d or T back (3 * vertex_count floats). */
 sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *err);
 sam_status sam_runtime_read_translucency(sam_runtime *rt, float *rgb, sam_error *err);
+/* The THICKNESS technique's T as its last render left it (3 * vertex_count
+ * floats; its own buffer: SAM's T stays as sam_runtime_translucency left
+ * it). Errors: SAM_ERR_INVALID_ARGUMENT (no thickness given),
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_read_thickness_translucency(sam_runtime *rt, float *rgb, sam_error *err);
 
 /* GPU time of the last run of `pass` in milliseconds (GL timer queries),
  * or a negative value when it has not run. Waits for the result. */
