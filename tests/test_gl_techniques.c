@@ -316,6 +316,28 @@ static void test_thickness_through_slab(void **state)
     assert_true(fabs(thick - want_thick) < 0.01 * want_thick);
     assert_true(thin > 2 * thick);
     sam_image_destroy(&img);
+    /* The pass's per-vertex T read back: rho_dt(1) G(t) on the bottom, 0 on
+     * the top; SAM's own T is left as its pass wrote it. */
+    float *vt = malloc(d.vertex_count * 3 * sizeof *vt), *sam_t = malloc(d.vertex_count * 3 * sizeof *sam_t);
+    assert_int_equal(sam_runtime_read_thickness_translucency(rt, vt, &err), SAM_OK);
+    assert_int_equal(sam_runtime_read_translucency(rt, sam_t, &err), SAM_OK);
+    double worst = 0, top = 0, sam_sum = 0;
+    for (uint32_t v = 0; v < d.vertex_count; ++v) {
+        const float *p = d.positions + 3 * v, *n = d.normals + 3 * v;
+        sam_sum += sam_t[3 * v];
+        if (n[1] == 1.0f)
+            top = fmax(top, vt[3 * v]);
+        if (n[1] == -1.0f && fabsf(p[0]) < 0.45f && fabsf(p[2]) < 0.45f)
+            worst = fmax(worst, fabs(vt[3 * v] - rho * (p[0] < 0 ? g_thin : g_thick)[0]) / (rho * g_thick[0]));
+    }
+    print_message("thickness T read back: worst relative error on the bottom %.2e, largest on the top %.3g; SAM's T "
+                  "sums to %.4g\n",
+                  worst, top, sam_sum);
+    assert_true(worst < 1e-5);
+    assert_true(top == 0.0);
+    assert_true(sam_sum > 0);
+    free(vt);
+    free(sam_t);
 
     /* A light 60 degrees off the bottom's inverted normal: its cosine, 0.5;
      * distorted by 0.5 (L + N 0.5 lies in the slab's plane), none. */
