@@ -28,8 +28,10 @@
  * sides or miss, weigh by cos theta and barely move it. A curved part reads
  * thinner than its diameter: on a sphere of radius R the chord is
  * 2R cos theta, and t = R (exactly, for the rule below, up to e and the
- * tessellation). Misses count as the thickest the object can be, as
- * unoccluded rays do in the talk's inverted AO: no light.
+ * tessellation). A thin part backed by a thick one (an ear modelled as a
+ * bump on a head) reads thick: the mean follows the long rays, where light
+ * follows the short ones. Misses count as the thickest the object can be,
+ * as unoccluded rays do in the talk's inverted AO: no light.
  *
  * The result is a pure function of the inputs: each vertex's rays, their
  * order and the sum are fixed, so it is bit-identical for any thread count.
