@@ -244,8 +244,8 @@ static double mean_red_over_x(sam_runtime *rt, const sam_render_view *view, cons
  * with 1 mm given on the x < 0 half and 4 mm on the other, each half its
  * own G (the thin one far brighter). Nothing comes through to the lit top,
  * whose inverted normal faces away, nor with no light; a light 60 degrees
- * off gives its cosine, which the talk's distortion can take away. Without a thickness
- * the render is refused, and bad thickness is named. */
+ * off gives its cosine, which the talk's distortion can take away. Without
+ * a thickness the render is refused, and bad thickness is named. */
 static void test_thickness_through_slab(void **state)
 {
     (void)state;

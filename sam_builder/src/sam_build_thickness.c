@@ -84,8 +84,9 @@ static sam_status check_input(const sam_thickness_surface *s, float mm_per_unit,
                             v, (double)p[0], (double)p[1], (double)p[2]);
         float len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
         if (!(len2 > 0) || !isfinite(len2))
-            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "thickness: vertex %u's normal (%g, %g, %g) has no direction",
-                            v, (double)n[0], (double)n[1], (double)n[2]);
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                            "thickness: vertex %u's normal (%g, %g, %g) has no direction", v, (double)n[0],
+                            (double)n[1], (double)n[2]);
         for (int c = 0; c < 3; ++c) {
             lo[c] = fminf(lo[c], p[c]);
             hi[c] = fmaxf(hi[c], p[c]);
