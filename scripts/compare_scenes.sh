@@ -25,10 +25,10 @@ done
 python3 - "$out" <<'PY'
 import json, os, sys
 out = sys.argv[1]
-names = ["sam", "tsm", "transmittance", "none"]
+names = ["sam", "tsm", "transmittance", "thickness", "none"]
 def db(x):
     return "inf" if x is None else "%.2f" % x
-rows = ["| scene | truth samples (s) | " + " | ".join(names) + " | SAM best? |", "| --- " * 7 + "|"]
+rows = ["| scene | truth samples (s) | " + " | ".join(names) + " | SAM best? |", "| --- " * (len(names) + 3) + "|"]
 for d in sorted(os.listdir(out)):
     path = os.path.join(out, d, "report.json")
     if not os.path.isfile(path):

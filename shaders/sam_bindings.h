@@ -32,7 +32,8 @@
 /* Bound only by the passes that need them, after the shared ones. */
 #define SAM_B_REST_POSITIONS 18 /* the rest pose a posed K is carried from */
 #define SAM_B_BOUNDS 19         /* the posed box: 6 order-preserving uint keys */
-#define SAM_B_LIMIT 20          /* bindings a context must offer */
+#define SAM_B_TRANSMISSION 20   /* vec4 per vertex: G(t) of the vertex's local thickness */
+#define SAM_B_LIMIT 21          /* bindings a context must offer */
 
 /* The deform pass reads its inputs where the normals and samples usually
  * are: it writes positions only, and the normals pass runs after it. */

@@ -1,8 +1,9 @@
 #version 430 core
 // The translucency a technique adds to the light entering the surface, per
 // fragment of the shading pass (diffusion none, screen, pre-integrated) or
-// of the texture-space atlas: the SAM's per-vertex T, nothing, Jimenez et
-// al.'s shadow-map transmittance, or a caller's image (the override). It
+// of the texture-space atlas: the SAM's per-vertex T (or the local-thickness
+// technique's, bound in its place), nothing, Jimenez et al.'s shadow-map
+// transmittance, or a caller's image (the override). It
 // takes the place of T: R_total L_d + translucency is what the surface lets in.
 #include "sam_bindings.h"
 #include "lights.glsl"
@@ -14,6 +15,7 @@ const int TECHNIQUE_VERTEX = 0;         // the per-vertex T buffer
 const int TECHNIQUE_NONE = 1;
 const int TECHNIQUE_TRANSMITTANCE = 2;
 const int TECHNIQUE_OVERRIDE = 3;       // u_override at this fragment's pixel or texel
+const int TECHNIQUE_THICKNESS = 4;      // the local-thickness pass's per-vertex T, bound where T is
 
 uniform int u_technique;
 uniform uint u_all_light_count;         // every light, whatever u_front says
@@ -94,7 +96,7 @@ vec3 transmittance(vec3 p, vec3 n)
 // vertex_t: the interpolated per-vertex T; p, n: the fragment's position and normal.
 vec3 technique_translucency(vec3 vertex_t, vec3 p, vec3 n)
 {
-    if (u_technique == TECHNIQUE_VERTEX)
+    if (u_technique == TECHNIQUE_VERTEX || u_technique == TECHNIQUE_THICKNESS)
         return vertex_t;
     if (u_technique == TECHNIQUE_TRANSMITTANCE)
         return transmittance(p, n);

@@ -2,6 +2,8 @@
  * The comparison techniques and the ground truth's hooks on llvmpipe:
  * Jimenez's transmittance and d'Eon's translucent shadow maps through a
  * back-lit slab of known thickness against the analytic sum of Gaussians,
+ * the local-thickness technique against the profile's slab transmission
+ * (thin parts brighter than thick ones, nothing where no light reaches),
  * what they leave out (area lights, the environment, the lit side), the
  * per-pixel / per-texel translucency override, and the G-buffer read-back.
  */
@@ -19,6 +21,7 @@
 
 #include "sam/sam_build.h"
 #include "sam/sam_runtime.h"
+#include "sam/sam_thickness.h"
 #include "sam_test.h"
 
 #define PI 3.14159265358979323846
@@ -199,8 +202,182 @@ static void test_tsm_through_slab(void **state)
     samfile_free(&d);
 }
 
-/* An area light above the slab, then the environment alone: SAM carries
- * their light through, the two shadow-map techniques by design do not. */
+/* The slab's local thickness from sam_thickness (Embree): its depth, 2 mm,
+ * at every face vertex away from the sides. The caller frees it. */
+static float *slab_thickness(const samfile_data *d)
+{
+    float *t = malloc(d->vertex_count * sizeof *t);
+    assert_non_null(t);
+    sam_thickness_surface s = {d->vertex_count, d->positions, d->normals, d->triangle_count, d->triangles};
+    sam_error err;
+    if (sam_thickness_compute(&s, SLAB_MM_PER_UNIT, NULL, NULL, NULL, t, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    return t;
+}
+
+/* Mean red of the covered pixels (G-buffer of `view`) whose position's x
+ * lies in [x0, x1] and |z| < 0.3, and how many there were. */
+static double mean_red_over_x(sam_runtime *rt, const sam_render_view *view, const sam_image *img, double x0, double x1,
+                              size_t *count)
+{
+    sam_image pos, nrm;
+    sam_error err;
+    assert_int_equal(sam_runtime_gbuffer(rt, view, SAM_GBUFFER_SCREEN, &pos, &nrm, &err), SAM_OK);
+    double sum = 0;
+    *count = 0;
+    for (size_t i = 0; i < (size_t)pos.width * pos.height; ++i) {
+        const float *p = pos.pixels + 4 * i;
+        if (p[3] > 0 && p[0] >= x0 && p[0] <= x1 && fabs(p[2]) < 0.3) {
+            sum += img->pixels[4 * i];
+            ++*count;
+        }
+    }
+    sam_image_destroy(&pos);
+    sam_image_destroy(&nrm);
+    return *count ? sum / (double)*count : 0.0;
+}
+
+/* Local thickness (Barre-Brisebois and Bouchard) behind the slab lit at
+ * E = 1 head-on: the bottom's inverted normal faces the light, so
+ * T = E rho_dt(1) G(t), seen through rho_dt(1) / pi. With the thickness
+ * sam_thickness measures (2 mm) at the centre, in every diffusion mode;
+ * with 1 mm given on the x < 0 half and 4 mm on the other, each half its
+ * own G (the thin one far brighter). Nothing comes through to the lit top,
+ * whose inverted normal faces away, nor with no light; a light 60 degrees
+ * off gives its cosine, which the talk's distortion can take away. Without
+ * a thickness the render is refused, and bad thickness is named. */
+static void test_thickness_through_slab(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = lit_slab(&profile, &d);
+    sam_render_view view;
+    sam_image img;
+    sam_error err;
+    slab_view(&view, 1, 0, SAM_TECHNIQUE_THICKNESS);
+    assert_int_equal(sam_runtime_render(rt, &view, &img, &err), SAM_ERR_INVALID_ARGUMENT);
+    print_message("thickness without one: %s\n", err.message);
+    assert_non_null(strstr(err.message, "sam_runtime_set_thickness"));
+    assert_null(img.pixels);
+
+    float *t = slab_thickness(&d);
+    t[3] = -1.0f;
+    assert_int_equal(sam_runtime_set_thickness(rt, t, d.vertex_count, &err), SAM_ERR_INVALID_ARGUMENT);
+    print_message("%s\n", err.message);
+    assert_non_null(strstr(err.message, "vertex 3's thickness -1"));
+    assert_int_equal(sam_runtime_set_thickness(rt, t, d.vertex_count - 1, &err), SAM_ERR_INVALID_ARGUMENT);
+    print_message("%s\n", err.message);
+    assert_int_equal(sam_runtime_set_thickness_distortion(rt, 1.5f, &err), SAM_ERR_INVALID_ARGUMENT);
+    t[3] = t[2];
+    assert_int_equal(sam_runtime_set_thickness(rt, t, d.vertex_count, &err), SAM_OK);
+
+    float g[3];
+    sam_profile_slab_transmission(&profile, (float)(SLAB_THICKNESS * SLAB_MM_PER_UNIT), g);
+    double rho = sam_runtime_rho_dt(rt, 1.0f), factor = rho / PI;
+    const double want[3] = {g[0], g[1], g[2]};
+    for (int mode = 0; mode <= 3; ++mode) {
+        render_slab(rt, 1, mode, SAM_TECHNIQUE_THICKNESS, &img);
+        char what[64];
+        snprintf(what, sizeof what, "thickness, diffusion %d", mode);
+        assert_centre_near(&img, factor * rho, want, 0.02, what);
+        sam_image_destroy(&img);
+        render_slab(rt, 0, mode, SAM_TECHNIQUE_THICKNESS, &img);
+        size_t at = 0;
+        for (size_t i = 0; i < (size_t)SIZE * SIZE; ++i)
+            if (img.pixels[4 * i] > img.pixels[4 * at])
+                at = i;
+        print_message("thickness, diffusion %d, lit side: largest value %.3g at pixel (%zu, %zu), centre %.3g\n", mode,
+                      img.pixels[4 * at], at % SIZE, at / SIZE, centre_pixel(&img)[0]);
+        /* The top's own T is 0 everywhere; texture space's blur reaches
+         * the side faces' charts (lit near the bottom edge) across the
+         * atlas's gaps, so only its corners pick some up. */
+        assert_true(mode == 3 ? centre_pixel(&img)[0] == 0.0f : img.pixels[4 * at] == 0.0f);
+        sam_image_destroy(&img);
+    }
+
+    /* Thin and thick halves. */
+    for (uint32_t v = 0; v < d.vertex_count; ++v)
+        t[v] = d.positions[3 * v] < 0 ? 1.0f : 4.0f;
+    assert_int_equal(sam_runtime_set_thickness(rt, t, d.vertex_count, &err), SAM_OK);
+    render_slab(rt, 1, 0, SAM_TECHNIQUE_THICKNESS, &img);
+    slab_view(&view, 1, 0, SAM_TECHNIQUE_THICKNESS);
+    size_t thin_n, thick_n;
+    double thin = mean_red_over_x(rt, &view, &img, -0.45, -0.1, &thin_n);
+    double thick = mean_red_over_x(rt, &view, &img, 0.1, 0.45, &thick_n);
+    float g_thin[3], g_thick[3];
+    sam_profile_slab_transmission(&profile, 1.0f, g_thin);
+    sam_profile_slab_transmission(&profile, 4.0f, g_thick);
+    double want_thin = factor * rho * g_thin[0], want_thick = factor * rho * g_thick[0];
+    print_message("thickness 1 mm: %.6g over %zu pixels (G says %.6g); 4 mm: %.6g over %zu pixels (G says %.6g)\n",
+                  thin, thin_n, want_thin, thick, thick_n, want_thick);
+    assert_true(thin_n > 50 && thick_n > 50);
+    assert_true(fabs(thin - want_thin) < 0.01 * want_thin);
+    assert_true(fabs(thick - want_thick) < 0.01 * want_thick);
+    assert_true(thin > 2 * thick);
+    sam_image_destroy(&img);
+    /* The pass's per-vertex T read back: rho_dt(1) G(t) on the bottom, 0 on
+     * the top; SAM's own T is left as its pass wrote it. */
+    float *vt = malloc(d.vertex_count * 3 * sizeof *vt), *sam_t = malloc(d.vertex_count * 3 * sizeof *sam_t);
+    assert_int_equal(sam_runtime_read_thickness_translucency(rt, vt, &err), SAM_OK);
+    assert_int_equal(sam_runtime_read_translucency(rt, sam_t, &err), SAM_OK);
+    double worst = 0, top = 0, sam_sum = 0;
+    for (uint32_t v = 0; v < d.vertex_count; ++v) {
+        const float *p = d.positions + 3 * v, *n = d.normals + 3 * v;
+        sam_sum += sam_t[3 * v];
+        if (n[1] == 1.0f)
+            top = fmax(top, vt[3 * v]);
+        if (n[1] == -1.0f && fabsf(p[0]) < 0.45f && fabsf(p[2]) < 0.45f)
+            worst = fmax(worst, fabs(vt[3 * v] - rho * (p[0] < 0 ? g_thin : g_thick)[0]) / (rho * g_thick[0]));
+    }
+    print_message("thickness T read back: worst relative error on the bottom %.2e, largest on the top %.3g; SAM's T "
+                  "sums to %.4g\n",
+                  worst, top, sam_sum);
+    assert_true(worst < 1e-5);
+    assert_true(top == 0.0);
+    assert_true(sam_sum > 0);
+    free(vt);
+    free(sam_t);
+
+    /* A light 60 degrees off the bottom's inverted normal: its cosine, 0.5;
+     * distorted by 0.5 (L + N 0.5 lies in the slab's plane), none. */
+    sam_light l;
+    memset(&l, 0, sizeof l);
+    l.type = SAM_LIGHT_DIRECTIONAL;
+    l.color[0] = l.color[1] = l.color[2] = 1.0f;
+    l.intensity = 1.0f;
+    l.direction[0] = -(float)sin(PI / 3);
+    l.direction[1] = -(float)cos(PI / 3);
+    assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+    render_slab(rt, 1, 0, SAM_TECHNIQUE_THICKNESS, &img);
+    double slanted = mean_red_over_x(rt, &view, &img, -0.45, -0.1, &thin_n);
+    double want_slanted = factor * sam_runtime_rho_dt(rt, 0.5f) * 0.5 * g_thin[0];
+    sam_image_destroy(&img);
+    assert_int_equal(sam_runtime_set_thickness_distortion(rt, 0.5f, &err), SAM_OK);
+    render_slab(rt, 1, 0, SAM_TECHNIQUE_THICKNESS, &img);
+    double distorted = mean_red_over_x(rt, &view, &img, -0.45, -0.1, &thin_n);
+    sam_image_destroy(&img);
+    print_message("light 60 degrees off: %.6g (expected %.6g); distorted by 0.5: %.3g\n", slanted, want_slanted,
+                  distorted);
+    assert_true(fabs(slanted - want_slanted) < 0.01 * want_slanted);
+    assert_true(distorted < 1e-6 * slanted);
+    assert_int_equal(sam_runtime_set_thickness_distortion(rt, 0.0f, &err), SAM_OK);
+
+    /* No light at all. */
+    assert_int_equal(sam_runtime_set_lights(rt, NULL, 0, &err), SAM_OK);
+    double dark = slab_max(rt, 1, 0, SAM_TECHNIQUE_THICKNESS);
+    print_message("thickness, no light: largest value %.3g\n", dark);
+    assert_true(dark == 0.0);
+    assert_int_equal(sam_runtime_set_thickness(rt, NULL, 0, &err), SAM_OK);
+    assert_int_equal(sam_runtime_render(rt, &view, &img, &err), SAM_ERR_INVALID_ARGUMENT);
+    free(t);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+/* An area light above the slab, then the environment alone: SAM and the
+ * local thickness carry their light through, the two shadow-map techniques
+ * by design do not. */
 static void test_area_and_environment_give_none(void **state)
 {
     (void)state;
@@ -221,6 +398,9 @@ static void test_area_and_environment_give_none(void **state)
     float sh[9][3] = {{0}};
     sh[0][0] = sh[0][1] = sh[0][2] = 1.0f;
     sam_error err;
+    float *t = slab_thickness(&d);
+    assert_int_equal(sam_runtime_set_thickness(rt, t, d.vertex_count, &err), SAM_OK);
+    free(t);
     for (int scene = 0; scene < 2; ++scene) {
         assert_int_equal(sam_runtime_set_lights(rt, &area, scene == 0, &err), SAM_OK);
         sam_runtime_set_environment(rt, scene == 1 ? (const float(*)[3])sh : NULL);
@@ -230,9 +410,11 @@ static void test_area_and_environment_give_none(void **state)
         double sam_max = slab_max(rt, 1, 0, SAM_TECHNIQUE_SAM);
         double transmittance_max = slab_max(rt, 1, 0, SAM_TECHNIQUE_TRANSMITTANCE);
         double tsm_max = slab_max(rt, 1, 3, SAM_TECHNIQUE_TSM);
-        print_message("%s, largest translucency seen below: sam %.4g, transmittance %.3g, tsm %.3g\n", what, sam_max,
-                      transmittance_max, tsm_max);
+        double thickness_max = slab_max(rt, 1, 0, SAM_TECHNIQUE_THICKNESS);
+        print_message("%s, largest translucency seen below: sam %.4g, thickness %.4g, transmittance %.3g, tsm %.3g\n",
+                      what, sam_max, thickness_max, transmittance_max, tsm_max);
         assert_true(sam_max > 1e-4);
+        assert_true(thickness_max > 1e-4);
         assert_true(transmittance_max == 0.0);
         assert_true(tsm_max == 0.0);
     }
@@ -439,6 +621,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_transmittance_through_slab),
         cmocka_unit_test(test_tsm_through_slab),
+        cmocka_unit_test(test_thickness_through_slab),
         cmocka_unit_test(test_area_and_environment_give_none),
         cmocka_unit_test(test_tsm_needs_texture_space),
         cmocka_unit_test(test_override),

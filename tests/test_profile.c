@@ -190,6 +190,43 @@ static void test_radius_bounds_remaining_energy(void **state)
     }
 }
 
+/* G(t) = 2 pi int_t^inf s R_d(s) ds, the slab's transmission, against the
+ * profile integrated numerically from t outwards, for every preset from
+ * no slab (the total reflectance) to 20 mm; it must also fall with t. */
+static void test_slab_transmission_vs_numeric(void **state)
+{
+    (void)state;
+    const double thickness[] = {0.0, 0.05, 0.3, 1.0, 2.0, 5.0, 20.0};
+    for (size_t i = 0; i < sam_profile_preset_count(); i++) {
+        sam_profile p = preset(sam_profile_preset_name(i));
+        float total[3], previous[3] = {INFINITY, INFINITY, INFINITY};
+        sam_profile_total_reflectance(&p, total);
+        for (size_t k = 0; k < sizeof thickness / sizeof *thickness; k++) {
+            float g[3];
+            double numeric[3];
+            sam_profile_slab_transmission(&p, (float)thickness[k], g);
+            numeric_energy(&p, thickness[k], numeric);
+            for (int c = 0; c < 3; c++) {
+                if (!(fabs(g[c] - numeric[c]) <= 1e-4 * numeric[c] + 1e-9 * total[c]) || !(g[c] <= previous[c]))
+                    fail_msg("%s, t = %g mm, channel %d: G %.8g, numeric %.8g, G at the thinner slab %.8g", p.name,
+                             thickness[k], c, (double)g[c], numeric[c], (double)previous[c]);
+                previous[c] = g[c];
+            }
+            if (k == 0)
+                for (int c = 0; c < 3; c++)
+                    assert_true(fabs(g[c] - total[c]) <= 1e-6 * total[c]);
+        }
+        float far[3], mirrored[3], at[3];
+        sam_profile_slab_transmission(&p, 1000.0f, far);
+        sam_profile_slab_transmission(&p, -1.0f, mirrored);
+        sam_profile_slab_transmission(&p, 1.0f, at);
+        for (int c = 0; c < 3; c++) {
+            assert_true(far[c] < 1e-12f * total[c]);
+            assert_true(mirrored[c] == at[c]);
+        }
+    }
+}
+
 static void check_fit(const sam_profile *p, const sam_gaussian_fit *fit, float errors[3])
 {
     float total[3];
@@ -927,6 +964,7 @@ int main(void)
         cmocka_unit_test(test_dipole_total_closed_form_vs_numeric),
         cmocka_unit_test(test_gaussian_sum_integrates_to_weights),
         cmocka_unit_test(test_radius_bounds_remaining_energy),
+        cmocka_unit_test(test_slab_transmission_vs_numeric),
         cmocka_unit_test(test_fit_every_preset),
         cmocka_unit_test(test_fit_exact_for_small_sums),
         cmocka_unit_test(test_fit_of_a_larger_sum),

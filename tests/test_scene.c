@@ -897,7 +897,7 @@ static const error_case error_cases[] = {
     {"{\"sam\": \"head.sam\", \"resolution\": [640]}", SAM_ERR_FORMAT,
      "scene.json: resolution: expected [width, height], found an array of 1 elements"},
     {"{\"sam\": \"head.sam\", \"technique\": \"magic\"}", SAM_ERR_FORMAT,
-     "scene.json: technique: unknown technique \"magic\" (expected sam, none, tsm, transmittance)"},
+     "scene.json: technique: unknown technique \"magic\" (expected sam, none, tsm, transmittance, thickness)"},
     {"{\"sam\": \"head.sam\", \"diffusion\": \"SCREEN\"}", SAM_ERR_FORMAT,
      "scene.json: diffusion: unknown diffusion \"SCREEN\" (expected screen, texture, "
      "preintegrated, none)"},
@@ -1095,12 +1095,32 @@ static void test_mesh_with_prebuilt_sam(void **state)
     assert_non_null(strstr(err.message, "material: missing"));
 }
 
+/* "thickness" names the local-thickness technique, and a written scene
+ * keeps it. */
+static void test_thickness_technique(void **state)
+{
+    (void)state;
+    sam_scene s, back;
+    sam_error err;
+    char out[4096];
+    assert_int_equal(parse("{\"sam\": \"head.sam\", \"technique\": \"thickness\"}", &s, &err), SAM_OK);
+    assert_int_equal(s.technique, SAM_TECHNIQUE_THICKNESS);
+    dir_file(out, sizeof out, "thickness.json");
+    if (sam_scene_write(out, &s, &err) != SAM_OK || sam_scene_load(out, &back, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_int_equal(back.technique, SAM_TECHNIQUE_THICKNESS);
+    sam_scene_destroy(&s);
+    sam_scene_destroy(&back);
+}
+
 static void test_names(void **state)
 {
     (void)state;
     assert_string_equal(sam_light_type_name(SAM_LIGHT_AREA), "area");
     assert_string_equal(sam_light_type_name((sam_light_type)17), "unknown");
     assert_string_equal(sam_technique_name(SAM_TECHNIQUE_TRANSMITTANCE), "transmittance");
+    assert_string_equal(sam_technique_name(SAM_TECHNIQUE_THICKNESS), "thickness");
+    assert_string_equal(sam_technique_name((sam_technique)5), "unknown");
     assert_string_equal(sam_diffusion_name(SAM_DIFFUSION_PREINTEGRATED), "preintegrated");
     assert_string_equal(sam_tonemap_name(SAM_TONEMAP_REINHARD), "reinhard");
     assert_string_equal(sam_tonemap_name((sam_tonemap)-1), "unknown");
@@ -1123,6 +1143,7 @@ int main(void)
         cmocka_unit_test(test_every_truncation_fails),
         cmocka_unit_test(test_load_errors_and_relative_paths),
         cmocka_unit_test(test_mesh_with_prebuilt_sam),
+        cmocka_unit_test(test_thickness_technique),
         cmocka_unit_test(test_names),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

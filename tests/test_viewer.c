@@ -69,12 +69,17 @@ static void test_technique_key_cycles(void **state)
     sam_viewer v;
     start(&v, 1);
     static const sam_technique order[] = {SAM_TECHNIQUE_NONE, SAM_TECHNIQUE_TSM, SAM_TECHNIQUE_TRANSMITTANCE,
-                                          SAM_TECHNIQUE_SAM};
-    for (int i = 0; i < 4; ++i) {
+                                          SAM_TECHNIQUE_THICKNESS, SAM_TECHNIQUE_SAM};
+    for (int i = 0; i < 5; ++i) {
         v.reset_t = 0;
         assert_int_equal(key(&v, GLFW_KEY_T), 0);
         assert_int_equal(v.scene.technique, order[i]);
         assert_int_equal(v.reset_t, 1);
+        /* Only SAM runs its translucency pass; only thickness needs its thickness. */
+        sam_viewer_frame f;
+        sam_viewer_frame_plan(&v, 0.0, &f);
+        assert_int_equal(f.translucency, order[i] == SAM_TECHNIQUE_SAM);
+        assert_int_equal(f.thickness, order[i] == SAM_TECHNIQUE_THICKNESS);
         /* tsm brings texture-space diffusion with it. */
         if (order[i] == SAM_TECHNIQUE_TSM)
             assert_int_equal(v.scene.diffusion, SAM_DIFFUSION_TEXTURE);

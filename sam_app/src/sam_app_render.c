@@ -7,6 +7,7 @@
 
 #include "sam/sam_app_render.h"
 #include "sam/sam_app_scene.h"
+#include "sam/sam_app_thickness.h"
 #include "sam/sam_runtime_scene.h"
 
 void sam_app_render_defaults(sam_app_render_job *job)
@@ -127,20 +128,37 @@ static sam_status run_frames(const sam_app_render_job *job, const char *tool, co
     return st;
 }
 
-/* The per-vertex L_d and T after the last frame, as CSV. */
-static sam_status dump_vertices(sam_runtime *rt, const char *path, uint32_t count, sam_error *err)
+/* The per-vertex L_d and T after the last frame, as CSV: the thickness
+ * technique's own T when that was rendered, else SAM's. */
+static sam_status dump_vertices(sam_runtime *rt, sam_technique technique, const char *path, uint32_t count,
+                                sam_error *err)
 {
     float *ld = malloc((size_t)count * 3 * sizeof *ld), *t = malloc((size_t)count * 3 * sizeof *t);
     sam_status st = ld && t ? SAM_OK : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory for the vertex dump");
     if (st == SAM_OK && (st = sam_runtime_read_irradiance(rt, ld, err)) == SAM_OK &&
-        (st = sam_runtime_read_translucency(rt, t, err)) == SAM_OK)
+        (st = technique == SAM_TECHNIQUE_THICKNESS ? sam_runtime_read_thickness_translucency(rt, t, err)
+                                                   : sam_runtime_read_translucency(rt, t, err)) == SAM_OK)
         st = write_vertices(path, ld, t, count, err);
     free(ld);
     free(t);
     return st;
 }
 
-/* The runtime's part: context, runtime, scene, frames, dump, summary. */
+/* The thickness technique's thickness, measured on `sam` and given to `rt`. */
+static sam_status give_thickness(sam_runtime *rt, const samfile_data *sam, float mm_per_unit, const char *tool,
+                                 sam_error *err)
+{
+    float *mm;
+    sam_status st = sam_app_thickness(sam, mm_per_unit, tool, &mm, err);
+    if (st != SAM_OK)
+        return st;
+    st = sam_runtime_set_thickness(rt, mm, sam->vertex_count, err);
+    free(mm);
+    return st;
+}
+
+/* The runtime's part: context, runtime, scene, thickness, frames, dump,
+ * summary. */
 static sam_status render_map(const sam_app_render_job *job, const char *tool, const sam_scene *scene,
                              const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
                              sam_technique chosen, sam_error *err)
@@ -152,7 +170,8 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, co
     if ((st = sam_gl_context_create_headless(&gl, err)) != SAM_OK ||
         (st = sam_runtime_create(sam, profile, mm_per_unit, &rt, err)) != SAM_OK ||
         (st = sam_runtime_scene_setup(rt, scene, NULL, NULL, warning, sizeof warning, err)) != SAM_OK ||
-        (st = sam_runtime_scene_keyframes(rt, scene, sam, err)) != SAM_OK)
+        (st = sam_runtime_scene_keyframes(rt, scene, sam, err)) != SAM_OK ||
+        (chosen == SAM_TECHNIQUE_THICKNESS && (st = give_thickness(rt, sam, mm_per_unit, tool, err)) != SAM_OK))
         goto done;
     if (warning[0])
         fprintf(stderr, "%s: warning: %s\n", tool, warning);
@@ -170,7 +189,7 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, co
     view.technique = chosen;
     apply_overrides(job, &view);
     if ((st = run_frames(job, tool, scene, rt, &view, err)) != SAM_OK ||
-        (job->dump && (st = dump_vertices(rt, job->dump, sam->vertex_count, err)) != SAM_OK))
+        (job->dump && (st = dump_vertices(rt, chosen, job->dump, sam->vertex_count, err)) != SAM_OK))
         goto done;
     long frames = job->animate ? job->animate : job->frames;
     double diffusion_ms = sam_runtime_pass_ms(rt, SAM_PASS_DIFFUSION);
@@ -178,7 +197,9 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, co
                     "shade %.3f, diffusion %.3f (%s)\n",
             tool, job->out, scene->width, scene->height, sam->vertex_count, frames, frames == 1 ? "" : "s",
             sam_runtime_pass_ms(rt, SAM_PASS_IRRADIANCE),
-            chosen == SAM_TECHNIQUE_SAM ? sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY) : 0.0,
+            chosen == SAM_TECHNIQUE_SAM || chosen == SAM_TECHNIQUE_THICKNESS
+                ? sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY)
+                : 0.0,
             sam_runtime_pass_ms(rt, SAM_PASS_SHADE), diffusion_ms > 0 ? diffusion_ms : 0.0,
             sam_gl_context_info(gl)->renderer);
 done:

@@ -15,6 +15,7 @@
 #include "sam_runtime_shadows.h"
 #include "sam_runtime_surface.h"
 #include "sam_runtime_technique.h"
+#include "sam_runtime_thickness.h"
 #include "sam_runtime_translucency.h"
 #include "sam_runtime_tsd.h"
 #include "sam_runtime_view.h"
@@ -147,8 +148,9 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
             (st = sam_runtime_translucency_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_technique_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_tsd_create(rt, sam, err)) == SAM_OK &&
-            (st = sam_runtime_diffusion_create(rt, err)) == SAM_OK)
-            st = sam_runtime_view_create(rt, err);
+            (st = sam_runtime_diffusion_create(rt, err)) == SAM_OK &&
+            (st = sam_runtime_view_create(rt, err)) == SAM_OK)
+            st = sam_runtime_thickness_create(rt, err);
     }
     if (st != SAM_OK) {
         sam_runtime_destroy(rt);
@@ -162,6 +164,7 @@ void sam_runtime_destroy(sam_runtime *rt)
 {
     if (!rt)
         return;
+    sam_runtime_thickness_destroy(rt);
     sam_runtime_view_destroy(rt);
     sam_runtime_diffusion_destroy(rt);
     sam_runtime_tsd_destroy(rt);

@@ -8,7 +8,8 @@
  *   sam_runtime_view.c         render, G-buffer: calls tsd, technique, diffusion,
  *                              shadows, surface
  *   sam_runtime_tsd.c          texture-space diffusion: calls technique, shadows, surface
- *   sam_runtime_technique.c    transmittance, overrides, translucent shadow maps: calls shadows
+ *   sam_runtime_technique.c    transmittance, overrides, translucent shadow maps: calls shadows, thickness
+ *   sam_runtime_thickness.c    the local-thickness technique's T: calls surface
  *   sam_runtime_diffusion.c    screen-space kernel and blur, pre-integrated tables
  *   sam_runtime_irradiance.c   L_d: calls shadows, surface
  *   sam_runtime_translucency.c eq. 12 and the smoothing
@@ -55,8 +56,16 @@
 #define UNIT_STRETCH (UNIT_LEVELS + 1)
 
 /* Where a pass's translucency comes from (technique.glsl's TECHNIQUE_*).
- * TSM passes NONE here: its light is added after the texture-space blur. */
-enum { TECHNIQUE_VERTEX = 0, TECHNIQUE_NONE = 1, TECHNIQUE_TRANSMITTANCE = 2, TECHNIQUE_OVERRIDE = 3 };
+ * TSM passes NONE here: its light is added after the texture-space blur.
+ * THICKNESS reads the per-vertex T like VERTEX, from the thickness pass's
+ * buffer. */
+enum {
+    TECHNIQUE_VERTEX = 0,
+    TECHNIQUE_NONE = 1,
+    TECHNIQUE_TRANSMITTANCE = 2,
+    TECHNIQUE_OVERRIDE = 3,
+    TECHNIQUE_THICKNESS = 4
+};
 
 #define RHO_SIZE SAM_BRDF_RHO_DT_TABLE_SIZE
 #define SKIN_F0 0.028f
@@ -136,6 +145,16 @@ typedef struct sam_rt_technique {
     uint32_t tsm_flat_count, tsm_cube_count; /* maps the textures have room for */
 } sam_rt_technique;
 
+/* sam_runtime_thickness.c: the local-thickness technique (its buffers are
+ * filled by sam_runtime_set_thickness). */
+typedef struct sam_rt_thickness {
+    GLuint program;
+    GLuint transmission; /* vec4 per vertex: G(t) RGB, the thickness t in mm in w */
+    GLuint result;       /* vec4 per vertex: the technique's T */
+    int ready;           /* 1 once a thickness was given */
+    float distortion;    /* the talk's L + N distortion, [0, 1] */
+} sam_rt_thickness;
+
 /* sam_runtime_diffusion.c */
 typedef struct sam_rt_diffusion {
     GLuint blur_program, compose_program;
@@ -193,6 +212,7 @@ struct sam_runtime {
     sam_rt_nodes nodes;
     sam_rt_translucency translucency;
     sam_rt_technique technique;
+    sam_rt_thickness thickness;
     sam_rt_diffusion diffusion;
     sam_rt_tsd tsd;
     sam_rt_view view;

@@ -5,18 +5,24 @@
 
 #include "sam_runtime_internal.h"
 
-static sam_status read_vec4(sam_runtime *rt, int binding, float *rgb, sam_error *err)
+/* The xyz of buffer `buffer`'s vec4 per vertex. */
+static sam_status read_buffer_vec4(const sam_runtime *rt, GLuint buffer, float *rgb, sam_error *err)
 {
     float *v4 = malloc((size_t)rt->vertex_count * 4 * sizeof *v4);
     if (!v4)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory");
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[binding]);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
     glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)rt->vertex_count * 4 * sizeof(float), v4);
     for (uint32_t v = 0; v < rt->vertex_count; ++v)
         memcpy(rgb + 3 * (size_t)v, v4 + 4 * (size_t)v, 3 * sizeof(float));
     free(v4);
     return SAM_OK;
+}
+
+static sam_status read_vec4(sam_runtime *rt, int binding, float *rgb, sam_error *err)
+{
+    return read_buffer_vec4(rt, rt->buffer[binding], rgb, err);
 }
 
 sam_status sam_runtime_read_positions(sam_runtime *rt, float *xyz, sam_error *err)
@@ -58,6 +64,13 @@ sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *e
 sam_status sam_runtime_read_translucency(sam_runtime *rt, float *rgb, sam_error *err)
 {
     return read_vec4(rt, SAM_B_TRANSLUCENCY, rgb, err);
+}
+
+sam_status sam_runtime_read_thickness_translucency(sam_runtime *rt, float *rgb, sam_error *err)
+{
+    if (!rt->thickness.ready)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: no thickness was given, so there is no such T");
+    return read_buffer_vec4(rt, rt->thickness.result, rgb, err);
 }
 
 sam_status sam_runtime_read_samples(sam_runtime *rt, uint32_t *index, float *kprime, sam_error *err)

@@ -10,6 +10,7 @@
 #include "sam_runtime_gpu.h"
 #include "sam_runtime_shadows.h"
 #include "sam_runtime_technique.h"
+#include "sam_runtime_thickness.h"
 
 sam_status sam_runtime_technique_create(sam_runtime *rt, sam_error *err)
 {
@@ -58,6 +59,8 @@ int sam_runtime_technique_mode(const sam_render_view *view)
         return TECHNIQUE_VERTEX;
     case SAM_TECHNIQUE_TRANSMITTANCE:
         return TECHNIQUE_TRANSMITTANCE;
+    case SAM_TECHNIQUE_THICKNESS:
+        return TECHNIQUE_THICKNESS;
     default:
         return TECHNIQUE_NONE;
     }
@@ -93,6 +96,8 @@ void sam_runtime_bind_technique(const sam_runtime *rt, GLuint p, int mode, GLuin
     glBindTexture(GL_TEXTURE_2D, override_tex);
     glActiveTexture(GL_TEXTURE0);
     glUniform1i(glGetUniformLocation(p, "u_override"), UNIT_OVERRIDE);
+    if (mode == TECHNIQUE_THICKNESS)
+        sam_runtime_bind_thickness(rt);
 }
 
 void sam_runtime_bind_tsm(const sam_runtime *rt, GLuint p)

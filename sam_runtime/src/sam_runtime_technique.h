@@ -1,6 +1,7 @@
 /* The comparison techniques' GL side: the uniforms of technique.glsl
  * (transmittance, the translucency override) and the translucent shadow
- * maps (state in rt->technique). Calls the shadows only. Not installed. */
+ * maps (state in rt->technique). Calls the shadows and the thickness pass's
+ * binding. Not installed. */
 #ifndef SAM_RUNTIME_TECHNIQUE_H
 #define SAM_RUNTIME_TECHNIQUE_H
 
@@ -15,7 +16,9 @@ void sam_runtime_technique_destroy(sam_runtime *rt);
 int sam_runtime_technique_mode(const sam_render_view *view);
 
 /* Sets technique.glsl's uniforms for program p: `mode`, the fit, the
- * shadow maps read as distances, and `override_tex` (0: none) on its unit. */
+ * shadow maps read as distances, and `override_tex` (0: none) on its unit;
+ * for TECHNIQUE_THICKNESS also binds that pass's T where T is read, so
+ * call it after sam_runtime_bind_buffers. */
 void sam_runtime_bind_technique(const sam_runtime *rt, GLuint p, int mode, GLuint override_tex);
 
 /* Binds tsm_read.glsl's maps for program p (the shading program); the

@@ -199,8 +199,8 @@ void sam_runtime_draw_atlas(sam_runtime *rt, const sam_render_view *view, const 
     glUniform3fv(glGetUniformLocation(p, "u_albedo"), 1, view->albedo);
     sam_runtime_bind_albedo(rt, p);
     sam_runtime_bind_shadows(rt, p);
-    sam_runtime_bind_technique(rt, p, mode, override_tex);
     sam_runtime_bind_buffers(rt);
+    sam_runtime_bind_technique(rt, p, mode, override_tex);
     if (clipped)
         for (int i = 0; i < 4; ++i)
             glEnable(GL_CLIP_DISTANCE0 + (GLenum)i);

@@ -8,6 +8,7 @@
 #include "sam_runtime_shadows.h"
 #include "sam_runtime_surface.h"
 #include "sam_runtime_technique.h"
+#include "sam_runtime_thickness.h"
 #include "sam_runtime_tsd.h"
 #include "sam_runtime_view.h"
 
@@ -84,7 +85,7 @@ static sam_status check_view(const sam_runtime *rt, const sam_render_view *view,
     if (!(o->texels_per_pixel >= 0 && o->texels_per_pixel <= 16))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: %g texels per pixel outside (0, 16]",
                         o->texels_per_pixel);
-    if ((unsigned)view->technique > SAM_TECHNIQUE_TRANSMITTANCE)
+    if ((unsigned)view->technique > SAM_TECHNIQUE_THICKNESS)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: unknown technique %d", (int)view->technique);
     int tsm = view->technique == SAM_TECHNIQUE_TSM && !view->translucency;
     if (tsm && view->diffusion != 3)
@@ -176,11 +177,11 @@ static void draw_view(sam_runtime *rt, const sam_render_view *view, const sam_ma
     glUniform3fv(glGetUniformLocation(p, "u_forward"), 1, forward);
     sam_runtime_set_surface_uniforms(rt, p);
     sam_runtime_bind_shadows(rt, p);
+    sam_runtime_bind_buffers(rt);
     /* With texture space the atlas carries the translucency (the override
      * there is atlas-sized): the pass itself adds none. */
     sam_runtime_bind_technique(rt, p, texture_space ? TECHNIQUE_NONE : mode, texture_space ? 0 : override_tex);
     sam_runtime_bind_tsm(rt, p);
-    sam_runtime_bind_buffers(rt);
     /* The G-buffer is no frame: it leaves the shading pass's time alone. */
     if (!gbuffer)
         sam_runtime_begin_timer(rt, SAM_PASS_SHADE);
@@ -217,6 +218,8 @@ sam_status sam_runtime_render_texture(sam_runtime *rt, const sam_render_view *vi
                         view->translucency->width, view->translucency->height);
     if (tsm)
         st = sam_runtime_render_tsm(rt, err);
+    if (mode == TECHNIQUE_THICKNESS)
+        st = sam_runtime_thickness_pass(rt, err);
     if (st == SAM_OK && view->diffusion == 3) {
         sam_runtime_begin_timer(rt, SAM_PASS_DIFFUSION);
         st = sam_runtime_texture_space(rt, view, &vp, &proj, mode, override_tex, tsm, err);

@@ -25,10 +25,11 @@ static void usage(FILE *out)
             "                         L_d and smoothed translucency updated every frame\n"
             "  --fps F                frames per second of --animate (default 30; dt = 1/F)\n"
             "  --dt S                 frame time in seconds for temporal smoothing (default 1/60)\n"
-            "  --technique sam|none|tsm|transmittance\n"
+            "  --technique sam|none|tsm|transmittance|thickness\n"
             "                         translucency technique (default: the scene's): spatial adjacency\n"
             "                         maps, none, d'Eon's translucent shadow maps (needs --diffusion\n"
-            "                         texture and usable UVs), or Jimenez's shadow-map transmittance;\n"
+            "                         texture and usable UVs), Jimenez's shadow-map transmittance, or\n"
+            "                         local thickness (GDC 2011; the thickness is measured first);\n"
             "                         tsm and transmittance use the point, spot and directional lights\n"
             "                         that cast shadows, never area lights or the environment\n"
             "  --translucency-only    the translucency alone, without front lighting\n"
@@ -57,7 +58,7 @@ static void usage(FILE *out)
 
 int main(int argc, char **argv)
 {
-    static const char *const techniques[] = {"sam", "none", "tsm", "transmittance", NULL};
+    static const char *const techniques[] = {"sam", "none", "tsm", "transmittance", "thickness", NULL};
     static const char *const diffusions[] = {"screen", "texture", "preintegrated", "none", NULL};
     static const char *const kernels[] = {"fit2d", "marginal", "eq1", NULL};
     static const char *const tonemaps[] = {"aces", "reinhard", NULL};

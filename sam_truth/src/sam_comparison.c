@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "sam/sam_app_scene.h"
+#include "sam/sam_app_thickness.h"
 #include "sam/sam_comparison.h"
 #include "sam/sam_runtime_scene.h"
 #include "sam/sam_truth.h"
@@ -444,8 +445,24 @@ done:
     return st;
 }
 
-/* The map, a GL context, the runtime set up with the scene, the view every render uses,
- * and the truth's scene on the runtime's lighting. */
+/* The local thickness of the map on the runtime, when the thickness
+ * technique is compared. */
+static sam_status give_thickness(compare_state *s, sam_error *err)
+{
+    if (!s->results[SAM_TECHNIQUE_THICKNESS].requested)
+        return SAM_OK;
+    float *mm;
+    sam_status st = sam_app_thickness(&s->sam, s->mm_per_unit, s->set->tool, &mm, err);
+    if (st != SAM_OK)
+        return st;
+    st = sam_runtime_set_thickness(s->rt, mm, s->sam.vertex_count, err);
+    free(mm);
+    return st;
+}
+
+/* The map, a GL context, the runtime set up with the scene (and the local
+ * thickness), the view every render uses, and the truth's scene on the
+ * runtime's lighting. */
 static sam_status setup(compare_state *s, sam_error *err)
 {
     char warning[512];
@@ -463,7 +480,8 @@ static sam_status setup(compare_state *s, sam_error *err)
         (st = sam_runtime_create(&s->sam, &s->profile, s->mm_per_unit, &s->rt, err)) != SAM_OK ||
         (st = sam_runtime_scene_setup(s->rt, s->scene, s->sh, &s->has_environment, warning, sizeof warning, err)) !=
             SAM_OK ||
-        (st = sam_runtime_scene_keyframes(s->rt, s->scene, &s->sam, err)) != SAM_OK)
+        (st = sam_runtime_scene_keyframes(s->rt, s->scene, &s->sam, err)) != SAM_OK ||
+        (st = give_thickness(s, err)) != SAM_OK)
         return st;
     if (warning[0])
         say(s, "warning: %s", warning);

@@ -4,13 +4,13 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sam/sam_scene.h"
 #include "sam/sam_truth_report.h"
 
-static const char *const technique_names[SAM_TRUTH_REPORT_TECHNIQUES] = {"sam", "none", "tsm", "transmittance"};
-
+/* The scene files' names, so a report and a scene never disagree. */
 const char *sam_truth_report_technique_name(int t)
 {
-    return technique_names[t];
+    return sam_technique_name((sam_technique)t);
 }
 
 sam_status sam_truth_report_path(char *out, size_t n, const char *dir, const char *name, sam_error *err)
@@ -204,14 +204,14 @@ sam_status sam_truth_report_write_images(const char *dir, sam_truth_report_techn
         ++count;
         st = sam_truth_report_score(ref, &r->full, &r->translucency, &r->all, &r->normalised, a, b, err);
         if (st == SAM_OK)
-            st = write_pair(dir, technique_names[t], &r->full, a, err);
-        snprintf(name, sizeof name, "%s_diff4", technique_names[t]);
+            st = write_pair(dir, sam_truth_report_technique_name(t), &r->full, a, err);
+        snprintf(name, sizeof name, "%s_diff4", sam_truth_report_technique_name(t));
         if (st == SAM_OK)
             st = write_difference(dir, name, a, &shown[0], err);
-        snprintf(name, sizeof name, "%s_translucency", technique_names[t]);
+        snprintf(name, sizeof name, "%s_translucency", sam_truth_report_technique_name(t));
         if (st == SAM_OK)
             st = write_pair(dir, name, &r->translucency, b, err);
-        snprintf(name, sizeof name, "%s_translucency_diff4", technique_names[t]);
+        snprintf(name, sizeof name, "%s_translucency_diff4", sam_truth_report_technique_name(t));
         if (st == SAM_OK)
             st = write_difference(dir, name, b, &norm[0], err);
     }

@@ -41,8 +41,8 @@ static void usage(FILE *out)
             "list every frame's scores.\n"
             "\n"
             "options:\n"
-            "  --techniques LIST      comma-separated from sam, tsm, transmittance, none\n"
-            "                         (default: all four)\n"
+            "  --techniques LIST      comma-separated from sam, tsm, transmittance, thickness, none\n"
+            "                         (default: all five; thickness measures the local thickness first)\n"
             "  --samples-sweep LIST   rebuild the map with each N in LIST (e.g. 3,5,10,20,50; each\n"
             "                         1..64) and plot SAM's RMSE against N (needs a scene with a mesh\n"
             "                         and gnuplot)\n"
@@ -125,8 +125,8 @@ static int parse_techniques(const char *text, int *requested)
                 requested[t] = found = 1;
         }
         if (!found)
-            return sam_args_fail(TOOL, "--techniques must be sam, tsm, transmittance or none, got \"%.*s\"", (int)n,
-                                 p);
+            return sam_args_fail(TOOL, "--techniques must be sam, tsm, transmittance, thickness or none, got \"%.*s\"",
+                                 (int)n, p);
         p += n + (p[n] == ',');
     }
     return SAM_ARGS_OK;
@@ -159,7 +159,7 @@ static int parse_lists(const char *sweep_list, const char *frame_list, int fps_g
 /* Fills `o` from the command line; returns SAM_ARGS_*. */
 static int parse_options(int argc, char **argv, options *o)
 {
-    const char *techniques = "sam,none,tsm,transmittance", *sweep_list = NULL, *frame_list = NULL;
+    const char *techniques = "sam,none,tsm,transmittance,thickness", *sweep_list = NULL, *frame_list = NULL;
     long map_samples = 0, truth_samples = 0;
     int fps_given = 0;
     memset(o, 0, sizeof *o);

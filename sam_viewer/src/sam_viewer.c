@@ -68,7 +68,7 @@ void sam_viewer_say(sam_viewer *v, const char *fmt, ...)
 static void cycle_technique(sam_viewer *v)
 {
     sam_scene *s = &v->scene;
-    s->technique = (sam_technique)((s->technique + 1) % 4);
+    s->technique = (sam_technique)((s->technique + 1) % (SAM_TECHNIQUE_THICKNESS + 1));
     if (s->technique == SAM_TECHNIQUE_TSM) {
         if (!v->uv_ok) {
             sam_viewer_say(v, "tsm skipped: it needs texture-space diffusion, which this mesh's UVs cannot give");
@@ -287,6 +287,7 @@ void sam_viewer_frame_plan(sam_viewer *v, double dt, sam_viewer_frame *f)
     f->deform = v->posed && (v->playing || v->reset_t);
     f->time_s = (float)v->anim_time;
     f->translucency = v->scene.technique == SAM_TECHNIQUE_SAM;
+    f->thickness = v->scene.technique == SAM_TECHNIQUE_THICKNESS;
     f->samples = v->scene.samples_per_vertex;
     f->dt = (float)dt;
     f->reset = v->reset_t || !v->smoothing;

@@ -11,6 +11,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "sam/sam_app_thickness.h"
 #include "sam/sam_light.h"
 #include "sam/sam_runtime_scene.h"
 #include "sam/sam_viewer_load.h"
@@ -227,6 +228,7 @@ sam_status sam_viewer_window_open(sam_viewer_window *w, const sam_viewer_window_
     if (st != SAM_OK || (st = sam_gl_check_current(sam_gl_debug_requested(), &info, err)) != SAM_OK ||
         (st = sam_runtime_create(&w->sam, profile, mm_per_unit, &w->rt, err)) != SAM_OK)
         return st;
+    w->mm_per_unit = mm_per_unit;
     uint32_t stride = sam_runtime_samples_per_vertex(w->rt);
     fprintf(stderr, "sam_view: %s, OpenGL %s; %u vertices, N = %u\n", info.renderer, info.version,
             w->sam.vertex_count, stride);
@@ -261,6 +263,27 @@ sam_status sam_viewer_window_open(sam_viewer_window *w, const sam_viewer_window_
 
 /* ---- the frame loop ---- */
 
+/* The local thickness, measured the first time the technique is shown
+ * (most sessions never show it). 1 when it is on the GPU; else it is said
+ * and the technique goes back to sam. */
+static int ensure_thickness(sam_viewer_window *w)
+{
+    sam_error err;
+    float *mm;
+    sam_status st = sam_app_thickness(&w->sam, w->mm_per_unit, "sam_view", &mm, &err);
+    if (st == SAM_OK) {
+        st = sam_runtime_set_thickness(w->rt, mm, w->sam.vertex_count, &err);
+        free(mm);
+    }
+    if (st == SAM_OK) {
+        w->thickness_ready = 1;
+        return 1;
+    }
+    sam_viewer_say(&w->state, "thickness unavailable: %s", err.message);
+    w->state.scene.technique = SAM_TECHNIQUE_SAM;
+    return 0;
+}
+
 /* The SAM passes of one frame. */
 static void update(sam_viewer_window *w, double dt)
 {
@@ -268,6 +291,11 @@ static void update(sam_viewer_window *w, double dt)
     sam_viewer_frame f;
     sam_error err;
     sam_viewer_frame_plan(v, dt, &f);
+    if (f.thickness && !w->thickness_ready && !ensure_thickness(w)) {
+        /* Back to sam, whose pass starts from a fresh history. */
+        f.thickness = 0;
+        f.translucency = f.reset = 1;
+    }
     if (f.deform && (sam_runtime_deform(w->rt, f.time_s, &err) != SAM_OK || sam_runtime_walk(w->rt, &err) != SAM_OK)) {
         sam_viewer_say(v, "deformation stopped: %s", err.message);
         v->playing = 0;

@@ -53,7 +53,7 @@ static void usage(FILE *out)
             "  = / -                selected light's intensity x1.25 / /1.25\n"
             "  C                    selected light's colour: white, warm, cool, red, green, blue\n"
             "  E                    environment on / off;  , and .  rotate it by 15 degrees\n"
-            "  T                    technique: sam, none, tsm, transmittance\n"
+            "  T                    technique: sam, none, tsm, transmittance, thickness\n"
             "  D                    diffusion: screen, texture, pre-integrated, none\n"
             "  [ and ]              fewer / more samples per vertex (of those the .sam holds)\n"
             "  S                    temporal smoothing on / off\n"

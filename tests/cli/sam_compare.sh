@@ -2,7 +2,8 @@
 # sam_compare end to end on a tiny back-lit slab (llvmpipe): every image
 # and both reports are written, the report's numbers agree with each other
 # (the truth against itself is an exact match, PSNR = 20 log10(255 / RMSE),
-# `none` scores below `sam` on a back-lit slab), the samples sweep plots,
+# `none` scores below `sam` and `thickness` on a back-lit slab; every
+# technique by default), the samples sweep plots,
 # an animated slab compares chosen frames against truths of their poses,
 # and bad input gives one error line. Args: BIN SRC TMP
 set -u
@@ -18,17 +19,19 @@ cat > "$tmp/scene.json" <<JSON
  "resolution": [48, 40]}
 JSON
 start=$(date +%s)
-"$bin/sam_compare" "$tmp/scene.json" --out "$tmp/out" --techniques sam,none,transmittance,tsm \
-  --samples-sweep 1,3,6 2> "$tmp/log.txt" || fail "sam_compare: $(cat "$tmp/log.txt")"
+"$bin/sam_compare" "$tmp/scene.json" --out "$tmp/out" --samples-sweep 1,3,6 2> "$tmp/log.txt" \
+  || fail "sam_compare: $(cat "$tmp/log.txt")"
 echo "sam_compare took $(( $(date +%s) - start )) s"
-for f in truth truth_translucency sam sam_translucency none none_translucency transmittance; do
+for f in truth truth_translucency sam sam_translucency none none_translucency transmittance thickness \
+  thickness_translucency; do
   head -c 4 "$tmp/out/$f.exr" | od -An -tx1 | grep -q "76 2f 31 01" || fail "$f.exr is not an EXR"
   head -c 8 "$tmp/out/$f.png" | od -An -tx1 | grep -q "89 50 4e 47" || fail "$f.png is not a PNG"
 done
-for f in sam_diff4 sam_translucency_diff4 none_diff4 rmse_vs_samples row translucency_row; do
+for f in sam_diff4 sam_translucency_diff4 none_diff4 thickness_diff4 rmse_vs_samples row translucency_row; do
   head -c 8 "$tmp/out/$f.png" | od -An -tx1 | grep -q "89 50 4e 47" || fail "$f.png is not a PNG"
 done
 grep -q "^| sam |" "$tmp/out/report.md" || fail "report.md has no sam row"
+grep -q "^| thickness |" "$tmp/out/report.md" || fail "report.md has no thickness row"
 python3 - "$tmp/out/report.json" <<'PY' || fail "report.json is inconsistent"
 import json, math, sys
 r = json.load(open(sys.argv[1]))
@@ -36,7 +39,9 @@ t = {x["name"]: x for x in r["techniques"]}
 truth = r["truth"]
 assert truth["self_psnr_db"] is None and truth["self_differing_pixels"] == 0, truth
 assert truth["samples"] > 0 and truth["seconds"] > 0 and truth["converged"] is True, truth
+assert [x["name"] for x in r["techniques"]] == ["sam", "none", "tsm", "transmittance", "thickness"], r["techniques"]
 assert t["sam"]["available"] and t["none"]["available"] and t["transmittance"]["available"]
+assert t["thickness"]["available"]
 for x in t.values():
     if not x["available"]:
         continue
@@ -51,11 +56,12 @@ for x in t.values():
 sam, none = t["sam"], t["none"]
 assert none["psnr_db"] is not None and (sam["psnr_db"] is None or sam["psnr_db"] > none["psnr_db"]), (sam, none)
 assert sam["psnr_translucency_db"] > none["psnr_translucency_db"], (sam, none)
+assert t["thickness"]["psnr_translucency_db"] > none["psnr_translucency_db"], (t["thickness"], none)
 pts = r["samples_sweep"]["points"]
 assert [p["n"] for p in pts] == [1, 3, 6], pts
-print("truth %d samples %.2f s; PSNR sam %s none %s transmittance %s dB; sweep RMSE %s" % (
+print("truth %d samples %.2f s; PSNR sam %s none %s transmittance %s thickness %s dB; sweep RMSE %s" % (
     truth["samples"], truth["seconds"], sam["psnr_db"], none["psnr_db"], t["transmittance"]["psnr_db"],
-    [round(p["rmse"], 3) for p in pts]))
+    t["thickness"]["psnr_db"], [round(p["rmse"], 3) for p in pts]))
 PY
 # An animated scene: the slab bends up (period 0.8 s) and --frames 0,2 at 10 fps compares the rest pose and
 # the full bend (t = 0.2 s), each against a truth of its own pose, in frame_0000/ and frame_0002/.
@@ -127,6 +133,8 @@ expect_error() { # label args...
   grep -q "sam_compare" "$tmp/err.txt" || fail "$label: message does not name the tool: $(cat "$tmp/err.txt")"
 }
 expect_error "unknown technique" "$tmp/scene.json" --out "$tmp/x" --techniques sam,foo
+grep -q '"foo"' "$tmp/err.txt" && grep -q "thickness" "$tmp/err.txt" \
+  || fail "unknown technique message: $(cat "$tmp/err.txt")"
 expect_error "bad sweep" "$tmp/scene.json" --out "$tmp/x" --samples-sweep 3,0
 expect_error "bad tolerance" "$tmp/scene.json" --out "$tmp/x" --truth-tolerance 0.7
 expect_error "missing scene" "$tmp/nope.json" --out "$tmp/x"

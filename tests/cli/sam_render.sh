@@ -36,6 +36,17 @@ cmp -s "$tmp/tr.exr" "$tmp/t.exr" && fail "transmittance looks the same as sam"
 cmp -s "$tmp/tsm.exr" "$tmp/tn.exr" && fail "tsm gave no translucency"
 printf '{"mesh": "ear.obj", "material": "skin", "scale": {"mm_per_unit": 60}, "technique": "transmittance", "lights": [{"type": "point", "position": [0.1, 0.0, -1.2], "intensity": 6.0}], "resolution": [32, 32]}' > "$tmp/trscene.json"
 "$bin/sam_render" "$tmp/trscene.json" -o "$tmp/trs.exr" 2>/dev/null || fail "the scene's technique transmittance"
+# Local thickness: measured on load, light through the ear of its own (its T in the dump), twice the same.
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/th.exr" --technique thickness --translucency-only \
+  --dump-vertices "$tmp/th.csv" 2> "$tmp/th.txt" || fail "technique thickness: $(cat "$tmp/th.txt")"
+cmp -s "$tmp/th.exr" "$tmp/t.exr" && fail "thickness looks the same as sam"
+cmp -s "$tmp/th.exr" "$tmp/tn.exr" && fail "thickness gave no translucency"
+awk -F, 'NR > 1 && $5 > 0 { lit++ } END { exit !(lit > 0) }' "$tmp/th.csv" || fail "no vertex has thickness translucency"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/th2.exr" --technique thickness --translucency-only 2>/dev/null \
+  || fail "technique thickness, again"
+cmp -s "$tmp/th.exr" "$tmp/th2.exr" || fail "two thickness renders differ"
+sed 's/"technique": "transmittance"/"technique": "thickness"/' "$tmp/trscene.json" > "$tmp/thscene.json"
+"$bin/sam_render" "$tmp/thscene.json" -o "$tmp/ths.exr" 2>/dev/null || fail "the scene's technique thickness"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/nd.exr" --diffusion none --frames 3 2>/dev/null || fail "--diffusion none"
 cmp -s "$tmp/a.exr" "$tmp/nd.exr" && fail "screen diffusion changed nothing"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/pi.exr" --diffusion preintegrated --frames 3 2>/dev/null \
@@ -94,6 +105,11 @@ expect_error 1 "missing mesh" "$tmp/missing.json"
 expect_error 1 "negative intensity" "$tmp/negative.json"
 expect_error 1 "corrupted .sam" "$tmp/broken.json"
 expect_error 2 "bad technique" "$tmp/scene.json" --technique dipole
+grep -q '"dipole"' "$tmp/err.txt" && grep -q "thickness" "$tmp/err.txt" || fail "bad technique message: $(cat "$tmp/err.txt")"
+printf '{"mesh": "ear.obj", "material": "skin", "scale": {"mm_per_unit": 60}, "technique": "thin"}' > "$tmp/badtech.json"
+expect_error 1 "the scene's unknown technique" "$tmp/badtech.json"
+grep -q 'unknown technique "thin" (expected sam, none, tsm, transmittance, thickness)' "$tmp/err.txt" \
+  || fail "scene technique message: $(cat "$tmp/err.txt")"
 expect_error 1 "tsm without texture space" "$tmp/scene.json" --technique tsm --diffusion screen
 grep -q "tsm technique needs texture-space diffusion" "$tmp/err.txt" || fail "tsm message: $(cat "$tmp/err.txt")"
 "$bin/sam_render" "$tmp/tet.json" -o "$tmp/bad.exr" --technique tsm 2> "$tmp/err.txt" && fail "tsm without UVs rendered"

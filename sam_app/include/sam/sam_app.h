@@ -3,8 +3,8 @@
  * does not need: the build's progress bar on stderr. The option parser
  * (sam_args.h) is part of the same library. Two more libraries sit above
  * it: sam_app_build (sam_app_build.h, sam_app_scene.h: a map from a mesh or
- * a scene, on the builder) and sam_app_render (sam_app_render.h, on the
- * runtime).
+ * a scene, sam_app_thickness.h: a map's local thickness; on the builder) and
+ * sam_app_render (sam_app_render.h, on the runtime).
  *
  * sam_app depends on sam_core only. A renderer that loads prebuilt maps
  * reads the .sam with samfile_read and its material and scale with

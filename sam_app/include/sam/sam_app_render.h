@@ -24,7 +24,7 @@ typedef struct sam_app_render_job {
     const char *scene_path;  /* the scene file (required) */
     const char *out;         /* the EXR (required); with animate, OUT_0000.exr, ... */
     const char *png;         /* a tonemapped PNG beside it, or NULL */
-    const char *dump;        /* per-vertex L_d and T as CSV, or NULL */
+    const char *dump;        /* per-vertex L_d and T (the thickness technique's own T with it) as CSV, or NULL */
     int technique;           /* -1: the scene's; else a sam_technique */
     int diffusion;           /* -1: the scene's; else a sam_diffusion */
     int sss_kernel;          /* -1: the scene's; else a sam_sss_kernel */
@@ -48,11 +48,13 @@ void sam_app_render_defaults(sam_app_render_job *job);
  * of `options` (may be NULL: only checks). 0 on a bad name. */
 int sam_app_render_parse_optimizations(const char *list, sam_diffusion_options *options);
 
-/* Runs `job`; progress and warnings go to stderr prefixed with `tool`.
+/* Runs `job`; progress and warnings go to stderr prefixed with `tool`. The
+ * thickness technique has its local thickness measured first
+ * (sam_app_thickness.h).
  * Errors: SAM_ERR_INVALID_ARGUMENT (an animation of a scene that does not
  * move, the tsm technique without texture-space diffusion), and those of
- * sam_scene_load, sam_app_scene_object, the GL context, the runtime and
- * the writers; nothing is left half-written. */
+ * sam_scene_load, sam_app_scene_object, sam_app_thickness, the GL context,
+ * the runtime and the writers; nothing is left half-written. */
 sam_status sam_app_render_run(const sam_app_render_job *job, const char *tool, sam_error *err);
 
 #ifdef __cplusplus

@@ -153,6 +153,15 @@ void sam_profile_dipole_terms(const sam_profile *profile, sam_dipole_terms *out)
 /* Total diffuse reflectance 2 pi int r R_d(r) dr per channel (closed form). */
 void sam_profile_total_reflectance(const sam_profile *profile, float out_rgb[3]);
 
+/* The light a slab of thickness t_mm lets through when one face is lit
+ * uniformly: G(t) = 2 pi int_t^inf s R_d(s) ds per channel, from the
+ * profile's own R_d with the entry-to-exit distance s = sqrt(t^2 + rho^2)
+ * (the law SAM's form factors use); G(0) is the total diffuse reflectance
+ * and G falls to 0 as t grows. The local-thickness technique (sam_runtime.h)
+ * scales the back side's light by it. Closed form (exact for both kinds); a
+ * negative t is read as |t|. */
+void sam_profile_slab_transmission(const sam_profile *profile, float t_mm, float out_rgb[3]);
+
 /* Smallest radius (mm) beyond which the remaining radial energy
  * 2 pi int_r^inf s R_d(s) ds is at most `tolerance` times the channel's
  * total, maximised over the non-zero channels. tolerance in (0, 1); 0 for

@@ -33,7 +33,7 @@
  *        far > near, each default 0 = chosen by the renderer from the
  *        object's bounds.
  *   "resolution": [width, height]  integers in 1..16384; default [1280, 720]
- *   "technique": "sam" | "none" | "tsm" | "transmittance"   default "sam"
+ *   "technique": "sam" | "none" | "tsm" | "transmittance" | "thickness"   default "sam"
  *   "samples_per_vertex": N  the SAM samples each vertex sums, 1..64 (more than
  *        the .sam holds means all); default 0 = all
  *   "diffusion": "screen" | "texture" | "preintegrated" | "none"   default "screen"

@@ -22,7 +22,8 @@ typedef enum sam_technique {
     SAM_TECHNIQUE_SAM = 0,          /* spatial adjacency maps */
     SAM_TECHNIQUE_NONE = 1,         /* no translucency through the object */
     SAM_TECHNIQUE_TSM = 2,          /* d'Eon's translucent shadow maps */
-    SAM_TECHNIQUE_TRANSMITTANCE = 3 /* Jimenez's shadow-map transmittance */
+    SAM_TECHNIQUE_TRANSMITTANCE = 3, /* Jimenez's shadow-map transmittance */
+    SAM_TECHNIQUE_THICKNESS = 4      /* Barre-Brisebois and Bouchard's local thickness (GDC 2011) */
 } sam_technique;
 
 typedef enum sam_diffusion {

@@ -17,7 +17,7 @@
 /* ------------------------------------------------------------------------ */
 /* Names                                                                     */
 
-static const char *const technique_names[] = {"sam", "none", "tsm", "transmittance"};
+static const char *const technique_names[] = {"sam", "none", "tsm", "transmittance", "thickness"};
 static const char *const diffusion_names[] = {"screen", "texture", "preintegrated", "none"};
 static const char *const tonemap_names[] = {"aces", "reinhard"};
 static const char *const sss_kernel_names[] = {"fit2d", "marginal", "eq1"};

@@ -352,6 +352,16 @@ void sam_profile_outer_d(const sam_profile *p, double r, double out[3])
     }
 }
 
+void sam_profile_slab_transmission(const sam_profile *profile, float t_mm, float out_rgb[3])
+{
+    /* Through a slab of thickness t, s^2 = t^2 + rho^2 turns the plane's
+     * integral of R_d(s) into the energy beyond radius t. */
+    double g[3];
+    sam_profile_outer_d(profile, fabs((double)t_mm), g);
+    for (int c = 0; c < 3; c++)
+        out_rgb[c] = (float)g[c];
+}
+
 /* z (e^{-sigma z}/z - e^{-sigma d}/d) rewritten with d - z = r^2/(d + z)
  * and expm1, so that small r loses no digits. */
 static double pole_inner(double z, double sigma, double r)

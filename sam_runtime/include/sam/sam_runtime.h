@@ -14,6 +14,7 @@
  *        lighting changes.
  *     4. Animated objects only: sam_runtime_set_deformers and/or
  *        _set_keyframes.
+ *     5. The local-thickness technique only: sam_runtime_set_thickness.
  *
  *   Every frame, in this order (the frame sequence)
  *     1. sam_runtime_deform(t)      animated only: poses positions, normals,
@@ -75,7 +76,7 @@ typedef struct sam_runtime sam_runtime;
 
 typedef enum sam_pass {
     SAM_PASS_IRRADIANCE = 0, /* shadow maps + L_d at every vertex */
-    SAM_PASS_TRANSLUCENCY,   /* eq. 12 + smoothing */
+    SAM_PASS_TRANSLUCENCY,   /* eq. 12 + smoothing, or the thickness technique's pass */
     SAM_PASS_SHADE,          /* the forward shading pass */
     SAM_PASS_DIFFUSION,      /* screen or texture-space diffusion (atlas, blurs, sum; compose) */
     SAM_PASS_DEFORM,         /* deformed positions, then normals and fan areas */
@@ -219,6 +220,25 @@ sam_status sam_runtime_read_fan_areas(sam_runtime *rt, float *mm2, sam_error *er
  * normals at rest, of the pose's (computed on the GPU) once deformed. */
 sam_status sam_runtime_read_curvature(sam_runtime *rt, float *per_mm, sam_error *err);
 
+/* Each vertex's local thickness in mm (`count` = the vertex count, values
+ * finite and >= 0, e.g. from sam_thickness_compute in the builder), for the
+ * THICKNESS technique; NULL with count 0 removes it. The runtime keeps the
+ * profile's slab transmission G(t) = 2 pi int_t^inf s R_d(s) ds of each
+ * (sam_profile_slab_transmission): 16 bytes per vertex, and 16 more for the
+ * technique's T. The thickness belongs to the rest pose; a deformed pose
+ * keeps it. Errors: SAM_ERR_INVALID_ARGUMENT (a count other than the
+ * vertex count, a NULL array, a value not finite or < 0, naming the vertex
+ * and value), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_set_thickness(sam_runtime *rt, const float *mm, uint32_t count, sam_error *err);
+
+/* The GDC talk's distortion of the THICKNESS technique: each point, spot
+ * and directional light's cosine becomes that of -N with L + N distortion
+ * (L towards the light) instead of with L, bending the light that comes
+ * through towards the normal. 0 (the default) is the plain inverted
+ * normal, the back side's own irradiance. Errors: SAM_ERR_INVALID_ARGUMENT
+ * (outside [0, 1]). */
+sam_status sam_runtime_set_thickness_distortion(sam_runtime *rt, float distortion, sam_error *err);
+
 /* The lights of a scene (copied; `count` <= SAM_LIGHT_MAX_COUNT). Lights
  * with `shadow` get a shadow map: a 512^2 cube of distances for point
  * lights and for area lights (seen from the polygon's centroid), a 1024^2
@@ -270,7 +290,7 @@ typedef struct sam_render_view {
     sam_diffusion_options options;
     /* Where the translucency comes from (zero: SAM_TECHNIQUE_SAM, the
      * per-vertex T of sam_runtime_translucency). NONE adds none;
-     * TRANSMITTANCE and TSM are described at sam_runtime_render. */
+     * TRANSMITTANCE, TSM and THICKNESS are described at sam_runtime_render. */
     sam_technique technique;
     /* NULL, or the translucency itself, replacing the technique's: linear
      * RGB or RGBA floats in T's units (light entering the surface, added to
@@ -319,7 +339,8 @@ typedef struct sam_render_view {
  * surface area and atlas coverage, instead of the paper's hand-set d_ref).
  *
  * Techniques (view->technique; all give only their translucency with
- * front = 0, and none for area lights or the environment):
+ * front = 0; TRANSMITTANCE and TSM none for area lights or the
+ * environment):
  * TRANSMITTANCE (Jimenez et al. 2010) evaluates, per pixel (per texel with
  * texture space), for every point, spot and directional light with a
  * shadow map: the thickness s in mm between the point and the surface the
@@ -335,10 +356,20 @@ typedef struct sam_render_view {
  * fadeOut_i rising from 0 at the pixel's own UV to 1 at 6 sqrt(v_i) mm
  * away. A TSM costs 32 MiB (spot, directional) or 48 MiB (point) of maps,
  * and the levels atlas_size^2 * 16 bytes each.
+ * THICKNESS (Barre-Brisebois and Bouchard, GDC 2011, local thickness) runs
+ * a per-vertex pass first and shades its result exactly where T goes (so
+ * every diffusion mode applies): T = E_back G(t), t the vertex's thickness
+ * (sam_runtime_set_thickness), G its slab transmission, and E_back every
+ * light's irradiance on the plane facing -N (the cosine optionally
+ * distorted, sam_runtime_set_thickness_distortion) times rho_dt of that
+ * cosine, as L_d takes light in, plus the environment's SH-9 irradiance at
+ * -N times its mean rho_dt. Point, spot, directional and area lights and
+ * the environment all count, and none is shadowed: the back side counts as
+ * lit wherever a light faces it, as engines ship the technique.
  *
  * Errors: SAM_ERR_INVALID_ARGUMENT (size, field of view, options or
  * technique out of range; a translucency override of the wrong size or
- * channel count, naming both sizes), SAM_ERR_UNSUPPORTED (texture space,
+ * channel count, naming both sizes; THICKNESS without a thickness), SAM_ERR_UNSUPPORTED (texture space,
  * or the tsm technique, without usable UVs: see sam_runtime_uv_status; tsm
  * without texture-space diffusion; an incomplete framebuffer),
  * SAM_ERR_OUT_OF_MEMORY. */
@@ -412,6 +443,11 @@ void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius);
 /* Reads L_d or T back (3 * vertex_count floats). */
 sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *err);
 sam_status sam_runtime_read_translucency(sam_runtime *rt, float *rgb, sam_error *err);
+/* The THICKNESS technique's T as its last render left it (3 * vertex_count
+ * floats; its own buffer: SAM's T stays as sam_runtime_translucency left
+ * it). Errors: SAM_ERR_INVALID_ARGUMENT (no thickness given),
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_read_thickness_translucency(sam_runtime *rt, float *rgb, sam_error *err);
 
 /* GPU time of the last run of `pass` in milliseconds (GL timer queries),
  * or a negative value when it has not run. Waits for the result. */

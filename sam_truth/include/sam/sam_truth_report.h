@@ -35,12 +35,13 @@ extern "C" {
 #endif
 
 /* The techniques a comparison knows, indexed by sam_technique: sam, none,
- * tsm, transmittance. */
-#define SAM_TRUTH_REPORT_TECHNIQUES 4
+ * tsm, transmittance, thickness. */
+#define SAM_TRUTH_REPORT_TECHNIQUES 5
 /* Doubling the truth's samples is converged once SAM's PSNRs move by less. */
 #define SAM_TRUTH_REPORT_CONVERGED_DB 0.5
 
-/* Technique t's name ("sam", "none", "tsm", "transmittance"); t in
+/* Technique t's name as scene files write it (sam_technique_name: "sam",
+ * "none", "tsm", "transmittance", "thickness"); t in
  * [0, SAM_TRUTH_REPORT_TECHNIQUES). */
 const char *sam_truth_report_technique_name(int t);
 

@@ -88,6 +88,7 @@ typedef struct sam_viewer_frame {
     int deform;        /* pose the mesh at time_s (and walk it) */
     float time_s;
     int translucency;  /* run the SAM translucency pass */
+    int thickness;     /* the local-thickness technique: its thickness must be on the GPU */
     uint32_t samples;  /* samples per vertex for it (0: all) */
     float dt;          /* seconds since the last frame */
     int reset;         /* replace the temporal history rather than blend */

@@ -35,6 +35,8 @@ typedef struct sam_viewer_window {
     struct GLFWwindow *window;
     int glfw_up;
     sam_runtime *rt;
+    float mm_per_unit;       /* the map's scale, for the local thickness */
+    int thickness_ready;     /* the local thickness is on the GPU (measured on first use) */
     sam_image environment, truth;
     GLuint truth_tex;
 
