@@ -94,36 +94,14 @@ static void build_sam(const char *material, samfile_data *out, sam_profile *prof
     sam_mesh_destroy(&mesh);
 }
 
-/* A sample's position, area and L_d (7 doubles) for every vertex and tree
- * node: vertices as stored, nodes summed from their children, deepest
- * level first, as the node pass does. Caller frees. */
-static double *cpu_sample_points(const samfile_data *d, const float *ld)
-{
-    const size_t vc = d->vertex_count, total = vc + d->node_count;
-    double *s = malloc(total * 7 * sizeof *s);
-    for (size_t v = 0; v < vc; ++v) {
-        double *o = s + 7 * v;
-        for (int c = 0; c < 3; ++c)
-            o[c] = d->positions[3 * v + c], o[4 + c] = ld[3 * v + c];
-        o[3] = d->fan_area[v];
-    }
-    for (uint32_t l = d->level_count; l-- > 0;)
-        for (uint32_t j = d->level_offsets[l]; j < d->level_offsets[l + 1]; ++j) {
-            const double *a = s + 7 * (size_t)d->node_children[2 * j], *b = s + 7 * (size_t)d->node_children[2 * j + 1];
-            double *o = s + 7 * (vc + j), w = a[3] + b[3], fa = w > 0 ? a[3] / w : 0.5;
-            for (int c = 0; c < 3; ++c)
-                o[c] = fa * a[c] + (1 - fa) * b[c], o[4 + c] = w > 0 ? fa * a[4 + c] + (1 - fa) * b[4 + c] : 0;
-            o[3] = w;
-        }
-    return s;
-}
-
 /* eq. 12 on the CPU, in double precision. */
 static void cpu_translucency(const samfile_data *d, const sam_profile *p, float mm, const float *ld, uint32_t used,
                              double *t)
 {
     uint32_t n = d->samples_per_vertex;
-    double *s = cpu_sample_points(d, ld);
+    /* Vertices and a cut map's nodes alike (the CPU's node pass). */
+    float *s = malloc(((size_t)d->vertex_count + d->node_count) * 7 * sizeof *s);
+    assert_int_equal(samfile_sample_points(d, ld, 3, s, NULL), SAM_OK);
     for (uint32_t v = 0; v < d->vertex_count; ++v) {
         t[3 * v] = t[3 * v + 1] = t[3 * v + 2] = 0;
         for (uint32_t k = 0; k < used; ++k) {
@@ -131,12 +109,12 @@ static void cpu_translucency(const samfile_data *d, const sam_profile *p, float 
             if (b == SAMFILE_NO_SAMPLE)
                 break;
             const float *pv = d->positions + 3 * v;
-            const double *pb = s + 7 * (size_t)b;
+            const float *pb = s + 7 * (size_t)b;
             double dx = pb[0] - pv[0], dy = pb[1] - pv[1], dz = pb[2] - pv[2];
             float rd[3];
             sam_profile_eval(p, (float)(mm * sqrt(dx * dx + dy * dy + dz * dz)), rd);
             for (int c = 0; c < 3; ++c)
-                t[3 * v + c] += pb[4 + c] * d->sample_kprime[3 * (v * n + k) + c] * pb[3] * rd[c];
+                t[3 * v + c] += (double)pb[4 + c] * d->sample_kprime[3 * (v * n + k) + c] * pb[3] * rd[c];
         }
     }
     free(s);

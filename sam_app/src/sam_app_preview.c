@@ -112,7 +112,7 @@ static void irradiance(const samfile_data *d, const preview_camera *cam, float *
  * exposed on the 95th percentile of the lit vertices (a few rim vertices
  * whose two sides nearly touch are far brighter), tonemapped x / (1 + x),
  * plus the dim grey headlight that shows the shape. */
-static void shade(const samfile_data *d, const samfile_info *info, const preview_camera *cam, const float *ld,
+static void shade(const samfile_data *d, const samfile_info *info, const preview_camera *cam, const float *points,
                   float *rgb, float *bright)
 {
     const uint32_t nv = d->vertex_count, n = d->samples_per_vertex;
@@ -123,11 +123,13 @@ static void shade(const samfile_data *d, const samfile_info *info, const preview
             uint32_t b = d->sample_index[(size_t)v * n + k];
             if (b == SAMFILE_NO_SAMPLE)
                 break;
-            vec3 dv = sub(v3(d->positions + 3 * (size_t)b), v3(d->positions + 3 * (size_t)v));
+            /* A vertex or a cut map's node: position, area, L_d. */
+            const float *s = points + 5 * (size_t)b;
+            vec3 dv = sub(v3(s), v3(d->positions + 3 * (size_t)v));
             float rd[3];
             sam_profile_eval(&info->profile, info->mm_per_unit * sqrtf(dot(dv, dv)), rd);
             for (int c = 0; c < 3; ++c)
-                t[c] += ld[b] * d->sample_kprime[3 * ((size_t)v * n + k) + c] * d->fan_area[b] * rd[c];
+                t[c] += s[4] * d->sample_kprime[3 * ((size_t)v * n + k) + c] * s[3] * rd[c];
         }
         memcpy(rgb + 3 * (size_t)v, t, sizeof t);
         float m = fmaxf(t[0], fmaxf(t[1], t[2]));
@@ -211,15 +213,18 @@ sam_status sam_app_preview_write(const sam_app_preview_job *job, const char *too
     const size_t nv = d.vertex_count, side = (size_t)job->size;
     float *ld = malloc(nv * sizeof *ld), *rgb = malloc(nv * 3 * sizeof *rgb), *bright = malloc(nv * sizeof *bright);
     float *depth = malloc(side * side * sizeof *depth);
+    /* Every sample's position, area and L_d (samfile_sample_points). */
+    float *points = malloc((nv + d.node_count) * 5 * sizeof *points);
     sam_image img = {0};
-    if (st == SAM_OK && (!ld || !rgb || !bright || !depth))
+    if (st == SAM_OK && (!ld || !rgb || !bright || !depth || !points))
         st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "preview: out of memory for %zu vertices", nv);
     if (st == SAM_OK)
         st = sam_image_create(&img, (uint32_t)side, (uint32_t)side, 3, err);
     preview_camera cam = place_camera(&d, job->axis, job->sign);
     if (st == SAM_OK) {
         irradiance(&d, &cam, ld);
-        shade(&d, &info, &cam, ld, rgb, bright);
+        samfile_sample_points(&d, ld, 1, points, NULL);
+        shade(&d, &info, &cam, points, rgb, bright);
         rasterise(&d, &cam, rgb, depth, &img);
         st = sam_image_write_png(job->out, &img, SAM_PNG_SRGB, err);
     }
@@ -228,6 +233,7 @@ sam_status sam_app_preview_write(const sam_app_preview_job *job, const char *too
                 job->sign < 0 ? "-" : "+", "xyz"[cam.axis]);
     sam_image_destroy(&img);
     free(depth);
+    free(points);
     free(bright);
     free(ld);
     free(rgb);

@@ -134,6 +134,20 @@ sam_status samfile_read(const char *path, samfile_data *out, sam_error *err);
 sam_status samfile_read_memory(const uint8_t *bytes, size_t size, const char *name, samfile_data *out,
                                sam_error *err);
 
+/*
+ * What each sample index of `data` stands for at rest: for every vertex and
+ * then every tree node (vertex_count + node_count records of 4 + channels
+ * floats), its position (model units), area (mm^2), and the area-weighted
+ * mean of `channels` per-vertex values `values` (vertex_count * channels;
+ * may be NULL when channels is 0). A vertex's record is its own; a node's
+ * sums its children as the runtime's node pass does (samfile.h's layout),
+ * so CPU tools read a cut map's samples as the GPU does. `out` is caller
+ * owned. Errors: SAM_ERR_INVALID_ARGUMENT (NULL data or out, values NULL
+ * with channels > 0, channels > 16).
+ */
+sam_status samfile_sample_points(const samfile_data *data, const float *values, uint32_t channels, float *out,
+                                 sam_error *err);
+
 /* Frees the arrays of a samfile_data filled by a read and zeroes it. Safe on
  * a zeroed struct and on NULL. Do not call it on caller-built data. */
 void samfile_free(samfile_data *data);
