@@ -11,6 +11,7 @@ struct Node {
     vec4 centroid_area; // centroid (model units), area (mm^2)
     vec4 ld;            // area-weighted mean L_d
     vec4 normal;        // area-weighted mean normal (not unit)
+    vec4 ld_diff;       // L_d(child 1) - L_d(child 0): a sample moves along it by its tau
 };
 
 layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
@@ -28,7 +29,7 @@ Node read_child(uint c)
 {
     if (c >= u_vertex_count)
         return nodes[c - u_vertex_count];
-    return Node(vec4(positions[c].xyz, fan_area[c]), irradiance[c], normals[c]);
+    return Node(vec4(positions[c].xyz, fan_area[c]), irradiance[c], normals[c], vec4(0.0));
 }
 
 void main()
@@ -44,5 +45,5 @@ void main()
     float fa = w > 0.0 ? wa / w : 0.5, fb = 1.0 - fa;
     nodes[j] = Node(vec4(fa * a.centroid_area.xyz + fb * b.centroid_area.xyz, w),
                     vec4(w > 0.0 ? fa * a.ld.rgb + fb * b.ld.rgb : vec3(0.0), 1.0),
-                    vec4(fa * a.normal.xyz + fb * b.normal.xyz, 0.0));
+                    vec4(fa * a.normal.xyz + fb * b.normal.xyz, 0.0), vec4(b.ld.rgb - a.ld.rgb, 0.0));
 }

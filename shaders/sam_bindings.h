@@ -24,16 +24,17 @@
 #define SAM_B_PRE_DIFFUSE 12  /* pre-integrated diffuse falloff table */
 #define SAM_B_PRE_PENUMBRA 13 /* pre-integrated penumbra table */
 #define SAM_B_UVS 14          /* vec2 per vertex */
-#define SAM_B_NODES 15        /* per tree node {vec4 centroid, area; vec4 L_d; vec4 mean normal} */
+#define SAM_B_NODES 15        /* per tree node {vec4 centroid, area; L_d; mean normal; L_d(child 1) - L_d(child 0)} */
 #define SAM_B_NODE_CHILDREN 16 /* uvec2 per tree node: sample indices of its children */
 #define SAM_B_NODE_PARENTS 17 /* uint per vertex and node: its parent node, 0xFFFFFFFF for the root */
-#define SAM_B_COUNT 18
+#define SAM_B_SAMPLE_TAU 18   /* float per sample: a node sample's L_d correction along its split */
+#define SAM_B_COUNT 19
 
 /* Bound only by the passes that need them, after the shared ones. */
-#define SAM_B_REST_POSITIONS 18 /* the rest pose a posed K is carried from */
-#define SAM_B_BOUNDS 19         /* the posed box: 6 order-preserving uint keys */
-#define SAM_B_TRANSMISSION 20   /* vec4 per vertex: G(t) of the vertex's local thickness */
-#define SAM_B_LIMIT 21          /* bindings a context must offer */
+#define SAM_B_REST_POSITIONS 19 /* the rest pose a posed K is carried from */
+#define SAM_B_BOUNDS 20         /* the posed box: 6 order-preserving uint keys */
+#define SAM_B_TRANSMISSION 21   /* vec4 per vertex: G(t) of the vertex's local thickness */
+#define SAM_B_LIMIT 22          /* bindings a context must offer */
 
 /* The deform pass reads its inputs where the normals and samples usually
  * are: it writes positions only, and the normals pass runs after it. */

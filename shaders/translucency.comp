@@ -8,7 +8,8 @@
 // so it counts again when the pose brings it back (walk.comp replaces it
 // when it can). A cut map's sample may be a tree node (index >=
 // u_vertex_count), read from the node pass's output as a vertex would be:
-// its centroid, area and L_d; posed, its K follows eq. 15 at the posed
+// its centroid, area and L_d (moved by the sample's tau along the node's
+// split, towards where its light comes from); posed, its K follows eq. 15 at the posed
 // centroid and it is skipped when its centroid and mean normal fail eq.
 // 13-14.
 #include "sam_bindings.h"
@@ -28,9 +29,10 @@ layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_a
 layout(std430, binding = SAM_B_IRRADIANCE) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = SAM_B_TRANSLUCENCY) buffer Translucency { vec4 translucency[]; };
 struct Node {
-    vec4 centroid_area, ld, normal; // nodes.comp
+    vec4 centroid_area, ld, normal, ld_diff; // nodes.comp
 };
 layout(std430, binding = SAM_B_NODES) readonly buffer Nodes { Node nodes[]; };
+layout(std430, binding = SAM_B_SAMPLE_TAU) readonly buffer SampleTau { float sample_tau[]; };
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
 layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
@@ -71,7 +73,8 @@ void main()
             Node d = nodes[s.index - u_vertex_count];
             q = d.centroid_area.xyz;
             area = d.centroid_area.w;
-            L = d.ld.rgb;
+            // First order: L_d where the sample's light comes from (STAU).
+            L = max(d.ld.rgb + sample_tau[v * u_stride + k] * d.ld_diff.rgb, vec3(0.0));
             m = d.normal.xyz;
         } else {
             q = positions[s.index].xyz;

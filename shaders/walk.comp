@@ -126,8 +126,13 @@ void main()
         }
     }
     // Insertion sort, best first; empty slots (score -1) end up last, as
-    // the translucency pass expects.
-    for (uint k = 1u; k < u_stride; ++k)
+    // the translucency pass expects. A cut map's list stays in place: its
+    // nodes' tau (STAU) belong to their slots, and adoptions fill the first
+    // empty slot, so pads stay last without sorting.
+    bool cut = false;
+    for (uint k = 0u; k < u_stride; ++k)
+        cut = cut || is_node(chosen[k].index);
+    for (uint k = 1u; k < u_stride && !cut; ++k)
         for (uint j = k; j > 0u && score[j] > score[j - 1u]; --j) {
             Sample t = chosen[j];
             chosen[j] = chosen[j - 1u];

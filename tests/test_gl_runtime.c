@@ -100,7 +100,7 @@ static void cpu_translucency(const samfile_data *d, const sam_profile *p, float 
 {
     uint32_t n = d->samples_per_vertex;
     /* Vertices and a cut map's nodes alike (the CPU's node pass). */
-    float *s = malloc(((size_t)d->vertex_count + d->node_count) * 7 * sizeof *s);
+    float *s = malloc(((size_t)d->vertex_count + d->node_count) * 10 * sizeof *s);
     assert_int_equal(samfile_sample_points(d, ld, 3, s, NULL), SAM_OK);
     for (uint32_t v = 0; v < d->vertex_count; ++v) {
         t[3 * v] = t[3 * v + 1] = t[3 * v + 2] = 0;
@@ -109,12 +109,14 @@ static void cpu_translucency(const samfile_data *d, const sam_profile *p, float 
             if (b == SAMFILE_NO_SAMPLE)
                 break;
             const float *pv = d->positions + 3 * v;
-            const float *pb = s + 7 * (size_t)b;
+            const float *pb = s + 10 * (size_t)b;
+            const float tau = d->node_count ? d->sample_tau[v * n + k] : 0.0f;
             double dx = pb[0] - pv[0], dy = pb[1] - pv[1], dz = pb[2] - pv[2];
             float rd[3];
             sam_profile_eval(p, (float)(mm * sqrt(dx * dx + dy * dy + dz * dz)), rd);
             for (int c = 0; c < 3; ++c)
-                t[3 * v + c] += (double)pb[4 + c] * d->sample_kprime[3 * (v * n + k) + c] * pb[3] * rd[c];
+                t[3 * v + c] += (double)fmaxf(pb[4 + c] + tau * pb[7 + c], 0.0f) * d->sample_kprime[3 * (v * n + k) + c] *
+                                pb[3] * rd[c];
         }
     }
     free(s);

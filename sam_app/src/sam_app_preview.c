@@ -108,7 +108,8 @@ static void irradiance(const samfile_data *d, const preview_camera *cam, float *
     rtcReleaseDevice(device);
 }
 
-/* The displayed colour per vertex: T(v) = sum_k L_d(b_k) K' F'_b R_d(|v_b - v|),
+/* The displayed colour per vertex: T(v) = sum_k L_d(b_k) K' F'_b R_d(|v_b - v|)
+ * (a node's L_d moved by its tau),
  * exposed on the 95th percentile of the lit vertices (a few rim vertices
  * whose two sides nearly touch are far brighter), tonemapped x / (1 + x),
  * plus the dim grey headlight that shows the shape. */
@@ -124,12 +125,13 @@ static void shade(const samfile_data *d, const samfile_info *info, const preview
             if (b == SAMFILE_NO_SAMPLE)
                 break;
             /* A vertex or a cut map's node: position, area, L_d. */
-            const float *s = points + 5 * (size_t)b;
+            const float *s = points + 6 * (size_t)b;
+            const float ld = fmaxf(s[4] + (d->node_count ? d->sample_tau[(size_t)v * n + k] : 0.0f) * s[5], 0.0f);
             vec3 dv = sub(v3(s), v3(d->positions + 3 * (size_t)v));
             float rd[3];
             sam_profile_eval(&info->profile, info->mm_per_unit * sqrtf(dot(dv, dv)), rd);
             for (int c = 0; c < 3; ++c)
-                t[c] += s[4] * d->sample_kprime[3 * ((size_t)v * n + k) + c] * s[3] * rd[c];
+                t[c] += ld * d->sample_kprime[3 * ((size_t)v * n + k) + c] * s[3] * rd[c];
         }
         memcpy(rgb + 3 * (size_t)v, t, sizeof t);
         float m = fmaxf(t[0], fmaxf(t[1], t[2]));
@@ -214,7 +216,7 @@ sam_status sam_app_preview_write(const sam_app_preview_job *job, const char *too
     float *ld = malloc(nv * sizeof *ld), *rgb = malloc(nv * 3 * sizeof *rgb), *bright = malloc(nv * sizeof *bright);
     float *depth = malloc(side * side * sizeof *depth);
     /* Every sample's position, area and L_d (samfile_sample_points). */
-    float *points = malloc((nv + d.node_count) * 5 * sizeof *points);
+    float *points = malloc((nv + d.node_count) * 6 * sizeof *points);
     sam_image img = {0};
     if (st == SAM_OK && (!ld || !rgb || !bright || !depth || !points))
         st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "preview: out of memory for %zu vertices", nv);

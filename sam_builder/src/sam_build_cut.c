@@ -18,6 +18,7 @@ typedef struct cut_entry {
     float estimate; /* back: area x mean R_d at its centroid; mixed: 0 */
     int frozen;     /* refining it would pass the budget */
     float k[3], k_error;
+    float tau;      /* node_tau; 0 for a vertex */
 } cut_entry;
 
 /* The working cut (stored and mixed entries) is at most this times N. */
@@ -64,6 +65,14 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
     return 1;
 }
 
+/* Adds a part of mean-RGB K at `at` to a K-weighted sum of positions. */
+static void add_centre(double centre[3], const float at[3], const float k[3])
+{
+    const double w = (double)k[0] + k[1] + k[2];
+    for (int c = 0; c < 3; ++c)
+        centre[c] += w * at[c];
+}
+
 /* K of node j for receiver o: eq. 11 summed over its members, down its
  * subtree as the ground truth sums eq. 7. A subnode across which mean R_d
  * changes by a ratio of at most `flat_ratio` = exp(sqrt(8 tol)) counts as
@@ -74,8 +83,10 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
  * errors add in quadrature. Deterministic but
  * for those members, so neighbouring vertices get smoothly varying K. */
 static void node_form_factor(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o,
-                             const float *points, uint32_t j, float flat_ratio, float k[3], float *k_error)
+                             const float *points, uint32_t j, float flat_ratio, float k[3], float *k_error,
+                             float k_centre[3])
 {
+    double centre[3] = {0, 0, 0};
     const uint32_t n = ctx->mesh->topo_count;
     const float *p = ctx->pos + 3 * (size_t)o, *nrm = ctx->mesh->topo_normals + 3 * (size_t)o;
     double sum[3] = {0, 0, 0}, var = 0;
@@ -108,6 +119,7 @@ static void node_form_factor(const sam_build_context *ctx, const sam_build_tree 
             for (int c = 0; c < 3; ++c)
                 sum[c] += kv[c];
             var += (double)ev * ev;
+            add_centre(centre, q, kv);
             continue;
         }
         const sam_build_node *node = &tree->node[id - n];
@@ -123,16 +135,44 @@ static void node_form_factor(const sam_build_context *ctx, const sam_build_tree 
             const float *c = node->centroid;
             float dx = c[0] - p[0], dy = c[1] - p[1], dz = c[2] - p[2], rd[4];
             sam_build_rd(ctx, sqrtf(dx * dx + dy * dy + dz * dz), rd);
+            float kv[3] = {node->area * rd[0], node->area * rd[1], node->area * rd[2]};
             for (int ch = 0; ch < 3; ++ch)
-                sum[ch] += (double)node->area * rd[ch];
+                sum[ch] += kv[ch];
+            add_centre(centre, c, kv);
             continue;
         }
         stack[top++] = node->child[0];
         stack[top++] = node->child[1];
     }
-    for (int c = 0; c < 3; ++c)
+    const double total = sum[0] + sum[1] + sum[2];
+    for (int c = 0; c < 3; ++c) {
         k[c] = (float)sum[c];
+        k_centre[c] = total > 0 ? (float)(centre[c] / total) : tree->node[j].centroid[c];
+    }
     *k_error = (float)sqrt(var);
+}
+
+/* Where along node j's split its light comes from: the K-weighted centre's
+ * offset from the centroid, projected on the line between its children's
+ * centroids, in units of that line (clamped to [-1, 1]). The runtime reads
+ * the node's L_d moved by tau times the children's difference: exact for
+ * L_d that changes linearly along the split. */
+static float node_tau(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t j, const float k_centre[3])
+{
+    const uint32_t n = ctx->mesh->topo_count;
+    const sam_build_node *node = &tree->node[j];
+    const float *c0 = node->child[0] < n ? ctx->pos + 3 * (size_t)node->child[0] : tree->node[node->child[0] - n].centroid;
+    const float *c1 = node->child[1] < n ? ctx->pos + 3 * (size_t)node->child[1] : tree->node[node->child[1] - n].centroid;
+    double axis2 = 0, along = 0;
+    for (int c = 0; c < 3; ++c) {
+        double a = (double)c1[c] - c0[c];
+        axis2 += a * a;
+        along += a * ((double)k_centre[c] - node->centroid[c]);
+    }
+    if (!(axis2 > 0))
+        return 0.0f;
+    double tau = along / axis2;
+    return (float)(tau < -1 ? -1 : tau > 1 ? 1 : tau);
 }
 
 static int entry_better(const cut_entry *a, const cut_entry *b)
@@ -211,7 +251,11 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         if (e[c].id < n)
             sam_build_form_factor_from(ctx, o, sc->points, e[c].id, m, ctx->settings.seed, e[c].k, &e[c].k_error);
         else
-            node_form_factor(ctx, tree, o, sc->points, e[c].id - n, flat_ratio, e[c].k, &e[c].k_error);
+        {
+            float k_centre[3];
+            node_form_factor(ctx, tree, o, sc->points, e[c].id - n, flat_ratio, e[c].k, &e[c].k_error, k_centre);
+            e[c].tau = node_tau(ctx, tree, e[c].id - n, k_centre);
+        }
     }
     *form_factors += kept;
     qsort(e, kept, sizeof *e, cmp_entry);
@@ -226,6 +270,7 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         size_t at = (size_t)o * budget + slot++;
         r->sample[at] = id;
         r->k_error[at] = e[c].k_error;
+        r->tau[at] = e[c].tau;
         memcpy(r->k + 3 * at, e[c].k, sizeof e[c].k);
         sam_build_kprime(ctx, e[c].k, area, sqrtf(dx * dx + dy * dy + dz * dz), r->kprime + 3 * at);
     }
@@ -239,7 +284,8 @@ static sam_status keep_tree(const sam_build_tree *tree, sam_build_result *r, sam
     r->level_count = tree->level_count;
     r->node_children = malloc(((size_t)tree->node_count * 2 + 1) * sizeof *r->node_children);
     r->level_offsets = malloc(((size_t)tree->level_count + 1) * sizeof *r->level_offsets);
-    if (!r->node_children || !r->level_offsets)
+    r->tau = calloc((size_t)r->topo_count * r->samples_per_vertex, sizeof *r->tau);
+    if (!r->node_children || !r->level_offsets || !r->tau)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for the tree's %u nodes", tree->node_count);
     for (uint32_t j = 0; j < tree->node_count; ++j) {
         r->node_children[2 * (size_t)j] = tree->node[j].child[0];

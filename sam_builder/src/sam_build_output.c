@@ -98,13 +98,14 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
         out->level_count = r->level_count;
         out->node_children = malloc((size_t)r->node_count * 2 * sizeof(uint32_t));
         out->level_offsets = malloc(((size_t)r->level_count + 1) * sizeof(uint32_t));
+        out->sample_tau = malloc(nv * n * sizeof(float));
     }
     cJSON *info = info_json(ctx, r, source);
     out->info_json = info ? cJSON_PrintUnformatted(info) : NULL;
     cJSON_Delete(info);
     if (!out->positions || !out->normals || (m->uvs && !out->uvs) || !out->triangles || !out->sample_index ||
         !out->sample_kprime || !out->fan_area || !out->adjacency_offsets || !out->adjacency || !out->info_json ||
-        (r->node_count && (!out->node_children || !out->level_offsets))) {
+        (r->node_count && (!out->node_children || !out->level_offsets || !out->sample_tau))) {
         samfile_free(out);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory assembling the .sam of %zu vertices", nv);
     }
@@ -119,6 +120,8 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
         for (size_t k = 0; k < n; ++k) {
             out->sample_index[v * n + k] = render_index(m, r->sample[(size_t)t * n + k]);
             memcpy(out->sample_kprime + 3 * (v * n + k), r->kprime + 3 * ((size_t)t * n + k), 3 * sizeof(float));
+            if (r->node_count)
+                out->sample_tau[v * n + k] = r->tau[(size_t)t * n + k];
         }
         out->fan_area[v] = r->fan_area[t];
         out->adjacency_offsets[v] = (uint32_t)a;

@@ -45,6 +45,7 @@ void sam_build_result_destroy(sam_build_result *r)
     free(r->fan_area);
     free(r->node_children);
     free(r->level_offsets);
+    free(r->tau);
     memset(r, 0, sizeof *r);
 }
 

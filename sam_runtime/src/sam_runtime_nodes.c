@@ -11,7 +11,7 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
     const size_t nc = sam->node_count, total = (size_t)sam->vertex_count + nc;
     t->node_count = sam->node_count;
     /* A flat map binds one zeroed node so every buffer exists. */
-    float *zero = calloc((nc ? nc : 1) * 12, sizeof *zero);
+    float *zero = calloc((nc ? nc : 1) * 16, sizeof *zero);
     uint32_t *parent = malloc(total * sizeof *parent);
     t->level_count = sam->level_count;
     t->level_offsets = malloc(((size_t)sam->level_count + 1) * sizeof *t->level_offsets);
@@ -28,7 +28,10 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
         parent[sam->node_children[j]] = (uint32_t)(j / 2);
     const uint32_t none[2] = {SAMFILE_NO_SAMPLE, SAMFILE_NO_SAMPLE};
     sam_status st;
-    if ((st = sam_runtime_upload(rt, SAM_B_NODES, zero, (nc ? nc : 1) * 12 * sizeof(float), err)) == SAM_OK &&
+    const size_t samples = (size_t)sam->vertex_count * sam->samples_per_vertex;
+    if ((st = sam_runtime_upload(rt, SAM_B_NODES, zero, (nc ? nc : 1) * 16 * sizeof(float), err)) == SAM_OK &&
+        (st = sam_runtime_upload(rt, SAM_B_SAMPLE_TAU, nc ? (const void *)sam->sample_tau : zero,
+                                 (nc ? samples : 1) * sizeof(float), err)) == SAM_OK &&
         (st = sam_runtime_upload(rt, SAM_B_NODE_CHILDREN, nc ? (const void *)sam->node_children : none,
                                  (nc ? nc : 1) * 2 * sizeof(uint32_t), err)) == SAM_OK &&
         (st = sam_runtime_upload(rt, SAM_B_NODE_PARENTS, parent, total * sizeof(uint32_t), err)) == SAM_OK)

@@ -97,6 +97,8 @@ typedef struct sam_build_result {
     uint32_t *node_children;  /* 2 * node_count */
     uint32_t level_count;
     uint32_t *level_offsets;  /* level_count + 1 */
+    float *tau;               /* topo_count * N: samfile.h's STAU per sample (0 for vertices); NULL when
+                               * there is no tree */
     float search_radius_mm;   /* the initial query radius */
     uint64_t candidates_seen; /* back-side vertices the queries scored */
     uint64_t form_factors;    /* Monte Carlo estimates computed */

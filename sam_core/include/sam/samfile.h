@@ -8,7 +8,9 @@
  * NODE and NLVL) and lets a sample name a tree node: sample index s < vc is
  * vertex s, s >= vc is node s - vc, which stands for the vertices below it
  * (its area is the sum of their fan areas, its position their area-weighted
- * centroid, its L_d their area-weighted mean). A reader of this build loads
+ * centroid, its L_d their area-weighted mean, moved along its split by the
+ * sample's tau: a first-order correction towards where its light comes
+ * from). A reader of this build loads
  * both versions; the writer emits version 1 when there is no tree, so flat
  * maps stay readable by version-1 readers.
  *
@@ -18,7 +20,7 @@
  *   4-byte tag, u32 reserved = 0, u64 payload length, payload,
  *   zero padding to a multiple of 8, u32 CRC-32 (zlib) of the payload, u32 0.
  * Required tags: INFO (JSON), POS , NRM , TRI , SIDX, SKPR, FANA, ADJO, ADJV,
- * and in version 2 NODE and NLVL (which version 1 must not have);
+ * and in version 2 NODE, NLVL and STAU (which version 1 must not have);
  * optional: UV  . Unknown tags are skipped and counted; a duplicated tag is
  * an error. The writer emits the chunks in the order of samfile_data below,
  * so reading a file and writing it again gives the same bytes (less any
@@ -94,6 +96,9 @@ typedef struct samfile_data {
     uint32_t level_count;         /* NLVL: depth levels, >= 1 when node_count > 0 */
     uint32_t *level_offsets;      /* NLVL: level_count+1 node indices: [0] = 0, increasing,
                                    * [level_count] = node_count */
+    float *sample_tau;            /* STAU: n*vc, per sample: where its light comes from along the node's
+                                   * split, in [-1, 1]; the sample reads L_d + tau (L_d(child 1) -
+                                   * L_d(child 0)); 0 for a vertex or a pad */
     uint32_t unknown_chunk_count; /* set by read: chunks with unknown tags skipped; ignored by write */
 } samfile_data;
 
@@ -136,10 +141,11 @@ sam_status samfile_read_memory(const uint8_t *bytes, size_t size, const char *na
 
 /*
  * What each sample index of `data` stands for at rest: for every vertex and
- * then every tree node (vertex_count + node_count records of 4 + channels
- * floats), its position (model units), area (mm^2), and the area-weighted
- * mean of `channels` per-vertex values `values` (vertex_count * channels;
- * may be NULL when channels is 0). A vertex's record is its own; a node's
+ * then every tree node (vertex_count + node_count records of 4 + 2 channels
+ * floats), its position (model units), area (mm^2), the area-weighted mean
+ * of `channels` per-vertex values `values` (vertex_count * channels; may be
+ * NULL when channels is 0), and for a node its second child's mean minus
+ * its first's (0 for a vertex): a sample's value is mean + tau * that. A vertex's record is its own; a node's
  * sums its children as the runtime's node pass does (samfile.h's layout),
  * so CPU tools read a cut map's samples as the GPU does. `out` is caller
  * owned. Errors: SAM_ERR_INVALID_ARGUMENT (NULL data or out, values NULL

@@ -231,6 +231,11 @@ static sam_status check_tree(const samfile_data *d, const char *name, sam_status
                                     (unsigned)(vc + lo[l + 1]), (unsigned)(vc + nc - 1));
             }
     }
+    const size_t n = (size_t)vc * d->samples_per_vertex;
+    for (size_t i = 0; i < n; ++i)
+        if (!(fabsf(d->sample_tau[i]) <= 1.0f))
+            return sam_fail(err, bad, "%s: chunk STAU: tau of sample %zu of vertex %zu is %g (must be in [-1, 1])", name,
+                            i % d->samples_per_vertex, i / d->samples_per_vertex, (double)d->sample_tau[i]);
     return SAM_OK;
 }
 
@@ -249,6 +254,7 @@ sam_status samfile_check_data(const samfile_data *d, const char *name, sam_statu
                           : (!d->adjacency && d->adjacency_count) ? "ADJV"
                           : (!d->node_children && d->node_count)  ? "NODE"
                           : (!d->level_offsets && d->node_count)  ? "NLVL"
+                          : (!d->sample_tau && d->node_count)     ? "STAU"
                                                                   : NULL;
     if (missing)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: chunk %s: array is NULL", name, missing);
@@ -327,5 +333,6 @@ void samfile_free(samfile_data *data)
     free(data->adjacency);
     free(data->node_children);
     free(data->level_offsets);
+    free(data->sample_tau);
     memset(data, 0, sizeof *data);
 }

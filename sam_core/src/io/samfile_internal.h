@@ -25,12 +25,13 @@ enum {
     TAG_ADJV,
     TAG_NODE,
     TAG_NLVL,
+    TAG_STAU,
     TAG_COUNT
 };
 
 /* Also the order in which the writer emits chunks. */
 static const char k_tags[TAG_COUNT][5] = {"INFO", "POS ", "NRM ", "UV  ", "TRI ",
-                                          "SIDX", "SKPR", "FANA", "ADJO", "ADJV", "NODE", "NLVL"};
+                                          "SIDX", "SKPR", "FANA", "ADJO", "ADJV", "NODE", "NLVL", "STAU"};
 
 /* ---- little-endian encoding, independent of the host's byte order ---- */
 

@@ -195,7 +195,7 @@ static sam_status parse_frame(const uint8_t *b, size_t size, const char *name, c
     if (st != SAM_OK)
         return st;
     for (int t = 0; t < TAG_COUNT; ++t) {
-        const int tree = t == TAG_NODE || t == TAG_NLVL;
+        const int tree = t == TAG_NODE || t == TAG_NLVL || t == TAG_STAU;
         if (t != TAG_UV && !known[t].payload && (!tree || version >= 2))
             return sam_fail(err, SAM_ERR_FORMAT, "%s: chunk %s is missing (required%s)", name, k_tags[t],
                             tree ? " in version 2" : "");
@@ -296,6 +296,9 @@ static sam_status check_sizes(const chunk_ref *k, const char *name, samfile_data
                             k_tags[nodes == 0 ? TAG_NODE : TAG_NLVL], (unsigned)nodes, (unsigned)offsets);
         d->node_count = nodes;
         d->level_count = offsets - 1;
+        snprintf(why, sizeof why, "1 f32 for each of the %zu samples of the %u vertices of chunk SIDX", n, (unsigned)vc);
+        if ((st = expect_length(&k[TAG_STAU], TAG_STAU, (uint64_t)vc * n * 4u, why, name, err)) != SAM_OK)
+            return st;
     }
     const chunk_ref *info = &k[TAG_INFO];
     const void *nul = memchr(info->payload, 0, info->length);
@@ -358,7 +361,8 @@ static sam_status decode_arrays(const chunk_ref *k, const char *name, samfile_da
     if (d->node_count) {
         d->node_children = decode_u32(&k[TAG_NODE]);
         d->level_offsets = decode_u32(&k[TAG_NLVL]);
-        failed |= !d->node_children || !d->level_offsets;
+        d->sample_tau = decode_f32(&k[TAG_STAU]);
+        failed |= !d->node_children || !d->level_offsets || !d->sample_tau;
     }
     if (failed)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory decoding %u vertices", name,

@@ -7,14 +7,14 @@ sam_status samfile_sample_points(const samfile_data *d, const float *values, uin
     if (!d || !out || (channels && !values) || channels > 16)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "samfile sample points: %s",
                         !d || !out ? "no data or no output" : channels > 16 ? "more than 16 channels" : "no values");
-    const size_t vc = d->vertex_count, stride = 4 + channels;
+    const size_t vc = d->vertex_count, stride = 4 + 2 * (size_t)channels;
     for (size_t v = 0; v < vc; ++v) {
         float *o = out + stride * v;
         for (int c = 0; c < 3; ++c)
             o[c] = d->positions[3 * v + c];
         o[3] = d->fan_area[v];
         for (uint32_t c = 0; c < channels; ++c)
-            o[4 + c] = values[channels * v + c];
+            o[4 + c] = values[channels * v + c], o[4 + channels + c] = 0.0f;
     }
     /* Deepest level first, children before parents; the same weights and
      * zero-area rule as shaders/nodes.comp. */
@@ -26,8 +26,10 @@ sam_status samfile_sample_points(const samfile_data *d, const float *values, uin
             for (int c = 0; c < 3; ++c)
                 o[c] = fa * a[c] + fb * b[c];
             o[3] = w;
-            for (uint32_t c = 0; c < channels; ++c)
+            for (uint32_t c = 0; c < channels; ++c) {
                 o[4 + c] = w > 0 ? fa * a[4 + c] + fb * b[4 + c] : 0.0f;
+                o[4 + channels + c] = b[4 + c] - a[4 + c];
+            }
         }
     return SAM_OK;
 }
