@@ -30,7 +30,7 @@ static void usage(FILE *out)
             "shapes (units are arbitrary; mm/unit is a suggested scale for sam_build):\n");
     for (size_t k = 0; k < n; ++k) {
         const sam_shape_info *info = sam_shape_find(names[k]);
-        fprintf(out, "  %-7s %s\n          resolution = %s (min %d); mm/unit %g\n", info->name,
+        fprintf(out, "  %-10s %s\n             resolution = %s (min %d); mm/unit %g\n", info->name,
                 info->summary, info->resolution_means, info->min_resolution,
                 info->suggested_mm_per_unit);
     }
@@ -43,7 +43,7 @@ static void usage(FILE *out)
                 {"--size S", "overall size, > 0", 0},
                 {"--depth D", "slab depth, > 0", SAM_SHAPE_USES_DEPTH},
                 {"--thickness T", "shell thickness or tube diameter", SAM_SHAPE_USES_THICKNESS},
-                {"--count N", "number of blobs", SAM_SHAPE_USES_COUNT},
+                {"--count N", "number of blobs, or holes along each side", SAM_SHAPE_USES_COUNT},
                 {"--seed S", "blobs' random seed (unsigned 64-bit)", SAM_SHAPE_USES_SEED}};
     for (size_t r = 0; r < sizeof rows / sizeof rows[0]; ++r) {
         fprintf(out, "  %-19s %s [", rows[r].option, rows[r].text);

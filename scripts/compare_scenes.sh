@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs sam_compare on every comparison scene (scenes/compare_*.json) and
 # writes OUT/summary.md: one table of PSNRs over the scenes, as the README's
-# "Comparison results" shows. The armadillo also gets the samples sweep.
+# "Comparison results" shows. The armadillo and the statue (the paper's
+# Fig. 10 sweeps its Happy Buddha) also get the samples sweep.
 #   scripts/compare_scenes.sh [OUT_DIR]      (default out/compare; needs a build in build/)
 # Set SAM_BUILD_DIR to use another build tree.
 set -euo pipefail
@@ -15,7 +16,9 @@ for scene in "$root"/scenes/compare_*.json; do
   name=$(basename "$scene" .json)
   name=${name#compare_}
   extra=()
-  [ "$name" = armadillo ] && extra=(--samples-sweep 3,5,10,20,50)
+  case $name in
+    armadillo|statue) extra=(--samples-sweep 3,5,10,20,50) ;;
+  esac
   echo "compare_scenes.sh: $name" >&2
   start=$(date +%s)
   "$bin/sam_compare" "$scene" --out "$out/$name" --force "${extra[@]}" 2> "$out/$name.log" \

@@ -51,6 +51,15 @@
  *           a cube of edge size, one blob per cell of a grid, so they never
  *           touch; shapes and placement come from `seed`. resolution = as
  *           for sphere, per blob.
+ *   perforated  a thin square plate in the x-z plane, centred at the
+ *           origin: width and depth = size, thickness (y) = thickness,
+ *           with count x count round through-holes, one in the middle of
+ *           each cell of a square grid, their diameter 0.6 of the grid's
+ *           pitch (genus count^2). resolution = segments along the width,
+ *           rounded to a multiple of count with at least 2 per hole
+ *           (8 around each hole); the thickness and the ring from a hole
+ *           out to its cell's edge get the same spacing (at least one
+ *           segment).
  * Parameters a shape does not use are ignored (sam_shape_info says which
  * ones it uses); `seed` is used only by blobs. A thickness must be at least
  * SAM_SHAPE_MIN_RELATIVE_THICKNESS * size, so the two sides of a thin shape
@@ -78,8 +87,9 @@ typedef struct sam_shape_params {
     int resolution;   /* rough segment count along the main direction (see overview) */
     double size;      /* overall extent, > 0 (see overview per shape) */
     double depth;     /* slab depth (z), > 0 */
-    double thickness; /* slab/ear thickness, torus/knot tube diameter, > 0 */
-    int count;        /* number of blobs, 1..SAM_SHAPE_MAX_COUNT */
+    double thickness; /* slab/ear/plate thickness, torus/knot tube diameter, > 0 */
+    int count;        /* number of blobs, or holes along each side of the perforated
+                         plate, 1..SAM_SHAPE_MAX_COUNT */
     uint64_t seed;    /* blobs' shapes and placement */
 } sam_shape_params;
 
@@ -133,7 +143,8 @@ sam_status sam_shape_generate(const char *name, const sam_shape_params *params,
 
 /* Largest thickness shape `name` accepts with `params` (its size; for the
  * knot and the ear the limit keeps the surface from intersecting itself):
- * 0 for an unknown name or a shape without thickness, HUGE_VAL for the slab.
+ * 0 for an unknown name or a shape without thickness, HUGE_VAL for the slab
+ * and the perforated plate.
  * Reads only params->size; 0 when the size is not a positive finite number. */
 double sam_shape_max_thickness(const char *name, const sam_shape_params *params);
 

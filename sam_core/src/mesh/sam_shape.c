@@ -9,8 +9,8 @@
 
 /* ---------------------------------------------------------------- tables */
 
-static const char *const shape_names[SHAPE_COUNT] = {"sphere", "slab", "torus",
-                                                     "ear",    "knot", "blobs"};
+static const char *const shape_names[SHAPE_COUNT] = {"sphere", "slab",  "torus",     "ear",
+                                                     "knot",   "blobs", "perforated"};
 
 static const sam_shape_info shape_infos[SHAPE_COUNT] = {
     {"sphere", "cube-sphere, size = diameter", "segments around the equator", 4, 0, 30.0},
@@ -24,6 +24,9 @@ static const sam_shape_info shape_infos[SHAPE_COUNT] = {
      "segments along the knot", 24, SAM_SHAPE_USES_THICKNESS, 40.0},
     {"blobs", "count disjoint deformed spheres in a cube of edge size",
      "segments around each blob's equator", 4, SAM_SHAPE_USES_COUNT | SAM_SHAPE_USES_SEED, 30.0},
+    {"perforated", "thin square plate with count x count round holes, size = width",
+     "segments along the width, at least 2 per hole", 8,
+     SAM_SHAPE_USES_THICKNESS | SAM_SHAPE_USES_COUNT, 40.0},
 };
 
 static const sam_shape_params shape_defaults[SHAPE_COUNT] = {
@@ -33,6 +36,7 @@ static const sam_shape_params shape_defaults[SHAPE_COUNT] = {
     {128, 1.0, 1.0, 2.0 / 60.0, 1, 1},
     {256, 1.0, 1.0, 0.18, 1, 1},
     {32, 1.0, 1.0, 0.1, 6, 1},
+    {30, 1.0, 1.0, 0.05, 5, 1},
 };
 
 static int shape_index(const char *name)

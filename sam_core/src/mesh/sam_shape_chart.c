@@ -43,12 +43,40 @@ static void measure_chart(const sam_shape_builder *b, sam_shape_chart *c)
     }
 }
 
+/* The rings and wall of every hole, then the rim. i runs around a hole (or
+ * the plate's edge) from its cell's (min x, min z) corner along +x first, j
+ * outward on the rings and up (+y) the walls: i x j is +y on the rings, so
+ * the bottom ring is reversed; it points into the hole on a wall, which is
+ * outward, and into the plate on the rim, which is reversed. */
+static int add_perforated_charts(sam_shape_builder *b, sam_shape_chart c)
+{
+    const sam_shape_surface *sf = &b->surfaces[c.surface];
+    static const int flips[PERFORATED_PARTS] = {0, 1, 0};
+    int holes = sf->holes * sf->holes;
+    c.nu = 4 * sf->n[0];
+    for (int h = 0; h < holes; ++h)
+        for (int part = 0; part < PERFORATED_PARTS; ++part) {
+            c.face = PERFORATED_PARTS * h + part;
+            c.nv = part == PERFORATED_WALL ? sf->n[1] : sf->n[2];
+            c.flip = flips[part];
+            if (!push_chart(b, &c))
+                return 0;
+        }
+    c.face = PERFORATED_PARTS * holes;
+    c.nu = 4 * sf->holes * sf->n[0];
+    c.nv = sf->n[1];
+    c.flip = 1;
+    return push_chart(b, &c);
+}
+
 int sam_shape_add_surface_charts(sam_shape_builder *b, size_t s)
 {
     const sam_shape_surface *sf = &b->surfaces[s];
     sam_shape_chart c;
     memset(&c, 0, sizeof c);
     c.surface = s;
+    if (sf->map == MAP_PERFORATED)
+        return add_perforated_charts(b, c);
     if (is_tube(sf)) {
         c.face = -1;
         c.nu = sf->n[0];

@@ -14,7 +14,16 @@
 
 #include "sam/sam_shape.h"
 
-enum { SHAPE_SPHERE, SHAPE_SLAB, SHAPE_TORUS, SHAPE_EAR, SHAPE_KNOT, SHAPE_BLOBS, SHAPE_COUNT };
+enum {
+    SHAPE_SPHERE,
+    SHAPE_SLAB,
+    SHAPE_TORUS,
+    SHAPE_EAR,
+    SHAPE_KNOT,
+    SHAPE_BLOBS,
+    SHAPE_PERFORATED,
+    SHAPE_COUNT
+};
 
 static inline void v3_set(double o[3], double x, double y, double z)
 {
@@ -52,16 +61,32 @@ static inline void v3_normalize(double v[3])
     }
 }
 
-typedef enum map_kind { MAP_SPHERE, MAP_SLAB, MAP_EAR, MAP_BLOB, MAP_TORUS, MAP_KNOT } map_kind;
+typedef enum map_kind {
+    MAP_SPHERE,
+    MAP_SLAB,
+    MAP_EAR,
+    MAP_BLOB,
+    MAP_TORUS,
+    MAP_KNOT,
+    MAP_PERFORATED
+} map_kind;
+
+/* The perforated plate's charts: for each hole a ring on the top face, one
+ * on the bottom face and the hole's wall, then the plate's outer rim. A
+ * chart's face is PERFORATED_PARTS * hole + part; the rim's is
+ * PERFORATED_PARTS * holes^2. */
+enum { PERFORATED_TOP, PERFORATED_BOTTOM, PERFORATED_WALL, PERFORATED_PARTS };
 
 #define BLOB_BUMPS 4
 
 typedef struct sam_shape_surface {
     map_kind map;
-    int n[3];           /* box: lattice segments per axis; tube: n[0] along, n[1] around */
+    int n[3];           /* box: lattice segments per axis; tube: n[0] along, n[1] around;
+                           perforated: n[0] per hole along x and z, n[1] through the
+                           thickness, n[2] from a hole out to its cell's edge */
     double center[3];   /* sphere, blob */
     double radius;      /* sphere/blob base radius, tube radius */
-    double half[3];     /* slab half extents */
+    double half[3];     /* slab and perforated plate half extents */
     double size;        /* ear height */
     double thickness;   /* ear shell thickness */
     double matrix[9];   /* blob: rotation times axis scales, row-major */
@@ -70,6 +95,8 @@ typedef struct sam_shape_surface {
     double bump_width[BLOB_BUMPS];
     double major, minor; /* torus R; knot R and r */
     const double *knot_phi; /* knot: curve parameter at each of n[0] arc-length steps */
+    int holes;          /* perforated: holes along x and along z */
+    double hole_radius; /* perforated */
 } sam_shape_surface;
 
 static inline int is_tube(const sam_shape_surface *s)
@@ -89,7 +116,7 @@ static inline void face_axes(int face, int *a, int *u, int *v)
 
 typedef struct sam_shape_chart {
     size_t surface;
-    int face;            /* box face 0..5, or -1 on a tube */
+    int face;            /* box face 0..5, -1 on a tube, perforated: see PERFORATED_PARTS */
     int i0, j0, nu, nv;  /* lattice window */
     int flip;            /* triangles reversed relative to the (i, j) orientation */
     double w, h;         /* world lengths along i and j (through the middle) */
@@ -122,7 +149,8 @@ double sam_shape_thickness_limit(int shape, double size);
 
 /* sam_shape_chart.c */
 
-/* Adds the charts of surface s: six box faces or one tube; 0 when out of memory. */
+/* Adds the charts of surface s: six box faces, one tube or the perforated
+ * plate's rings, walls and rim; 0 when out of memory. */
 int sam_shape_add_surface_charts(sam_shape_builder *b, size_t s);
 
 /* Cuts charts longer than about the atlas side into pieces along their long

@@ -17,6 +17,9 @@
 #define EAR_CURL_ANGLE 2.2 /* radians at the top of the rim */
 #define EAR_LOBE_CURL 0.3  /* fraction of the curl angle left at the lobe */
 
+/* Perforated plate: hole radius as a fraction of the holes' pitch. */
+#define PERFORATED_HOLE_RADIUS 0.3
+
 /* Torus: the hole must stay open. */
 #define TORUS_MAX_RELATIVE_THICKNESS 0.45
 /* Knot: tube radius at most this fraction of the tube's geometric limit. */
@@ -153,6 +156,70 @@ static double blob_radius_factor(const sam_shape_surface *sf, const double d[3])
     return rho;
 }
 
+/* The perforated plate's x (or z) at lattice index g, 0..holes * n[0]
+ * along the width: every face, wall and rim that meets at a point reaches it
+ * through the same integers. */
+static double plate_coord(const sam_shape_surface *sf, int g)
+{
+    return -sf->half[0] + (2.0 * sf->half[0]) * ((double)g / (sf->holes * sf->n[0]));
+}
+
+static double plate_y(const sam_shape_surface *sf, int j)
+{
+    return -sf->half[1] + (2.0 * sf->half[1]) * ((double)j / sf->n[1]);
+}
+
+/* Lattice point g = (x, z) at step i (0..4 side - 1) around the square of
+ * `side` segments with corner (x0, z0), starting there along +x. */
+static void square_step(int x0, int z0, int side, int i, int g[2])
+{
+    static const int corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    static const int along[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    int s = i / side, t = i % side;
+    g[0] = x0 + side * corner[s][0] + t * along[s][0];
+    g[1] = z0 + side * corner[s][1] + t * along[s][1];
+}
+
+/* Point (i, j) of a perforated plate chart (see add_perforated_charts): a
+ * ring blends the hole's circle (j = 0) into its cell's square (j = n[2]),
+ * matching angle steps to square steps, so both ends are exactly the wall's
+ * and the neighbouring cells' points. */
+static void perforated_point(const sam_shape_surface *sf, int face, int i, int j, double o[3])
+{
+    int m = sf->n[0], hole = face / PERFORATED_PARTS, part = face % PERFORATED_PARTS;
+    int g[2];
+    if (hole == sf->holes * sf->holes) {
+        square_step(0, 0, sf->holes * m, i % (4 * sf->holes * m), g);
+        v3_set(o, plate_coord(sf, g[0]), plate_y(sf, j), plate_coord(sf, g[1]));
+        return;
+    }
+    int a = hole % sf->holes, b = hole / sf->holes;
+    i %= 4 * m;
+    /* Step 0 is the cell's corner, at -135 degrees from the hole's centre. */
+    double theta = 0.5 * SHAPE_PI * ((double)i / m - 1.5);
+    double x = 0.5 * (plate_coord(sf, a * m) + plate_coord(sf, (a + 1) * m)) +
+               sf->hole_radius * cos(theta);
+    double z = 0.5 * (plate_coord(sf, b * m) + plate_coord(sf, (b + 1) * m)) +
+               sf->hole_radius * sin(theta);
+    if (part == PERFORATED_WALL) {
+        v3_set(o, x, plate_y(sf, j), z);
+        return;
+    }
+    if (j > 0) {
+        square_step(a * m, b * m, m, i, g);
+        double sx = plate_coord(sf, g[0]), sz = plate_coord(sf, g[1]);
+        if (j == sf->n[2]) {
+            x = sx;
+            z = sz;
+        } else {
+            double t = (double)j / sf->n[2];
+            x += t * (sx - x);
+            z += t * (sz - z);
+        }
+    }
+    v3_set(o, x, plate_y(sf, part == PERFORATED_TOP ? sf->n[1] : 0), z);
+}
+
 static void box_point(const sam_shape_surface *sf, int face, int i, int j, double o[3])
 {
     int a, u, v, c[3];
@@ -187,13 +254,16 @@ static void box_point(const sam_shape_surface *sf, int face, int i, int j, doubl
         break;
     case MAP_TORUS:
     case MAP_KNOT:
+    case MAP_PERFORATED:
         break;
     }
 }
 
 void sam_shape_surface_point(const sam_shape_surface *sf, int face, int i, int j, double o[3])
 {
-    if (is_tube(sf))
+    if (sf->map == MAP_PERFORATED)
+        perforated_point(sf, face, i, j, o);
+    else if (is_tube(sf))
         tube_point(sf, i % sf->n[0], j % sf->n[1], o);
     else
         box_point(sf, face, i, j, o);
@@ -251,7 +321,8 @@ static double knot_max_radius(const sam_shape_surface *sf)
 double sam_shape_thickness_limit(int shape, double size)
 {
     switch (shape) {
-    case SHAPE_SLAB: return HUGE_VAL;
+    case SHAPE_SLAB:
+    case SHAPE_PERFORATED: return HUGE_VAL;
     case SHAPE_TORUS: return TORUS_MAX_RELATIVE_THICKNESS * size;
     case SHAPE_EAR: return ear_max_thickness(size);
     case SHAPE_KNOT: {
@@ -395,6 +466,18 @@ sam_status sam_shape_setup_surfaces(int s, const char *name, const sam_shape_par
         free(cum);
         sf->knot_phi = b->knot_phi;
         sf->n[1] = segments_for(2.0 * SHAPE_PI * sf->radius, length / res, 6);
+        break;
+    }
+    case SHAPE_PERFORATED: {
+        int m = (int)floor((double)res / p->count + 0.5);
+        double pitch = p->size / p->count;
+        sf->map = MAP_PERFORATED;
+        sf->holes = p->count;
+        sf->hole_radius = PERFORATED_HOLE_RADIUS * pitch;
+        sf->n[0] = m < 2 ? 2 : m;
+        sf->n[1] = segments_for(p->thickness, pitch / sf->n[0], 1);
+        sf->n[2] = segments_for(0.5 * pitch - sf->hole_radius, pitch / sf->n[0], 1);
+        v3_set(sf->half, 0.5 * p->size, 0.5 * p->thickness, 0.5 * p->size);
         break;
     }
     case SHAPE_BLOBS: {
