@@ -117,7 +117,7 @@ static void test_uniform_slab_closed_form(void **state)
     } cases[] = {{"skin", 2.0, 40.0, 40}, {"marble", 2.5, 100.0, 40}, {"wholemilk", 4.0, 80.0, 40}};
     for (size_t c = 0; c < sizeof cases / sizeof *cases; ++c) {
         cut_fixture f;
-        build_cut(&f, "slab", cases[c].resolution, cases[c].width, cases[c].thickness, cases[c].material, 1.0f, 0, 0);
+        build_cut(&f, "slab", cases[c].resolution, cases[c].width, cases[c].thickness, cases[c].material, 1.0f, 8, 0);
         double expected[3] = {0, 0, 0};
         const double ds = 1e-3, end = 400.0;
         for (double s = cases[c].thickness; s < end; s += ds) {
@@ -167,7 +167,7 @@ static void test_no_node_on_the_front_side(void **state)
     static const char *const shapes[] = {"ear", "blobs", "torus", "knot"};
     for (size_t s = 0; s < sizeof shapes / sizeof *shapes; ++s) {
         cut_fixture f;
-        build_cut(&f, shapes[s], 24, 0, 0, "marble", 40.0f, 0, 0);
+        build_cut(&f, shapes[s], 24, 0, 0, "marble", 40.0f, 8, 0);
         const uint32_t n = f.mesh.topo_count, b = f.r.samples_per_vertex;
         uint32_t nodes = 0, members = 0;
         for (uint32_t o = 0; o < n; ++o)
@@ -190,7 +190,7 @@ static void test_bit_identical_for_any_thread_count(void **state)
     cut_fixture f[3];
     const int threads[3] = {1, 2, 5};
     for (int t = 0; t < 3; ++t)
-        build_cut(&f[t], "knot", 24, 0, 0, "marble", 40.0f, 0, threads[t]);
+        build_cut(&f[t], "knot", 24, 0, 0, "marble", 40.0f, 8, threads[t]);
     const size_t n = (size_t)f[0].r.topo_count * f[0].r.samples_per_vertex;
     for (int t = 1; t < 3; ++t) {
         assert_memory_equal(f[t].r.sample, f[0].r.sample, n * sizeof *f[0].r.sample);

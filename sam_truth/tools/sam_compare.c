@@ -47,7 +47,7 @@ static void usage(FILE *out)
             "                         1..64) and plot SAM's RMSE against N (needs a scene with a mesh\n"
             "                         and gnuplot)\n"
             "  --samples N            back-side samples per vertex of the map SAM is shown with\n"
-            "                         (default 8 for a cut map, 3 for a flat one; a scene's prebuilt\n"
+            "                         (default 32 for a cut map, 3 for a flat one; a scene's prebuilt\n"
             "                         .sam keeps its own)\n"
             "  --map cut|flat|flat-scaled\n"
             "                         the kind of map built for SAM and its sweep (default cut; see\n"

@@ -13,7 +13,7 @@ grep -q "wrote .*ear.sam" "$tmp/log.txt" || fail "no summary line: $(cat "$tmp/l
 grep -q "100%" "$tmp/log.txt" || fail "no progress: $(cat "$tmp/log.txt")"
 out=$("$bin/sam_info" "$tmp/ear.sam") || fail "sam_info rejects the build"
 grep -q "SAM v2" <<<"$out" || fail "the default map is not a cut map (version 2): $out"
-grep -q "samples per vertex: 8" <<<"$out" || fail "$out"
+grep -q "samples per vertex: 32" <<<"$out" || fail "$out"
 # --flat: the paper's map, version 1; --flat-scaled likewise; not both.
 "$bin/sam_build" "$tmp/ear.obj" -o "$tmp/flat.sam" --material skin --mm-per-unit 60 --flat --quiet 2>/dev/null \
   || fail "--flat"

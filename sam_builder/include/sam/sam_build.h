@@ -64,7 +64,7 @@ typedef enum sam_build_map {
 typedef struct sam_build_settings {
     sam_build_map map;           /* default SAM_BUILD_MAP_CUT */
     uint32_t samples_per_vertex; /* N, 0..64: samples stored per vertex, the cut's budget of nodes in a cut
-                                  * map; 0 (default) = the map's default: 8 for a cut, 3 for a flat map */
+                                  * map; 0 (default) = the map's default: 32 for a cut, 3 for a flat map */
     float cut_tolerance;         /* cut map: refine while a node's R_d bound exceeds this fraction of the
                                   * vertex's total, in (0, 1) (default 0.01) */
     uint32_t mc_samples;         /* Monte Carlo point pairs per form factor, 4..65536 (default 64) */
@@ -109,7 +109,7 @@ typedef struct sam_build_result {
  * areas, fan sampling tables and an R_d lookup table. Opaque. */
 typedef struct sam_build_context sam_build_context;
 
-#define SAM_BUILD_CUT_DEFAULT_SAMPLES 8u
+#define SAM_BUILD_CUT_DEFAULT_SAMPLES 32u
 #define SAM_BUILD_FLAT_DEFAULT_SAMPLES 3u
 
 /* Fills the defaults documented on sam_build_settings. */
