@@ -26,6 +26,8 @@ typedef struct tetra {
     float fana[4];
     uint32_t adjo[5];
     uint32_t adjv[12];
+    uint32_t children[6], levels[3];
+    float tau[8];
     samfile_data d;
 } tetra;
 
@@ -77,6 +79,24 @@ static void make_tetra(tetra *t, int with_uv)
         .adjacency_count = 12,
         .adjacency = t->adjv,
     };
+}
+
+/* Makes t a cut map (version 2): a tree of 3 nodes over the 4 vertices,
+ * the root's children two nodes of two vertices each, and vertex 0's first
+ * sample the node over vertices 2 and 3, read 0.25 along its split. */
+static void add_tree(tetra *t)
+{
+    static const uint32_t children[6] = {4 + 1, 4 + 2, 0, 1, 2, 3}, levels[3] = {0, 1, 3};
+    memcpy(t->children, children, sizeof children);
+    memcpy(t->levels, levels, sizeof levels);
+    memset(t->tau, 0, sizeof t->tau);
+    t->sidx[0] = 4 + 2;
+    t->tau[0] = 0.25f;
+    t->d.node_count = 3;
+    t->d.node_children = t->children;
+    t->d.level_count = 2;
+    t->d.level_offsets = t->levels;
+    t->d.sample_tau = t->tau;
 }
 
 /* ---- an encoder written independently of the module, to build any file ---- */
@@ -152,6 +172,11 @@ static void list_from_data(const samfile_data *d, chunk_list *l)
     add_f32s(l, "FANA", d->fan_area, vc);
     add_u32s(l, "ADJO", d->adjacency_offsets, vc + 1);
     add_u32s(l, "ADJV", d->adjacency, d->adjacency_count);
+    if (d->node_count) {
+        add_u32s(l, "NODE", d->node_children, 2 * (size_t)d->node_count);
+        add_u32s(l, "NLVL", d->level_offsets, (size_t)d->level_count + 1);
+        add_f32s(l, "STAU", d->sample_tau, n * vc);
+    }
 }
 
 static size_t find_chunk(const chunk_list *l, const char *tag)
@@ -193,7 +218,10 @@ static bytes encode(const chunk_list *l, size_t *offsets)
     bytes b = {calloc(1, total), total};
     assert_non_null(b.p);
     memcpy(b.p, "SAMF", 4);
-    le32(b.p + 4, 1);
+    int tree = 0;
+    for (size_t i = 0; i < l->count; ++i)
+        tree |= memcmp(l->c[i].tag, "NODE", 4) == 0;
+    le32(b.p + 4, tree ? 2 : 1);
     le32(b.p + 8, (uint32_t)l->count);
     size_t off = 16;
     for (size_t i = 0; i < l->count; ++i) {
@@ -363,9 +391,11 @@ static void test_on_disk_layout(void **state)
 static void test_every_truncated_prefix_fails(void **state)
 {
     (void)state;
-    for (int with_uv = 0; with_uv < 2; ++with_uv) {
+    for (int kind = 0; kind < 4; ++kind) {
         tetra t;
-        make_tetra(&t, with_uv);
+        make_tetra(&t, kind & 1);
+        if (kind & 2)
+            add_tree(&t);
         bytes b = encode_data(&t.d);
         sam_error err;
         assert_int_equal(read_bytes(&b, &err), SAM_OK);
@@ -386,16 +416,20 @@ static void test_every_truncated_prefix_fails(void **state)
  * runs past the file or changes that chunk's element count, which every
  * required chunk cross-checks against INFO or POS (INFO's own text must end
  * at its closing brace and hold no NUL); in a tag, the chunk becomes unknown
- * and a required chunk goes missing, or it duplicates another tag. The one
+ * and a required chunk goes missing (NODE, NLVL and STAU are required in
+ * version 2, refused in version 1), or it duplicates another tag. The one
  * exception is the optional UV chunk: a damaged UV tag reads as an unknown
  * chunk and the file loads without UVs.
  */
 static void test_every_single_byte_flip_fails(void **state)
 {
     (void)state;
-    for (int with_uv = 0; with_uv < 2; ++with_uv) {
+    for (int kind = 0; kind < 4; ++kind) {
+        const int with_uv = kind & 1;
         tetra t;
         make_tetra(&t, with_uv);
+        if (kind & 2)
+            add_tree(&t);
         chunk_list l;
         list_from_data(&t.d, &l);
         size_t offsets[16];
@@ -902,13 +936,15 @@ static void test_read_errors_name_the_file(void **state)
 static void test_fuzz_seeds_match_writer(void **state)
 {
     (void)state;
-    static const char *seeds[2] = {"tetra.sam", "tetra_uv.sam"};
-    for (int with_uv = 0; with_uv < 2; ++with_uv) {
+    static const char *seeds[3] = {"tetra.sam", "tetra_uv.sam", "tetra_tree.sam"};
+    for (int kind = 0; kind < 3; ++kind) {
         tetra t;
-        make_tetra(&t, with_uv);
+        make_tetra(&t, kind == 1);
+        if (kind == 2)
+            add_tree(&t);
         char seed[512], path[512];
-        snprintf(seed, sizeof seed, "%s/fuzz/corpus/samfile/%s", SAM_SOURCE_DIR, seeds[with_uv]);
-        snprintf(path, sizeof path, "%s/samfile_seed_%s", SAM_TEST_TMP_DIR, seeds[with_uv]);
+        snprintf(seed, sizeof seed, "%s/fuzz/corpus/samfile/%s", SAM_SOURCE_DIR, seeds[kind]);
+        snprintf(path, sizeof path, "%s/samfile_seed_%s", SAM_TEST_TMP_DIR, seeds[kind]);
         assert_int_equal(samfile_write(path, &t.d, NULL), SAM_OK);
         bytes want = load(path), have = load(seed);
         assert_int_equal(have.n, want.n);
@@ -916,6 +952,65 @@ static void test_fuzz_seeds_match_writer(void **state)
         free(want.p);
         free(have.p);
     }
+}
+
+/* A cut map's tree: round trip, and each rule of samfile.h broken once. */
+static void test_tree_rules(void **state)
+{
+    (void)state;
+    tetra t;
+    make_tetra(&t, 0);
+    add_tree(&t);
+    char path[512];
+    snprintf(path, sizeof path, "%s/samfile_tree.sam", SAM_TEST_TMP_DIR);
+    sam_error err;
+    assert_int_equal(samfile_write(path, &t.d, &err), SAM_OK);
+    samfile_data d;
+    assert_int_equal(samfile_read(path, &d, &err), SAM_OK);
+    assert_int_equal(d.node_count, 3);
+    assert_int_equal(d.level_count, 2);
+    assert_memory_equal(d.node_children, t.children, sizeof t.children);
+    assert_memory_equal(d.sample_tau, t.tau, sizeof t.tau);
+    assert_int_equal(d.sample_index[0], 6);
+    samfile_free(&d);
+    static const struct {
+        int what;
+        uint32_t value;
+        const char *needle;
+    } cases[] = {
+        {0, 4 + 0, "child 0 of node 0 (level 0) is 4, expected a vertex < 4 or a node of a deeper level"},
+        {1, 4 + 3, "child 1 of node 0 (level 0) is 7"},
+        {2, 3, "chunk NLVL: level 1 is empty or reversed (nodes 3 to 3)"},
+        {3, 4 + 3, "sample index 7 of vertex 0 is out of range (vertex_count 4 + node_count 3)"},
+        {4, 0, "chunk STAU: tau of sample 0 of vertex 0 is 1.5"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; ++c) {
+        make_tetra(&t, 0);
+        add_tree(&t);
+        switch (cases[c].what) {
+        case 0: t.children[0] = cases[c].value; break;
+        case 1: t.children[1] = cases[c].value; break;
+        case 2: t.levels[1] = cases[c].value; break;
+        case 3: t.sidx[0] = cases[c].value; break;
+        default: t.tau[0] = 1.5f; break;
+        }
+        if (samfile_validate(&t.d, &err) != SAM_ERR_INVALID_ARGUMENT || !strstr(err.message, cases[c].needle))
+            fail_msg("case %zu: expected \"%s\", got \"%s\"", c, cases[c].needle, err.message);
+    }
+    /* The tree's chunks belong to version 2 only, and version 2 needs them. */
+    make_tetra(&t, 0);
+    add_tree(&t);
+    chunk_list l;
+    list_from_data(&t.d, &l);
+    remove_chunk(&l, find_chunk(&l, "STAU"));
+    bytes b = encode(&l, NULL);
+    expect_read_error(&b, SAM_ERR_FORMAT, "t.sam: chunk STAU is missing (required in version 2)");
+    free(b.p);
+    b = encode(&l, NULL);
+    le32(b.p + 4, 1);
+    expect_read_error(&b, SAM_ERR_FORMAT, "chunk NODE at offset");
+    free(b.p);
+    free_list(&l);
 }
 
 /* A recorded has_uvs must match the UV chunk: that is what catches a
@@ -953,6 +1048,7 @@ int main(void)
         cmocka_unit_test(test_round_trip_without_uv),
         cmocka_unit_test(test_round_trip_with_uv),
         cmocka_unit_test(test_on_disk_layout),
+        cmocka_unit_test(test_tree_rules),
         cmocka_unit_test(test_every_truncated_prefix_fails),
         cmocka_unit_test(test_every_single_byte_flip_fails),
         cmocka_unit_test(test_header_errors),

@@ -216,10 +216,11 @@ static sam_status check_tree(const samfile_data *d, const char *name, sam_status
         return sam_fail(err, bad, "%s: chunk NLVL: %u levels from node %u to %u, expected from 0 to node_count %u",
                         name, (unsigned)d->level_count, (unsigned)lo[0], (unsigned)lo[d->level_count],
                         (unsigned)nc);
-    for (uint32_t l = 0; l < d->level_count; ++l) {
+    for (uint32_t l = 0; l < d->level_count; ++l)
         if (lo[l + 1] <= lo[l])
             return sam_fail(err, bad, "%s: chunk NLVL: level %u is empty or reversed (nodes %u to %u)", name,
                             (unsigned)l, (unsigned)lo[l], (unsigned)lo[l + 1]);
+    for (uint32_t l = 0; l < d->level_count; ++l) {
         for (uint32_t j = lo[l]; j < lo[l + 1]; ++j)
             for (int c = 0; c < 2; ++c) {
                 uint32_t child = d->node_children[2 * (size_t)j + c];
