@@ -13,16 +13,14 @@
  * else topo_count + node. */
 typedef struct cut_entry {
     uint32_t id;
-    int back;       /* 1: every member is on the back side; 0: some are not (dropped if never refined) */
+    int back;       /* 1: every member is on the back side; 0: some are not (K counts those that are) */
     float priority; /* back: area x the fall of mean R_d across it; mixed: area x R_d at its nearest point */
     float estimate; /* back: area x mean R_d at its centroid; mixed: 0 */
-    int frozen;     /* refining it would pass the budget */
     float k[3], k_error;
     float tau;      /* node_tau; 0 for a vertex */
 } cut_entry;
 
-/* The working cut (stored and mixed entries) is at most this times N. */
-#define CUT_WORK_FACTOR 16u
+
 
 /* Classifies `id` for receiver o. Returns 0 when no member can contribute
  * (all in front, all facing o's way, or all beyond the search radius). */
@@ -96,6 +94,8 @@ static void node_form_factor(const sam_build_context *ctx, const sam_build_tree 
     while (top) {
         const uint32_t id = stack[--top];
         if (id < n) {
+            if (id == o || !sam_build_is_back_side(ctx, o, id))
+                continue;
             /* A member whose fan R_d hardly changes across (its fan's
              * radius taken as sqrt(F')) takes the point form too; only the
              * near ones need the fans' Monte Carlo. */
@@ -125,10 +125,16 @@ static void node_form_factor(const sam_build_context *ctx, const sam_build_tree 
         const sam_build_node *node = &tree->node[id - n];
         sam_bounds_range b;
         sam_bounds_classify(node->lo, node->hi, node->nlo, node->nhi, p, nrm, &b);
+        /* Only back-side members count: a part wholly in front, facing v_o's
+         * way or out of reach adds nothing, one partly behind is opened. */
+        if (b.near2 >= ctx->search_radius * ctx->search_radius || b.dn_lo >= 0 || b.nn_lo >= 0)
+            continue;
+        const float scale = fmaxf(fmaxf(fabsf(p[0]), fabsf(p[1])), fabsf(p[2])) + sqrtf(b.far2);
+        const int back = b.dn_hi < -1e-5f * scale && b.nn_hi < -1e-5f;
         float r_near[4], r_far[4];
         sam_build_rd(ctx, sqrtf(b.near2), r_near);
         sam_build_rd(ctx, sqrtf(b.far2), r_far);
-        int flat = 1;
+        int flat = back;
         for (int ch = 0; ch < 3; ++ch)
             flat &= r_near[ch] <= flat_ratio * r_far[ch];
         if (flat) {
@@ -188,7 +194,7 @@ static int cmp_entry(const void *pa, const void *pb)
 }
 
 typedef struct cut_scratch {
-    cut_entry *entry; /* CUT_WORK_FACTOR * N + 1 */
+    cut_entry *entry; /* N + 1 */
     float *points;    /* 3 * mc_samples */
 } cut_scratch;
 
@@ -199,24 +205,23 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     const uint32_t n = ctx->mesh->topo_count, budget = ctx->settings.samples_per_vertex, m = ctx->settings.mc_samples;
     const float flat_ratio = expf(sqrtf(8.0f * ctx->settings.cut_tolerance));
     cut_entry *e = sc->entry;
-    uint32_t count = 0, back = 0;
+    uint32_t count = 0;
     uint64_t classified = 1;
     if (classify(ctx, tree, o, tree->node_count ? n : 0, &e[0]))
-        count = 1, back = e[0].back;
-    /* Lightcuts' loop: split the entry with the largest bound. Entries not
-     * wholly on the back side are not stored, so only back entries count
-     * against the budget; a split that would pass it freezes its entry, and
-     * the working cut is bounded at CUT_WORK_FACTOR times the budget. */
+        count = 1;
+    /* Lightcuts' loop: split the entry with the largest bound until the
+     * bounds are small against the total or a split would hold more than
+     * N entries. An entry only partly on the back side stays a candidate
+     * too: its K will count just its back-side members. */
     for (;;) {
         uint32_t best = UINT32_MAX;
         double total = 0;
         for (uint32_t c = 0; c < count; ++c) {
             total += e[c].estimate;
-            if (!e[c].frozen && e[c].id >= n && (best == UINT32_MAX || e[c].priority > e[best].priority))
+            if (e[c].id >= n && (best == UINT32_MAX || e[c].priority > e[best].priority))
                 best = c;
         }
-        if (best == UINT32_MAX || !(e[best].priority > ctx->settings.cut_tolerance * total) ||
-            count >= CUT_WORK_FACTOR * budget)
+        if (best == UINT32_MAX || !(e[best].priority > ctx->settings.cut_tolerance * total))
             break;
         const sam_build_node *node = &tree->node[e[best].id - n];
         cut_entry kids[2];
@@ -224,13 +229,8 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         for (int c = 0; c < 2; ++c)
             live[c] = classify(ctx, tree, o, node->child[c], &kids[c]);
         classified += 2;
-        const uint32_t back_after =
-            back - (uint32_t)e[best].back + (uint32_t)(live[0] && kids[0].back) + (uint32_t)(live[1] && kids[1].back);
-        if (back_after > budget) {
-            e[best].frozen = 1;
-            continue;
-        }
-        back = back_after;
+        if (count - 1 + (uint32_t)live[0] + (uint32_t)live[1] > budget)
+            break;
         if (live[0]) {
             e[best] = kids[0];
             if (live[1])
@@ -241,10 +241,7 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
             e[best] = e[--count];
         }
     }
-    uint32_t kept = 0;
-    for (uint32_t c = 0; c < count; ++c)
-        if (e[c].back)
-            e[kept++] = e[c];
+    const uint32_t kept = count;
     if (kept)
         sam_build_receiver_points(ctx, o, m, ctx->settings.seed, sc->points);
     for (uint32_t c = 0; c < kept; ++c) {
@@ -314,7 +311,7 @@ sam_status sam_build_run_cut(const sam_build_context *ctx, sam_build_progress_fn
     int oom = 0;
 #pragma omp parallel num_threads(sam_build_thread_count(ctx)) reduction(+ : seen, form_factors)
     {
-        cut_scratch sc = {malloc(((size_t)CUT_WORK_FACTOR * ctx->settings.samples_per_vertex + 1) * sizeof(cut_entry)),
+        cut_scratch sc = {malloc(((size_t)ctx->settings.samples_per_vertex + 1) * sizeof(cut_entry)),
                           malloc((size_t)ctx->settings.mc_samples * 3 * sizeof(float))};
         if (!sc.entry || !sc.points) {
 #pragma omp atomic write
