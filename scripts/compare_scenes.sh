@@ -2,7 +2,9 @@
 # Runs sam_compare on every comparison scene (scenes/compare_*.json) and
 # writes OUT/summary.md: one table of PSNRs over the scenes, as the README's
 # "Comparison results" shows. The armadillo and the statue (the paper's
-# Fig. 10 sweeps its Happy Buddha) also get the samples sweep.
+# Fig. 10 sweeps its Happy Buddha) also get the samples sweep; the statue's
+# stops at N = 20, as its samples at N = 50 (279,890 vertices x 50 x 16
+# bytes) exceed the 128 MiB storage block that llvmpipe allows.
 #   scripts/compare_scenes.sh [OUT_DIR]      (default out/compare; needs a build in build/)
 # Set SAM_BUILD_DIR to use another build tree.
 set -euo pipefail
@@ -17,7 +19,8 @@ for scene in "$root"/scenes/compare_*.json; do
   name=${name#compare_}
   extra=()
   case $name in
-    armadillo|statue) extra=(--samples-sweep 3,5,10,20,50) ;;
+    armadillo) extra=(--samples-sweep 3,5,10,20,50) ;;
+    statue) extra=(--samples-sweep 3,5,10,20) ;;
   esac
   echo "compare_scenes.sh: $name" >&2
   start=$(date +%s)
