@@ -505,7 +505,9 @@ static void cut_study(FILE *json, int quick, double limit_s)
 }
 
 /* Runs argv (argv[0] a path) as a child and waits for it, stopping it with
- * SIGTERM after limit_s seconds (0: never). Its own peak resident memory
+ * SIGTERM after limit_s seconds (0: never), and SIGKILL 10 s later:
+ * sam_build cancels at its next progress report, every 0.5% of the
+ * vertices, which on a large cut build may be hours away. Its own peak resident memory
  * comes from wait4: getrusage(RUSAGE_CHILDREN) would give the largest of
  * every child so far. A child's reading is never below this process's
  * peak at the fork (Linux carries the parent's high-water mark across fork
@@ -529,8 +531,9 @@ static int run_child(char *const argv[], double limit_s, long *peak_kib, double 
             break;
         if (got < 0)
             die(argv[0], NULL);
-        if (limit_s > 0 && !stopped && sam_seconds() - start > limit_s)
-            stopped = kill(pid, SIGTERM) == 0;
+        const double elapsed = sam_seconds() - start;
+        if (limit_s > 0 && stopped < 2 && elapsed > limit_s + (stopped ? 10 : 0))
+            stopped += kill(pid, stopped ? SIGKILL : SIGTERM) == 0;
         nanosleep(&(struct timespec){0, 50000000}, NULL);
     }
     *seconds = sam_seconds() - start;
