@@ -31,7 +31,18 @@
  * Combinations the runtime cannot render (tsm without texture space, texture
  * space without usable UVs) are listed with the reason.
  *
- * Usage: bench_frame [--quick] [--optimizations] [--json FILE] [--scenes DIR]
+ * Last, the builder's default cut map (N = 8) against the flat map (N = 3)
+ * on the same knots, the two runtimes' calls interleaved: the node and
+ * translucency passes (sam_runtime_translucency) against the flat map's
+ * translucency pass, target <= 2.0, and an animated frame's whole SAM work
+ * (deform, walk, irradiance, node, translucency), target <= 1.5; wall-clock
+ * medians, and GL timer queries where the driver's mean something. A summary
+ * line per ratio says PASS or MISS. A cut build that passes --cut-limit is
+ * stopped, and larger knots are not measured.
+ *
+ * Usage: bench_frame [--quick] [--optimizations] [--cut-only] [--cut-limit S] [--json FILE] [--scenes DIR]
+ *   --cut-only   the cut study alone
+ *   --cut-limit  seconds a cut build may take, 0 for no limit (default 300; 30 with --quick)
  *   --json    default bench/results/frame.json
  *   --scenes  where compare_knot.json is (default scenes)
  *   --quick   two small knots, 320x180, a 256 atlas, one or three runs
@@ -110,13 +121,6 @@ static sam_status run_shade(sam_runtime *rt, void *user, sam_error *err)
     return st;
 }
 
-/* The median of `n` values (sorts them). */
-static double median_of(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, bench_cmp_double);
-    return v[n / 2];
-}
-
 /* How much a run measures: the full benchmark, or --quick's check that
  * every measurement runs. */
 typedef struct frame_config {
@@ -131,32 +135,70 @@ typedef struct frame_config {
 static const frame_config full_config = {1920, 1080, 0, 9, 3, 3, 4, {120, 400, 900, 2250}, 1, 3};
 static const frame_config quick_config = {320, 180, 256, 3, 1, 1, 2, {40, 80}, 0, 1};
 
+/* One call of `fn`, closed by glFinish: its wall time in ms, and in
+ * gpu_ms[k] the GL timer-query time of passes[k] (<= 0 where the driver
+ * reports none; a pass that did not run reports its last run's time, or a
+ * negative value if it never ran). */
+static double time_call(sam_runtime *rt, pass_fn fn, void *user, const sam_pass *passes, int pass_count,
+                        double *gpu_ms)
+{
+    sam_error err;
+    glFinish();
+    double start = sam_seconds();
+    if (fn(rt, user, &err) != SAM_OK)
+        die("pass", &err);
+    glFinish();
+    double ms = 1e3 * (sam_seconds() - start);
+    for (int k = 0; k < pass_count; ++k)
+        gpu_ms[k] = sam_runtime_pass_ms(rt, passes[k]);
+    return ms;
+}
+
 /* Median wall time (ms) of `runs` calls (at most 32), each closed by
  * glFinish, and in gpu_ms[k] the median GL timer-query time of passes[k]
- * (<= 0 where the driver reports none). The caller names only passes the
- * call runs: a pass that did not run reports its last run's time. */
+ * (at most SAM_PASS_COUNT; <= 0 where the driver reports none). The caller
+ * names only passes the call runs. */
 static double median_ms_gpu(sam_runtime *rt, pass_fn fn, void *user, int runs, const sam_pass *passes,
                             int pass_count, double *gpu_ms)
 {
-    double t[32], g[4][32];
-    sam_error err;
+    double t[32], g[SAM_PASS_COUNT][32], call_gpu[SAM_PASS_COUNT];
     /* The first call of a pass or technique compiles its shaders and sizes
      * its targets: a median of three drops it, a shorter run must not time it. */
-    if (runs < 3 && fn(rt, user, &err) != SAM_OK)
-        die("pass", &err);
+    if (runs < 3)
+        time_call(rt, fn, user, NULL, 0, NULL);
     for (int i = 0; i < runs; ++i) {
-        glFinish();
-        double start = sam_seconds();
-        if (fn(rt, user, &err) != SAM_OK)
-            die("pass", &err);
-        glFinish();
-        t[i] = 1e3 * (sam_seconds() - start);
+        t[i] = time_call(rt, fn, user, passes, pass_count, call_gpu);
         for (int k = 0; k < pass_count; ++k)
-            g[k][i] = sam_runtime_pass_ms(rt, passes[k]);
+            g[k][i] = call_gpu[k];
     }
     for (int k = 0; k < pass_count; ++k)
-        gpu_ms[k] = median_of(g[k], runs);
-    return median_of(t, runs);
+        gpu_ms[k] = bench_median(g[k], runs);
+    return bench_median(t, runs);
+}
+
+/* median_ms_gpu on two runtimes side by side: their calls alternate
+ * A B, B A, A B, ... after an untimed call of each, so a change in the
+ * machine's load falls on both alike and neither always runs first.
+ * ms[r] and gpu_ms[r][k] are runtime r's medians. */
+static void median_ms_pair(sam_runtime *const rt[2], pass_fn fn, void *const user[2], int runs,
+                           const sam_pass *passes, int pass_count, double ms[2], double gpu_ms[2][SAM_PASS_COUNT])
+{
+    double t[2][32], g[2][SAM_PASS_COUNT][32], call_gpu[SAM_PASS_COUNT];
+    for (int i = -1; i < runs; ++i)
+        for (int j = 0; j < 2; ++j) {
+            int r = i % 2 ? 1 - j : j; /* the untimed round and odd rounds run B first */
+            double wall = time_call(rt[r], fn, user[r], passes, pass_count, call_gpu);
+            if (i < 0)
+                continue;
+            t[r][i] = wall;
+            for (int k = 0; k < pass_count; ++k)
+                g[r][k][i] = call_gpu[k];
+        }
+    for (int r = 0; r < 2; ++r) {
+        ms[r] = bench_median(t[r], runs);
+        for (int k = 0; k < pass_count; ++k)
+            gpu_ms[r][k] = bench_median(g[r][k], runs);
+    }
 }
 
 static double median_ms(sam_runtime *rt, pass_fn fn, void *user, int runs)
@@ -164,11 +206,12 @@ static double median_ms(sam_runtime *rt, pass_fn fn, void *user, int runs)
     return median_ms_gpu(rt, fn, user, runs, NULL, 0, NULL);
 }
 
-/* A GL timer-query time, or null where the driver gave none. */
-static void json_gpu_ms(FILE *json, const char *key, double ms)
+/* A time or ratio, or null where there is none (<= 0): a GL timer query
+ * the driver did not answer, a ratio of such times, an estimate not made. */
+static void json_positive(FILE *json, const char *key, double value)
 {
-    if (ms > 0)
-        fprintf(json, "\"%s\": %.4f", key, ms);
+    if (value > 0)
+        fprintf(json, "\"%s\": %.4f", key, value);
     else
         fprintf(json, "\"%s\": null", key);
 }
@@ -297,9 +340,9 @@ static void technique_matrix(sam_runtime *rt, sam_render_view view, const char *
            diffusion_names[3]);
     fprintf(json, "{\"scene\": \"%s\", \"vertices\": %u, \"width\": %u, \"height\": %u, \"irradiance_ms\": %.4f, ",
             label, sam_runtime_vertex_count(rt), view.width, view.height, irr);
-    json_gpu_ms(json, "irradiance_gpu_ms", irr_gpu);
+    json_positive(json, "irradiance_gpu_ms", irr_gpu);
     fprintf(json, ", \"translucency_ms\": %.4f, ", tra);
-    json_gpu_ms(json, "translucency_gpu_ms", tra_gpu);
+    json_positive(json, "translucency_gpu_ms", tra_gpu);
     fprintf(json, ", \"frames\": [");
     for (int t = 0; t < 4; ++t) {
         printf("%-14s", techniques[t].name);
@@ -312,8 +355,8 @@ static void technique_matrix(sam_runtime *rt, sam_render_view view, const char *
                 continue;
             }
             int sam = techniques[t].technique == SAM_TECHNIQUE_SAM, blurred = d == 1 || d == 3;
-            double render = median_of(wall[t][d], runs), shade = median_of(shade_gpu[t][d], runs);
-            double diffusion = median_of(diffusion_gpu[t][d], runs);
+            double render = bench_median(wall[t][d], runs), shade = bench_median(shade_gpu[t][d], runs);
+            double diffusion = bench_median(diffusion_gpu[t][d], runs);
             total[t][d] = irr + (sam ? tra : 0) + render;
             /* A TSM's maps are drawn outside every timer query, so its GPU
              * total would leave them out. */
@@ -323,11 +366,11 @@ static void technique_matrix(sam_runtime *rt, sam_render_view view, const char *
             snprintf(cell, sizeof cell, "%.1f (%.1f)", total[t][d], render);
             printf(" %22s", cell);
             fprintf(json, ", \"render_ms\": %.3f, \"total_ms\": %.3f, ", render, total[t][d]);
-            json_gpu_ms(json, "shade_gpu_ms", shade);
+            json_positive(json, "shade_gpu_ms", shade);
             fprintf(json, ", ");
-            json_gpu_ms(json, "diffusion_gpu_ms", diffusion);
+            json_positive(json, "diffusion_gpu_ms", diffusion);
             fprintf(json, ", ");
-            json_gpu_ms(json, "total_gpu_ms", gpu_complete ? irr_gpu + (sam ? tra_gpu : 0) + shade + diffusion : 0);
+            json_positive(json, "total_gpu_ms", gpu_complete ? irr_gpu + (sam ? tra_gpu : 0) + shade + diffusion : 0);
             if (sam)
                 fprintf(json, ", \"sam_share\": %.5f", tra / total[t][d]);
             fprintf(json, "}");
@@ -361,6 +404,10 @@ static void technique_matrix(sam_runtime *rt, sam_render_view view, const char *
     }
     fprintf(json, "}");
 }
+
+/* The bending of the knot benchmarks' animated frames. */
+static const sam_deformer knot_bend = {.type = SAM_DEFORM_BEND, .axis = {1, 0, 0}, .direction = {0, 1, 0},
+                                       .length = 1.0f, .angle_deg = 60.0f, .period_s = 2.0f};
 
 /* The light and environment of the knot benchmarks: one shadowed point
  * light behind the knot (translucency shows), a white environment. */
@@ -403,29 +450,64 @@ static void knot_scene_matrix(const char *scenes, const frame_config *cfg, FILE 
 /* One knot of cfg->resolutions[m]: its passes, the shading by diffusion, the
  * optimisations and technique matrix (head- and Buddha-sized knots), and
  * the animated update; a row on stdout and an object in `json`. */
-static void mesh_study(const frame_config *cfg, int m, const sam_profile *skin, double bandwidth, int optimizations,
-                       FILE *json, FILE *matrix)
+/* The knot of the benchmarks with `resolution` segments along it (with
+ * its UVs, for texture space), welded. */
+static void knot_mesh(int resolution, sam_mesh *mesh)
 {
     sam_error err;
     sam_shape_params sp;
     sam_shape_default_params("knot", &sp, NULL);
-    sp.resolution = cfg->resolutions[m];
+    sp.resolution = resolution;
     sam_shape_mesh s;
     if (sam_shape_generate("knot", &sp, &s, &err) != SAM_OK)
         die("knot", &err);
     sam_mesh_input in = {.name = "knot", .vertex_count = s.vertex_count, .positions = s.positions,
                          .uvs = s.uvs, .triangle_count = s.triangle_count, .triangles = s.triangles};
-    sam_mesh mesh;
-    if (sam_mesh_create(&in, &mesh, NULL, &err) != SAM_OK)
+    if (sam_mesh_create(&in, mesh, NULL, &err) != SAM_OK)
         die("mesh", &err);
     sam_shape_mesh_destroy(&s);
-    samfile_data d;
-    if (sam_build_samfile(&mesh, skin, 40.0f, NULL, NULL, NULL, NULL, &d, NULL, &err) != SAM_OK)
+}
+
+/* The knot's map of kind `map` (its default N) in skin at 40 mm per unit,
+ * into `d`, and its build seconds in `*seconds`. Returns 0, with `d` empty,
+ * when `deadline` (may be NULL) cancelled the build. */
+static int knot_map(const sam_mesh *mesh, const sam_profile *skin, sam_build_map map, bench_deadline *deadline,
+                    samfile_data *d, double *seconds)
+{
+    sam_build_settings settings;
+    sam_build_default_settings(&settings);
+    settings.map = map;
+    sam_error err;
+    sam_status st = sam_build_samfile(mesh, skin, 40.0f, &settings, NULL, deadline ? bench_deadline_progress : NULL,
+                                      deadline, d, seconds, &err);
+    if (st != SAM_OK && !(deadline && deadline->cancelled))
         die("build", &err);
+    return st == SAM_OK;
+}
+
+/* A runtime on `d`, lit by light_knot. */
+static sam_runtime *knot_runtime(const samfile_data *d, const sam_profile *skin)
+{
     sam_runtime *rt;
-    if (sam_runtime_create(&d, skin, 40.0f, &rt, &err) != SAM_OK)
+    sam_error err;
+    if (sam_runtime_create(d, skin, 40.0f, &rt, &err) != SAM_OK)
         die("runtime", &err);
     light_knot(rt);
+    return rt;
+}
+
+static void mesh_study(const frame_config *cfg, int m, const sam_profile *skin, double bandwidth, int optimizations,
+                       FILE *json, FILE *matrix)
+{
+    sam_error err;
+    sam_mesh mesh;
+    knot_mesh(cfg->resolutions[m], &mesh);
+    /* The paper's flat map, N = 3, which these tables measure
+     * (docs/performance.md); the cut study below sets the builder's default
+     * cut map against it. */
+    samfile_data d;
+    knot_map(&mesh, skin, SAM_BUILD_MAP_FLAT, NULL, &d, NULL);
+    sam_runtime *rt = knot_runtime(&d, skin);
     sam_render_view view;
     memset(&view, 0, sizeof view);
     view.width = cfg->width, view.height = cfg->height, view.fov_deg = 40.0f, view.front = 1;
@@ -481,9 +563,7 @@ static void mesh_study(const frame_config *cfg, int m, const sam_profile *skin, 
     /* Last, so the other passes ran on the rest pose: the per-frame
      * update of a bending mesh (SAM paper Sec. 3.4; its Fig. 12 says an
      * animated model's frame costs only slightly more). */
-    sam_deformer bend = {.type = SAM_DEFORM_BEND, .axis = {1, 0, 0}, .direction = {0, 1, 0}, .length = 1.0f,
-                         .angle_deg = 60.0f, .period_s = 2.0f};
-    if (sam_runtime_set_deformers(rt, &bend, 1, &err) != SAM_OK)
+    if (sam_runtime_set_deformers(rt, &knot_bend, 1, &err) != SAM_OK)
         die("deformers", &err);
     int frame = 0;
     double upd = median_ms(rt, run_update, &frame, cfg->pass_runs);
@@ -511,28 +591,247 @@ static void mesh_study(const frame_config *cfg, int m, const sam_profile *skin, 
     sam_mesh_destroy(&mesh);
 }
 
+/* The cut map's cost targets against the flat map (N = 3), as ratios. */
+#define CUT_TRANSLUCENCY_TARGET 2.0 /* node + translucency passes over the flat map's translucency pass */
+#define CUT_ANIMATED_TARGET 1.5     /* an animated frame's deform, walk, irradiance, node and translucency */
+/* Default limits on a cut build (--cut-limit): on 2 cores it took 90 s on
+ * the 18k-vertex knot and grows faster than the vertex count, so the larger
+ * knots' cut maps would take hours (docs/performance.md). */
+#define CUT_LIMIT_S 300.0
+#define CUT_LIMIT_QUICK_S 30.0
+
+/* A whole animated frame's SAM work: the update (deform, walk), the
+ * irradiance pass, then the node and translucency passes (user: as
+ * run_update's). */
+static sam_status run_animated_frame(sam_runtime *rt, void *user, sam_error *err)
+{
+    sam_status st = run_update(rt, user, err);
+    if (st == SAM_OK)
+        st = run_irradiance(rt, NULL, err);
+    return st == SAM_OK ? run_translucency(rt, NULL, err) : st;
+}
+
+/* Samples per vertex that name something (the translucency pass skips
+ * empty slots, so its cost follows these, not N). */
+static double filled_samples(const samfile_data *d)
+{
+    size_t filled = 0, slots = (size_t)d->vertex_count * d->samples_per_vertex;
+    for (size_t i = 0; i < slots; ++i)
+        filled += d->sample_index[i] != SAMFILE_NO_SAMPLE;
+    return (double)filled / d->vertex_count;
+}
+
+/* The largest ratio of each kind over the cut study's knots (0: none
+ * measured), and which knots it could not measure. */
+enum { CUT_TRANSLUCENCY, CUT_TRANSLUCENCY_GPU, CUT_ANIMATED, CUT_ANIMATED_GPU, CUT_RATIOS };
+typedef struct cut_summary {
+    double worst[CUT_RATIOS];
+    uint32_t smallest, largest; /* vertices of the knots measured */
+    int measured, unbuilt;      /* knots measured; knots whose cut map was not built */
+    char unbuilt_list[128];     /* the vertex counts of those */
+} cut_summary;
+
+/* The sum of `count` timer-query times, or 0 where one is missing. */
+static double gpu_sum(const double *ms, int count)
+{
+    double sum = 0;
+    for (int k = 0; k < count; ++k) {
+        if (!(ms[k] > 0))
+            return 0;
+        sum += ms[k];
+    }
+    return sum;
+}
+
+static double ratio_or_zero(double a, double b)
+{
+    return a > 0 && b > 0 ? a / b : 0;
+}
+
+/* The default cut map (N = 8) against the flat map (N = 3) on the knot of
+ * cfg->resolutions[m], both runtimes side by side (median_ms_pair):
+ * sam_runtime_translucency, which runs a cut map's node pass before the
+ * translucency pass, and an animated frame's whole SAM work. The cut build
+ * stops at `limit_s` (bench_deadline): such a knot is reported with the
+ * build's estimate, and larger knots, whose builds take longer still, are
+ * not built. A row on stdout, an object in `json`. */
+static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, double limit_s, int timers,
+                      cut_summary *sum, FILE *json)
+{
+    sam_mesh mesh;
+    knot_mesh(cfg->resolutions[m], &mesh);
+    const uint32_t nv = mesh.vertex_count;
+    fprintf(json, "%s      {\"vertices\": %u", m ? ",\n" : "", nv);
+    if (sum->unbuilt) {
+        printf("%9u  not measured: a smaller knot's cut map was not built within the limit\n", nv);
+        fprintf(json, ", \"skipped\": \"a smaller knot's cut map was not built within the limit\"}");
+    }
+    samfile_data d[2]; /* cut, flat */
+    double build_s[2];
+    bench_deadline deadline;
+    bench_deadline_start(&deadline, limit_s);
+    if (!sum->unbuilt) {
+        knot_map(&mesh, skin, SAM_BUILD_MAP_FLAT, NULL, &d[1], &build_s[1]);
+        fprintf(json, ", \"flat_build_s\": %.3f", build_s[1]);
+        if (!knot_map(&mesh, skin, SAM_BUILD_MAP_CUT, &deadline, &d[0], &build_s[0])) {
+            char how[128];
+            bench_deadline_describe(&deadline, how, sizeof how);
+            printf("%9u  not measured: the cut build passed the limit: %s (flat %.1f s)\n", nv, how, build_s[1]);
+            fprintf(json, ", \"skipped\": \"the cut build passed the limit\", ");
+            bench_deadline_json(json, "cut_build", &deadline);
+            fprintf(json, "}");
+            samfile_free(&d[1]);
+        }
+    }
+    if (sum->unbuilt || deadline.cancelled) {
+        size_t used = strlen(sum->unbuilt_list);
+        snprintf(sum->unbuilt_list + used, sizeof sum->unbuilt_list - used, "%s%u", used ? ", " : "", nv);
+        sum->unbuilt++;
+        sam_mesh_destroy(&mesh);
+        return;
+    }
+    sam_runtime *rt[2] = {knot_runtime(&d[0], skin), knot_runtime(&d[1], skin)};
+    sam_error err;
+    for (int r = 0; r < 2; ++r)
+        if (sam_runtime_irradiance(rt[r], &err) != SAM_OK)
+            die("irradiance", &err);
+    /* The node pass last: a flat map has none, so its sums take one pass fewer. */
+    static const sam_pass passes[5] = {SAM_PASS_DEFORM, SAM_PASS_WALK, SAM_PASS_IRRADIANCE, SAM_PASS_TRANSLUCENCY,
+                                       SAM_PASS_NODES};
+    void *const no_user[2] = {NULL, NULL};
+    double tra[2], tra_gpu[2][SAM_PASS_COUNT];
+    median_ms_pair(rt, run_translucency, no_user, cfg->pass_runs, passes + 3, 2, tra, tra_gpu);
+    for (int r = 0; r < 2; ++r)
+        if (sam_runtime_set_deformers(rt[r], &knot_bend, 1, &err) != SAM_OK)
+            die("deformers", &err);
+    int frames[2] = {0, 0}; /* both maps see the same poses */
+    void *const frame_user[2] = {&frames[0], &frames[1]};
+    double ani[2], ani_gpu[2][SAM_PASS_COUNT];
+    median_ms_pair(rt, run_animated_frame, frame_user, cfg->pass_runs, passes, 5, ani, ani_gpu);
+    const double ratio[CUT_RATIOS] = {
+        tra[0] / tra[1], timers ? ratio_or_zero(gpu_sum(tra_gpu[0], 2), gpu_sum(tra_gpu[1], 1)) : 0,
+        ani[0] / ani[1], timers ? ratio_or_zero(gpu_sum(ani_gpu[0], 5), gpu_sum(ani_gpu[1], 4)) : 0};
+    const double filled[2] = {filled_samples(&d[0]), filled_samples(&d[1])};
+    printf("%9u %8.1f s %6.1f s %7.2f %7.2f %10.3f ms %10.3f ms %6.2fx %10.1f ms %10.1f ms %6.2fx", nv, build_s[0],
+           build_s[1], filled[0], filled[1], tra[0], tra[1], ratio[CUT_TRANSLUCENCY], ani[0], ani[1],
+           ratio[CUT_ANIMATED]);
+    if (ratio[CUT_TRANSLUCENCY_GPU] > 0 || ratio[CUT_ANIMATED_GPU] > 0)
+        printf("   GPU %.2fx, %.2fx", ratio[CUT_TRANSLUCENCY_GPU], ratio[CUT_ANIMATED_GPU]);
+    printf("\n");
+    fprintf(json,
+            ", \"cut_build_s\": %.3f, \"cut_nodes\": %u, \"cut_samples_filled_per_vertex\": %.3f, "
+            "\"flat_samples_filled_per_vertex\": %.3f, \"cut_translucency_ms\": %.4f, \"flat_translucency_ms\": "
+            "%.4f, \"translucency_ratio\": %.4f, ",
+            build_s[0], d[0].node_count, filled[0], filled[1], tra[0], tra[1], ratio[CUT_TRANSLUCENCY]);
+    json_positive(json, "cut_nodes_gpu_ms", timers ? tra_gpu[0][1] : 0);
+    fprintf(json, ", ");
+    json_positive(json, "cut_translucency_gpu_ms", timers ? tra_gpu[0][0] : 0);
+    fprintf(json, ", ");
+    json_positive(json, "flat_translucency_gpu_ms", timers ? tra_gpu[1][0] : 0);
+    fprintf(json, ", ");
+    json_positive(json, "translucency_gpu_ratio", ratio[CUT_TRANSLUCENCY_GPU]);
+    fprintf(json, ", \"cut_animated_frame_ms\": %.4f, \"flat_animated_frame_ms\": %.4f, \"animated_ratio\": %.4f, ",
+            ani[0], ani[1], ratio[CUT_ANIMATED]);
+    json_positive(json, "cut_animated_frame_gpu_ms", timers ? gpu_sum(ani_gpu[0], 5) : 0);
+    fprintf(json, ", ");
+    json_positive(json, "flat_animated_frame_gpu_ms", timers ? gpu_sum(ani_gpu[1], 4) : 0);
+    fprintf(json, ", ");
+    json_positive(json, "animated_gpu_ratio", ratio[CUT_ANIMATED_GPU]);
+    fprintf(json, "}");
+    for (int k = 0; k < CUT_RATIOS; ++k)
+        sum->worst[k] = fmax(sum->worst[k], ratio[k]);
+    if (!sum->measured++)
+        sum->smallest = nv;
+    sum->largest = nv;
+    for (int r = 0; r < 2; ++r) {
+        sam_runtime_destroy(rt[r]);
+        samfile_free(&d[r]);
+    }
+    sam_mesh_destroy(&mesh);
+}
+
+/* One ratio's summary line against its target, and its JSON fields. */
+static void cut_verdict(const cut_summary *sum, int k, const char *key, const char *what, double target,
+                        double limit_s, int quick, FILE *json)
+{
+    const double worst = sum->worst[k];
+    const char *verdict = !(worst > 0) ? "NOT MEASURED" : worst <= target ? "PASS" : "MISS";
+    printf("cut against flat N = 3, %s: ", what);
+    if (worst > 0)
+        printf("worst %.2fx on knots of %u to %u vertices", worst, sum->smallest, sum->largest);
+    else if (sum->measured)
+        printf("no GL timer-query times (a CPU rasteriser times submission, not execution)");
+    else
+        printf("no knot measured");
+    printf("; target <= %.1f: %s", target, verdict);
+    if (sum->unbuilt)
+        printf(" (not measured at %s vertices: no cut map within the %g s build limit)", sum->unbuilt_list, limit_s);
+    printf("%s\n", quick ? " [--quick: not a measurement]" : "");
+    fprintf(json, ",\n    ");
+    json_positive(json, key, worst);
+    fprintf(json, ", \"%s_target\": %.1f, \"%s_verdict\": \"%s\"", key, target, key, verdict);
+}
+
+/* The cut study on every knot of `cfg`, with its summary lines and the
+ * "cut_against_flat" JSON object. */
+static void cut_section(const frame_config *cfg, const sam_profile *skin, double limit_s, int timers, int quick,
+                        FILE *json)
+{
+    printf("\ncut map (N = 8) against flat map (N = 3), side by side, medians of %d: sam_runtime_translucency "
+           "(cut: node + translucency pass) and an animated frame (deform, walk, irradiance, node, translucency)\n",
+           cfg->pass_runs);
+    printf("%9s %10s %8s %15s %13s %13s %7s %13s %13s %7s\n", "vertices", "cut build", "flat", "filled cut/flat",
+           "cut transl.", "flat transl.", "ratio", "cut frame", "flat frame", "ratio");
+    fprintf(json, "  \"cut_against_flat\": {\n    \"build_limit_s\": %g, \"runs\": %d, \"knots\": [\n", limit_s,
+            cfg->pass_runs);
+    cut_summary sum;
+    memset(&sum, 0, sizeof sum);
+    for (int m = 0; m < cfg->mesh_count; ++m)
+        cut_study(cfg, m, skin, limit_s, timers, &sum, json);
+    fprintf(json, "\n    ]");
+    cut_verdict(&sum, CUT_TRANSLUCENCY, "translucency_ratio_worst",
+                "node + translucency pass / translucency pass (wall)", CUT_TRANSLUCENCY_TARGET, limit_s, quick, json);
+    cut_verdict(&sum, CUT_TRANSLUCENCY_GPU, "translucency_gpu_ratio_worst",
+                "node + translucency pass / translucency pass (GL timer queries)", CUT_TRANSLUCENCY_TARGET, limit_s,
+                quick, json);
+    cut_verdict(&sum, CUT_ANIMATED, "animated_ratio_worst",
+                "animated frame's deform + walk + irradiance + node + translucency (wall)", CUT_ANIMATED_TARGET,
+                limit_s, quick, json);
+    cut_verdict(&sum, CUT_ANIMATED_GPU, "animated_gpu_ratio_worst",
+                "animated frame's deform + walk + irradiance + node + translucency (GL timer queries)",
+                CUT_ANIMATED_TARGET, limit_s, quick, json);
+    fprintf(json, "\n  }\n");
+}
+
 static void usage(FILE *out)
 {
-    fprintf(out, "usage: bench_frame [--quick] [--optimizations] [--json FILE] [--scenes DIR]\n"
+    fprintf(out, "usage: bench_frame [--quick] [--optimizations] [--cut-only] [--cut-limit SECONDS] [--json FILE]\n"
+                 "                   [--scenes DIR]\n"
                  "\n"
                  "Times the frame passes on knots of growing size, every technique x diffusion at 1080p, and the\n"
-                 "animated update; writes FILE (default bench/results/frame.json). --quick: smaller frames and\n"
-                 "meshes, for the tests. scripts/bench.sh runs it with the other benchmarks.\n"
+                 "animated update; then the default cut map against the flat N = 3 map on the same knots, with\n"
+                 "the targets' PASS or MISS. Writes FILE (default bench/results/frame.json). --quick: smaller\n"
+                 "frames and meshes, for the tests. --cut-only: the cut study alone. --cut-limit: stop a cut\n"
+                 "build after this long, 0 for none (default 300; 30 with --quick). scripts/bench.sh runs it\n"
+                 "with the other benchmarks.\n"
                  "\n"
                  "examples:\n"
                  "  bench_frame --quick --json /tmp/frame.json\n"
-                 "  bench_frame --optimizations\n");
+                 "  bench_frame --optimizations\n"
+                 "  bench_frame --cut-only --json /tmp/frame_cut.json\n");
 }
 
 int main(int argc, char **argv)
 {
     const char *json_path = "bench/results/frame.json", *scenes = "scenes";
     const frame_config *cfg = &full_config;
-    int optimizations = 0;
-    int quick = 0;
+    int optimizations = 0, quick = 0, cut_only = 0;
+    double cut_limit = -1;
     const sam_arg args[] = {
         {"--quick", SAM_ARG_FLAG, .target = &quick},
         {"--optimizations", SAM_ARG_FLAG, .target = &optimizations},
+        {"--cut-only", SAM_ARG_FLAG, .target = &cut_only},
+        {"--cut-limit", SAM_ARG_DOUBLE, &cut_limit, .lo = 0, .hi = 1e6, .value = "SECONDS"},
         {"--json", SAM_ARG_STRING, &json_path, .value = "FILE"},
         {"--scenes", SAM_ARG_STRING, &scenes, .value = "DIR"},
     };
@@ -542,6 +841,8 @@ int main(int argc, char **argv)
         return r == SAM_ARGS_EXIT ? 0 : 2;
     if (quick)
         cfg = &quick_config;
+    if (cut_limit < 0)
+        cut_limit = quick ? CUT_LIMIT_QUICK_S : CUT_LIMIT_S;
     sam_gl_context *gl;
     sam_error err;
     if (sam_gl_context_create_headless(&gl, &err) != SAM_OK)
@@ -551,30 +852,38 @@ int main(int argc, char **argv)
     sam_atomic_file out;
     bench_json_open("bench_frame", json_path, &out);
     FILE *json = out.fp;
-    /* The technique matrices, written after the meshes. */
-    char *matrix_text = NULL;
-    size_t matrix_size = 0;
-    FILE *matrix = open_memstream(&matrix_text, &matrix_size);
-    if (!matrix)
-        die("technique matrix buffer", NULL);
     fprintf(json,
             "{\n  \"renderer\": \"%s\",\n  \"quick\": %s,\n  \"width\": %u,\n  \"height\": %u,\n"
-            "  \"memcpy_bandwidth_gb_s\": %.2f,\n  \"meshes\": [\n",
+            "  \"memcpy_bandwidth_gb_s\": %.2f,\n",
             info->renderer, cfg == &quick_config ? "true" : "false", cfg->width, cfg->height, bandwidth * 1e-9);
     printf("GL: %s; memcpy bandwidth %.1f GB/s; frames %ux%u\n", info->renderer, bandwidth * 1e-9, cfg->width,
            cfg->height);
-    printf("%9s %11s %13s %11s %12s %13s %10s %11s\n", "vertices", "irradiance", "translucency", "shade",
-           "Mvertices/s", "bound (ms)", "of bound", "SAM share");
     sam_profile skin;
     sam_profile_preset("skin", &skin, NULL);
-    for (int m = 0; m < cfg->mesh_count; ++m)
-        mesh_study(cfg, m, &skin, bandwidth, optimizations, json, matrix);
-    fprintf(matrix, ",\n    ");
-    knot_scene_matrix(scenes, cfg, matrix);
-    if (fclose(matrix) != 0)
-        die("technique matrix buffer", NULL);
-    fprintf(json, "  ],\n  \"frame_by_technique\": [\n%s\n  ]\n}\n", matrix_text);
-    free(matrix_text);
+    if (!cut_only) {
+        /* The technique matrices, written after the meshes. */
+        char *matrix_text = NULL;
+        size_t matrix_size = 0;
+        FILE *matrix = open_memstream(&matrix_text, &matrix_size);
+        if (!matrix)
+            die("technique matrix buffer", NULL);
+        printf("%9s %11s %13s %11s %12s %13s %10s %11s\n", "vertices", "irradiance", "translucency", "shade",
+               "Mvertices/s", "bound (ms)", "of bound", "SAM share");
+        fprintf(json, "  \"meshes\": [\n");
+        for (int m = 0; m < cfg->mesh_count; ++m)
+            mesh_study(cfg, m, &skin, bandwidth, optimizations, json, matrix);
+        fprintf(matrix, ",\n    ");
+        knot_scene_matrix(scenes, cfg, matrix);
+        if (fclose(matrix) != 0)
+            die("technique matrix buffer", NULL);
+        fprintf(json, "  ],\n  \"frame_by_technique\": [\n%s\n  ],\n", matrix_text);
+        free(matrix_text);
+    }
+    /* llvmpipe's and softpipe's timer queries read about 0 for compute
+     * passes and time the submission of the others: no ratio of theirs. */
+    const int timers = !strstr(info->renderer, "llvmpipe") && !strstr(info->renderer, "softpipe");
+    cut_section(cfg, &skin, cut_limit, timers, quick, json);
+    fprintf(json, "}\n");
     bench_json_commit("bench_frame", &out);
     sam_gl_context_destroy(gl);
     return 0;

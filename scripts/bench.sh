@@ -84,11 +84,12 @@ for step in ${only//,/ }; do
   case $step in
     build)
       if [ $quick = 1 ]; then
-        studies=(brute scaling)
+        studies=(brute scaling cut memory)
       else
-        # The builder numbers; candidates (how C was chosen), dragon
-        # and memory are bench_build's on demand.
-        studies=(brute scaling large)
+        # The builder numbers and the cut map's targets (build time,
+        # sam_build's memory on ~1M vertices); candidates (how C was chosen)
+        # and dragon are bench_build's on demand.
+        studies=(brute scaling large cut memory)
       fi
       run_step build "$bin/bench_build" "${quick_flag[@]}" --json "$out/build.json" --scans "$root/meshes/scans" \
         "${studies[@]}" ;;
