@@ -421,7 +421,7 @@ static void dragon_study(FILE *json, const char *scans)
 #define CUT_LIMIT_S 300.0
 #define CUT_LIMIT_QUICK_S 30.0
 
-/* The default cut map (N = 8) against the flat map (N = 3) on the same
+/* The default cut map (its default N) against the flat map (N = 3) on the same
  * knots at 40 mm in skin (the large study's knot, and bench_frame's), the
  * builds in A B, B A order so a drift of the machine's load falls on both
  * alike. A cut build that passes limit_s is stopped, not repeated, and
@@ -442,7 +442,8 @@ static void cut_study(FILE *json, int quick, double limit_s)
            sam_build_samples(&s[0]), sam_build_samples(&s[1]), runs > 1 ? "means" : "times", runs, runs > 1 ? "s" : "",
            limit_s);
     printf("%-10s %10s %10s %9s\n", "vertices", "cut s", "flat s", "cut/flat");
-    fprintf(json, "  \"cut_build\": {\"limit_s\": %g, \"runs\": %d, \"knots\": [\n", limit_s, runs);
+    fprintf(json, "  \"cut_build\": {\"cut_samples_per_vertex\": %u, \"limit_s\": %g, \"runs\": %d, \"knots\": [\n",
+            sam_build_samples(&s[0]), limit_s, runs);
     double worst = 0;
     int worst_bound = 0, bounds = 0; /* the worst is a stopped build's lower bound; any such */
     uint32_t smallest = 0, largest = 0;
@@ -592,8 +593,11 @@ static void memory_study(FILE *json, const char *bin_dir, int quick, double limi
     printf("\nsam_build's peak memory, knot of %u vertices (%u welded), skin, 40 mm; this process's own peak %.0f "
            "MiB at the forks:\n",
            vertices, welded, self.ru_maxrss / 1024.0);
-    fprintf(json, "  \"memory\": {\"vertices\": %u, \"welded\": %u, \"bench_peak_mib\": %.1f", vertices, welded,
-            self.ru_maxrss / 1024.0);
+    sam_build_settings cut;
+    sam_build_default_settings(&cut);
+    fprintf(json, "  \"memory\": {\"vertices\": %u, \"welded\": %u, \"cut_samples_per_vertex\": %u, "
+                  "\"bench_peak_mib\": %.1f",
+            vertices, welded, sam_build_samples(&cut), self.ru_maxrss / 1024.0);
     double per[2];
     for (int k = 0; k < 2; ++k) {
         const char *name = k ? "flat" : "cut";

@@ -31,8 +31,8 @@
  * Combinations the runtime cannot render (tsm without texture space, texture
  * space without usable UVs) are listed with the reason.
  *
- * Last, the builder's default cut map (N = 8) against the flat map (N = 3)
- * on the same knots, the two runtimes' calls interleaved: the node and
+ * Last, the builder's default cut map (its default N) against the flat map
+ * (N = 3) on the same knots, the two runtimes' calls interleaved: the node and
  * translucency passes (sam_runtime_translucency) against the flat map's
  * translucency pass, target <= 2.0, and an animated frame's whole SAM work
  * (deform, walk, irradiance, node, translucency), target <= 1.5; wall-clock
@@ -648,7 +648,7 @@ static double ratio_or_zero(double a, double b)
     return a > 0 && b > 0 ? a / b : 0;
 }
 
-/* The default cut map (N = 8) against the flat map (N = 3) on the knot of
+/* The default cut map (its default N) against the flat map (N = 3) on the knot of
  * cfg->resolutions[m], both runtimes side by side (median_ms_pair):
  * sam_runtime_translucency, which runs a cut map's node pass before the
  * translucency pass, and an animated frame's whole SAM work. The cut build
@@ -719,10 +719,11 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
         printf("   GPU %.2fx, %.2fx", ratio[CUT_TRANSLUCENCY_GPU], ratio[CUT_ANIMATED_GPU]);
     printf("\n");
     fprintf(json,
-            ", \"cut_build_s\": %.3f, \"cut_nodes\": %u, \"cut_samples_filled_per_vertex\": %.3f, "
+            ", \"cut_build_s\": %.3f, \"cut_samples_per_vertex\": %u, \"cut_nodes\": %u, "
+            "\"cut_samples_filled_per_vertex\": %.3f, "
             "\"flat_samples_filled_per_vertex\": %.3f, \"cut_translucency_ms\": %.4f, \"flat_translucency_ms\": "
             "%.4f, \"translucency_ratio\": %.4f, ",
-            build_s[0], d[0].node_count, filled[0], filled[1], tra[0], tra[1], ratio[CUT_TRANSLUCENCY]);
+            build_s[0], d[0].samples_per_vertex, d[0].node_count, filled[0], filled[1], tra[0], tra[1], ratio[CUT_TRANSLUCENCY]);
     json_positive(json, "cut_nodes_gpu_ms", timers ? tra_gpu[0][1] : 0);
     fprintf(json, ", ");
     json_positive(json, "cut_translucency_gpu_ms", timers ? tra_gpu[0][0] : 0);
@@ -777,9 +778,13 @@ static void cut_verdict(const cut_summary *sum, int k, const char *key, const ch
 static void cut_section(const frame_config *cfg, const sam_profile *skin, double limit_s, int timers, int quick,
                         FILE *json)
 {
-    printf("\ncut map (N = 8) against flat map (N = 3), side by side, medians of %d: sam_runtime_translucency "
+    sam_build_settings defaults;
+    sam_build_default_settings(&defaults);
+    const uint32_t cut_n = sam_build_samples(&defaults);
+    defaults.map = SAM_BUILD_MAP_FLAT;
+    printf("\ncut map (N = %u) against flat map (N = %u), side by side, medians of %d: sam_runtime_translucency "
            "(cut: node + translucency pass) and an animated frame (deform, walk, irradiance, node, translucency)\n",
-           cfg->pass_runs);
+           cut_n, sam_build_samples(&defaults), cfg->pass_runs);
     printf("%9s %10s %8s %15s %13s %13s %7s %13s %13s %7s\n", "vertices", "cut build", "flat", "filled cut/flat",
            "cut transl.", "flat transl.", "ratio", "cut frame", "flat frame", "ratio");
     fprintf(json, "  \"cut_against_flat\": {\n    \"build_limit_s\": %g, \"runs\": %d, \"knots\": [\n", limit_s,
