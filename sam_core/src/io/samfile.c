@@ -157,8 +157,9 @@ static sam_status check_samples(const samfile_data *d, const char *name, sam_sta
                 continue;
             }
             if (list[k] >= (uint64_t)d->vertex_count + d->node_count) {
-                char range[64];
-                snprintf(range, sizeof range, d->node_count ? " + node_count %u" : "", (unsigned)d->node_count);
+                char range[64] = "";
+                if (d->node_count)
+                    snprintf(range, sizeof range, " + node_count %u", (unsigned)d->node_count);
                 return sam_fail(err, bad,
                                 "%s: chunk SIDX: sample index %u of vertex %zu is out of range (vertex_count %u%s)",
                                 name, (unsigned)list[k], v, (unsigned)d->vertex_count, range);
