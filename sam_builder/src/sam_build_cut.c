@@ -22,12 +22,30 @@ typedef struct cut_entry {
 
 
 
+enum { SIDE_OUT, SIDE_BACK, SIDE_PARTLY };
+
+/* Where `node` lies for receiver o, from its boxes (filled into `b`):
+ * SIDE_OUT when no member can contribute (all in front, all facing o's way
+ * or all beyond the search radius), SIDE_BACK when every member is behind
+ * (eq. 13-14), else SIDE_PARTLY. */
+static int node_side(const sam_build_context *ctx, const sam_build_node *node, uint32_t o, sam_bounds_range *b)
+{
+    const float *p = ctx->pos + 3 * (size_t)o, *nrm = ctx->mesh->topo_normals + 3 * (size_t)o;
+    sam_bounds_classify(node->lo, node->hi, node->nlo, node->nhi, p, nrm, b);
+    if (b->near2 >= ctx->search_radius * ctx->search_radius || b->dn_lo >= 0 || b->nn_lo >= 0)
+        return SIDE_OUT;
+    /* The members' own test is float arithmetic on coordinates of this
+     * size: "wholly behind" keeps a margin above its rounding. */
+    const float scale = fmaxf(fmaxf(fabsf(p[0]), fabsf(p[1])), fabsf(p[2])) + sqrtf(b->far2);
+    return b->dn_hi < -1e-5f * scale && b->nn_hi < -1e-5f ? SIDE_BACK : SIDE_PARTLY;
+}
+
 /* Classifies `id` for receiver o. Returns 0 when no member can contribute
  * (all in front, all facing o's way, or all beyond the search radius). */
 static int classify(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id, cut_entry *e)
 {
     const uint32_t n = ctx->mesh->topo_count;
-    const float *p = ctx->pos + 3 * (size_t)o, *nrm = ctx->mesh->topo_normals + 3 * (size_t)o;
+    const float *p = ctx->pos + 3 * (size_t)o;
     const float radius = ctx->search_radius;
     memset(e, 0, sizeof *e);
     e->id = id;
@@ -44,14 +62,11 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
     }
     const sam_build_node *node = &tree->node[id - n];
     sam_bounds_range b;
-    sam_bounds_classify(node->lo, node->hi, node->nlo, node->nhi, p, nrm, &b);
-    if (b.near2 >= radius * radius || b.dn_lo >= 0 || b.nn_lo >= 0)
+    const int side = node_side(ctx, node, o, &b);
+    if (side == SIDE_OUT)
         return 0;
-    /* The members' own test is float arithmetic on coordinates of this
-     * size: "wholly behind" keeps a margin above its rounding. */
-    const float scale = fmaxf(fmaxf(fabsf(p[0]), fabsf(p[1])), fabsf(p[2])) + sqrtf(b.far2);
     const float near = sam_build_rd_mean(ctx, sqrtf(b.near2));
-    e->back = b.dn_hi < -1e-5f * scale && b.nn_hi < -1e-5f;
+    e->back = side == SIDE_BACK;
     if (e->back) {
         const float *c = node->centroid;
         float dx = c[0] - p[0], dy = c[1] - p[1], dz = c[2] - p[2];
@@ -125,7 +140,7 @@ static void node_form_factor(const sam_build_context *ctx, const sam_build_tree 
 {
     double centre[3] = {0, 0, 0};
     const uint32_t n = ctx->mesh->topo_count;
-    const float *p = ctx->pos + 3 * (size_t)o, *nrm = ctx->mesh->topo_normals + 3 * (size_t)o;
+    const float *p = ctx->pos + 3 * (size_t)o;
     double sum[3] = {0, 0, 0}, var = 0;
     sam_rng rng;
     sam_rng_seed(&rng, ctx->settings.seed, o, (uint64_t)n + j);
@@ -165,13 +180,12 @@ static void node_form_factor(const sam_build_context *ctx, const sam_build_tree 
         }
         const sam_build_node *node = &tree->node[id - n];
         sam_bounds_range b;
-        sam_bounds_classify(node->lo, node->hi, node->nlo, node->nhi, p, nrm, &b);
         /* Only back-side members count: a part wholly in front, facing v_o's
          * way or out of reach adds nothing, one partly behind is opened. */
-        if (b.near2 >= ctx->search_radius * ctx->search_radius || b.dn_lo >= 0 || b.nn_lo >= 0)
+        const int side = node_side(ctx, node, o, &b);
+        if (side == SIDE_OUT)
             continue;
-        const float scale = fmaxf(fmaxf(fabsf(p[0]), fabsf(p[1])), fabsf(p[2])) + sqrtf(b.far2);
-        const int back = b.dn_hi < -1e-5f * scale && b.nn_hi < -1e-5f;
+        const int back = side == SIDE_BACK;
         float r_near[4], r_far[4];
         sam_build_rd(ctx, sqrtf(b.near2), r_near);
         sam_build_rd(ctx, sqrtf(b.far2), r_far);
