@@ -53,7 +53,7 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
         if (id == o || !sam_build_is_back_side(ctx, o, id))
             return 0;
         const float *q = ctx->pos + 3 * (size_t)id;
-        float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2], d = sqrtf(dx * dx + dy * dy + dz * dz);
+        const float d = sam_build_distance(p, q);
         if (d >= radius)
             return 0;
         e->back = 1;
@@ -69,9 +69,8 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
     e->back = side == SIDE_BACK;
     if (e->back) {
         const float *c = node->centroid;
-        float dx = c[0] - p[0], dy = c[1] - p[1], dz = c[2] - p[2];
         e->priority = node->area * fmaxf(near - sam_build_rd_mean(ctx, sqrtf(b.far2)), 0.0f);
-        e->estimate = node->area * sam_build_rd_mean(ctx, sqrtf(dx * dx + dy * dy + dz * dz));
+        e->estimate = node->area * sam_build_rd_mean(ctx, sam_build_distance(p, c));
     } else {
         e->priority = node->area * near;
     }
@@ -113,8 +112,8 @@ static void straddle_estimate(const sam_build_context *ctx, const sam_build_tree
         if (i == o || !sam_build_is_back_side(ctx, o, i))
             continue;
         const float *q = ctx->pos + 3 * (size_t)i;
-        float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2], rd[4];
-        sam_build_rd(ctx, sqrtf(dx * dx + dy * dy + dz * dz), rd);
+        float rd[4];
+        sam_build_rd(ctx, sam_build_distance(p, q), rd);
         const float kv[3] = {(float)span / STRADDLE_SAMPLES * rd[0], (float)span / STRADDLE_SAMPLES * rd[1],
                              (float)span / STRADDLE_SAMPLES * rd[2]};
         for (int c = 0; c < 3; ++c)
@@ -156,7 +155,7 @@ static void node_form_factor(const sam_build_context *ctx, const sam_build_tree 
              * radius taken as sqrt(F')) takes the point form too; only the
              * near ones need the fans' Monte Carlo. */
             const float *q = ctx->pos + 3 * (size_t)id, area = ctx->fan_area[id], r = sqrtf(area);
-            float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2], d = sqrtf(dx * dx + dy * dy + dz * dz);
+            const float d = sam_build_distance(p, q);
             float r_near[4], r_far[4];
             sam_build_rd(ctx, fmaxf(d - r, 0.0f), r_near);
             sam_build_rd(ctx, d + r, r_far);
@@ -206,8 +205,8 @@ static void node_form_factor(const sam_build_context *ctx, const sam_build_tree 
         }
         if (flat) {
             const float *c = node->centroid;
-            float dx = c[0] - p[0], dy = c[1] - p[1], dz = c[2] - p[2], rd[4];
-            sam_build_rd(ctx, sqrtf(dx * dx + dy * dy + dz * dz), rd);
+            float rd[4];
+            sam_build_rd(ctx, sam_build_distance(p, c), rd);
             float kv[3] = {node->area * rd[0], node->area * rd[1], node->area * rd[2]};
             for (int ch = 0; ch < 3; ++ch)
                 sum[ch] += kv[ch];
@@ -330,13 +329,12 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         const uint32_t id = e[c].id;
         const float *q = id < n ? ctx->pos + 3 * (size_t)id : tree->node[id - n].centroid;
         const float area = id < n ? ctx->fan_area[id] : tree->node[id - n].area;
-        float dx = q[0] - po[0], dy = q[1] - po[1], dz = q[2] - po[2];
         size_t at = (size_t)o * budget + slot++;
         r->sample[at] = id;
         r->k_error[at] = e[c].k_error;
         r->tau[at] = e[c].tau;
         memcpy(r->k + 3 * at, e[c].k, sizeof e[c].k);
-        sam_build_kprime(ctx, e[c].k, area, sqrtf(dx * dx + dy * dy + dz * dz), r->kprime + 3 * at);
+        sam_build_kprime(ctx, e[c].k, area, sam_build_distance(po, q), r->kprime + 3 * at);
     }
     return classified;
 }

@@ -2,6 +2,8 @@
 #ifndef SAM_BUILD_INTERNAL_H
 #define SAM_BUILD_INTERNAL_H
 
+#include <math.h>
+
 #include "sam/sam_build.h"
 #include "sam/sam_rng.h"
 
@@ -84,6 +86,13 @@ typedef struct sam_build_tree {
  * Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_build_tree_create(const sam_build_context *ctx, sam_build_tree *tree, sam_error *err);
 void sam_build_tree_destroy(sam_build_tree *tree);
+
+/* |b - a| of two points in mm, summed in the order every builder file used. */
+static inline float sam_build_distance(const float a[3], const float b[3])
+{
+    float dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
+    return sqrtf(dx * dx + dy * dy + dz * dz);
+}
 
 /* The flat builder (sam_build_search.c): the N best vertices. */
 sam_status sam_build_run_flat(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,

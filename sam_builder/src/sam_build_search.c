@@ -178,10 +178,9 @@ static void choose(const sam_build_context *ctx, uint32_t o, scratch *sc, uint32
         uint32_t i = cand[keep].index;
         r->sample[slot] = i;
         r->k_error[slot] = kerr[keep];
-        const float *po = ctx->pos + 3 * (size_t)o, *pi = ctx->pos + 3 * (size_t)i;
-        float dx = pi[0] - po[0], dy = pi[1] - po[1], dz = pi[2] - po[2];
         memcpy(r->k + 3 * slot, k[keep], 3 * sizeof(float));
-        sam_build_kprime(ctx, k[keep], ctx->fan_area[i], sqrtf(dx * dx + dy * dy + dz * dz), r->kprime + 3 * slot);
+        sam_build_kprime(ctx, k[keep], ctx->fan_area[i],
+                         sam_build_distance(ctx->pos + 3 * (size_t)o, ctx->pos + 3 * (size_t)i), r->kprime + 3 * slot);
     }
 }
 
