@@ -4,6 +4,7 @@
 
 #include <math.h>
 
+#include "sam/sam_bounds.h"
 #include "sam/sam_build.h"
 #include "sam/sam_rng.h"
 
@@ -86,6 +87,38 @@ typedef struct sam_build_tree {
  * Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_build_tree_create(const sam_build_context *ctx, sam_build_tree *tree, sam_error *err);
 void sam_build_tree_destroy(sam_build_tree *tree);
+
+/* Where a node lies for a receiver. */
+typedef enum sam_build_side {
+    SAM_BUILD_SIDE_OUT,   /* no member can contribute: all in front, facing the receiver's way or out of reach */
+    SAM_BUILD_SIDE_BACK,  /* every member is behind (eq. 13-14) */
+    SAM_BUILD_SIDE_PARTLY /* some may be */
+} sam_build_side;
+
+/* Classifies `node` for receiver o from its boxes; fills `b` (mm). */
+sam_build_side sam_build_node_side(const sam_build_context *ctx, const sam_build_node *node, uint32_t o,
+                                   sam_bounds_range *b);
+
+/* ---- the K of a vertex's cut nodes (sam_build_cut_k.c) */
+
+typedef struct sam_build_cut_k_scratch sam_build_cut_k_scratch;
+
+/* Scratch for cuts of at most `entries` parts and `openings` openings.
+ * NULL when out of memory. */
+sam_build_cut_k_scratch *sam_build_cut_k_scratch_create(uint32_t entries, uint32_t openings);
+void sam_build_cut_k_scratch_destroy(sam_build_cut_k_scratch *s);
+
+/* K of each of the `count` parts ids[e] of receiver o's cut (a topo vertex,
+ * or topo_count + node): the members' fans' Monte Carlo for a vertex; for a
+ * node, eq. 11 summed over its back-side members, opening at most
+ * `openings` subnodes or near members across the whole cut, those whose R_d
+ * falls most first. `points` are o's shared receiver points. Writes
+ * k[3 * count], k_error[count] (standard error) and centre[3 * count] (the
+ * K-weighted centre of what each part's light comes from, mm).
+ * Deterministic: the same for any thread. */
+void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, const float *points,
+                     const uint32_t *ids, uint32_t count, uint32_t openings, sam_build_cut_k_scratch *scratch,
+                     float *k, float *k_error, float *centre);
 
 /* |b - a| of two points in mm, summed in the order every builder file used. */
 static inline float sam_build_distance(const float a[3], const float b[3])

@@ -169,3 +169,16 @@ sam_status sam_build_tree_create(const sam_build_context *ctx, sam_build_tree *t
     free(depth);
     return SAM_OK;
 }
+
+sam_build_side sam_build_node_side(const sam_build_context *ctx, const sam_build_node *node, uint32_t o,
+                                   sam_bounds_range *b)
+{
+    const float *p = ctx->pos + 3 * (size_t)o, *nrm = ctx->mesh->topo_normals + 3 * (size_t)o;
+    sam_bounds_classify(node->lo, node->hi, node->nlo, node->nhi, p, nrm, b);
+    if (b->near2 >= ctx->search_radius * ctx->search_radius || b->dn_lo >= 0 || b->nn_lo >= 0)
+        return SAM_BUILD_SIDE_OUT;
+    /* The members' own test is float arithmetic on coordinates of this
+     * size: "wholly behind" keeps a margin above its rounding. */
+    const float scale = fmaxf(fmaxf(fabsf(p[0]), fabsf(p[1])), fabsf(p[2])) + sqrtf(b->far2);
+    return b->dn_hi < -1e-5f * scale && b->nn_hi < -1e-5f ? SAM_BUILD_SIDE_BACK : SAM_BUILD_SIDE_PARTLY;
+}
