@@ -158,6 +158,54 @@ static void test_sphere_radius(void **state)
     sam_mesh_destroy(&m);
 }
 
+/* The through statistic on the sphere of the test above: the mean depth
+ * of the rays within 30 degrees of -n, 2R cos^2 theta each (with the
+ * offset); on the slab of test_slab_depth, D at the centre, as the mean. */
+static void test_through(void **state)
+{
+    (void)state;
+    const double mm = 60.0, r = 0.5 * mm;
+    sam_mesh m;
+    sam_test_shape_mesh("sphere", 64, 1.0, 0, 0, &m);
+    sam_thickness_settings set;
+    sam_thickness_default_settings(&set);
+    set.statistic = SAM_THICKNESS_THROUGH;
+    float *t = thickness_of(&m, (float)mm, &set);
+    static float d[3 * 64];
+    sam_thickness_directions(set.strata, d);
+    double e = set.offset * sqrt(3.0) * mm, predicted = 0;
+    uint32_t rays = 0;
+    for (uint32_t k = 0; k < set.strata * set.strata; ++k)
+        if (d[3 * k + 2] * d[3 * k + 2] >= 0.75f) {
+            predicted += sphere_depth(r, e, d[3 * k + 2]);
+            rays++;
+        }
+    predicted /= rays;
+    double lo = INFINITY, hi = 0;
+    for (uint32_t v = 0; v < m.vertex_count; ++v)
+        lo = fmin(lo, t[v]), hi = fmax(hi, t[v]);
+    print_message("sphere R = %g mm, through (%u rays): predicted %.6f, mesh %.6f .. %.6f mm\n", r, rays, predicted,
+                  lo, hi);
+    assert_true(rays == 2 * set.strata);
+    assert_true(predicted > 1.5 * r && predicted < 2 * r);
+    assert_true(fabs(lo - predicted) < 0.005 * r && fabs(hi - predicted) < 0.005 * r);
+    free(t);
+    sam_mesh_destroy(&m);
+
+    sam_test_shape_mesh("slab", 40, 1.0, 0.05, 0, &m);
+    t = thickness_of(&m, 40.0f, &set);
+    double centre = -1, centre_r = INFINITY;
+    for (uint32_t v = 0; v < m.vertex_count; ++v) {
+        const float *p = m.positions + 3 * v;
+        if (fabsf(m.normals[3 * v + 1]) == 1.0f && hypot(p[0], p[2]) < centre_r)
+            centre_r = hypot(p[0], p[2]), centre = t[v];
+    }
+    print_message("slab 2 mm, through at the centre: %.6f mm\n", centre);
+    assert_true(fabs(centre - 2.0) < 0.01 * 2.0);
+    free(t);
+    sam_mesh_destroy(&m);
+}
+
 /* An open square: every ray from below misses, so every vertex gets the
  * cap's depth, e + C mean(cos theta), C the bounding-box diagonal. */
 static void test_misses_take_the_cap(void **state)
@@ -266,6 +314,7 @@ int main(void)
         cmocka_unit_test(test_rule),
         cmocka_unit_test(test_slab_depth),
         cmocka_unit_test(test_sphere_radius),
+        cmocka_unit_test(test_through),
         cmocka_unit_test(test_misses_take_the_cap),
         cmocka_unit_test(test_threads_bit_identical),
         cmocka_unit_test(test_refused_input),

@@ -18,6 +18,7 @@
 void sam_thickness_default_settings(sam_thickness_settings *s)
 {
     s->strata = 8;
+    s->statistic = SAM_THICKNESS_MEAN;
     s->offset = 1e-4f;
     s->threads = 0;
 }
@@ -69,6 +70,9 @@ static sam_status check_input(const sam_thickness_surface *s, float mm_per_unit,
     if (!(set->offset > 0 && set->offset <= 0.01f))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "thickness: offset must be in (0, 0.01], got %g",
                         (double)set->offset);
+    if (set->statistic != SAM_THICKNESS_MEAN && set->statistic != SAM_THICKNESS_THROUGH)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "thickness: statistic must be mean (0) or through (1), got %d",
+                        (int)set->statistic);
     if (set->threads < 0)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "thickness: threads must be >= 0, got %d", set->threads);
     for (uint32_t t = 0; t < 3 * s->triangle_count; ++t)
@@ -135,12 +139,13 @@ static sam_status make_scene(RTCDevice device, const sam_thickness_surface *s, c
 typedef struct ray_set {
     RTCScene scene;
     const float *dirs; /* count unit vectors, +z the inverted normal */
-    uint32_t count;
+    uint32_t count, strata; /* count = strata^2, ring by ring from -n */
+    int through;            /* SAM_THICKNESS_THROUGH */
     float offset, cap; /* model units */
 } ray_set;
 
-/* The mean depth of the far surface below vertex p's tangent plane, model
- * units. */
+/* The depth of the far surface below vertex p's tangent plane, model
+ * units: the mean, or straight through (sam_thickness_statistic). */
 static double vertex_depth(const ray_set *rs, const float *p, const float *normal)
 {
     float len = sqrtf(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
@@ -152,7 +157,8 @@ static double vertex_depth(const ray_set *rs, const float *p, const float *norma
     float t[3] = {1.0f + sign * m[0] * m[0] * a, sign * b, -sign * m[0]};
     float u[3] = {b, sign + m[1] * m[1] * a, -m[1]};
     float o[3] = {p[0] + rs->offset * m[0], p[1] + rs->offset * m[1], p[2] + rs->offset * m[2]};
-    double sum = 0;
+    double sum = 0, through = 0;
+    uint32_t through_count = 0;
     for (uint32_t k = 0; k < rs->count; ++k) {
         const float *d = rs->dirs + 3 * (size_t)k;
         struct RTCRayHit rh;
@@ -169,9 +175,14 @@ static double vertex_depth(const ray_set *rs, const float *p, const float *norma
         rtcInitIntersectContext(&ctx);
         rtcIntersect1(rs->scene, &ctx, &rh);
         float dist = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar : rs->cap;
-        sum += (double)rs->offset + (double)dist * d[2];
+        const double depth = (double)rs->offset + (double)dist * d[2];
+        sum += depth;
+        if (d[2] * d[2] >= 0.75f || k < rs->strata) {
+            through += depth;
+            through_count++;
+        }
     }
-    return sum / rs->count;
+    return rs->through ? through / through_count : sum / rs->count;
 }
 
 sam_status sam_thickness_compute(const sam_thickness_surface *surface, float mm_per_unit,
@@ -189,7 +200,8 @@ sam_status sam_thickness_compute(const sam_thickness_surface *surface, float mm_
         return st;
     if (!thickness_mm)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "thickness: no output array");
-    ray_set rs = {NULL, NULL, set.strata * set.strata, set.offset * diagonal, diagonal};
+    ray_set rs = {NULL, NULL, set.strata * set.strata, set.strata, set.statistic == SAM_THICKNESS_THROUGH,
+                  set.offset * diagonal, diagonal};
     float *dirs = malloc((size_t)rs.count * 3 * sizeof *dirs);
     if (!dirs)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "thickness: out of memory for %u ray directions", rs.count);

@@ -57,8 +57,18 @@ typedef struct sam_thickness_surface {
     const uint32_t *triangles; /* 3 * triangle_count vertex indices < vertex_count */
 } sam_thickness_surface;
 
+/* What a vertex's rays are summed into. */
+typedef enum sam_thickness_statistic {
+    SAM_THICKNESS_MEAN = 0,   /* the cosine-weighted mean depth above: the technique's t */
+    SAM_THICKNESS_THROUGH = 1 /* the mean depth of the rays within 30 degrees of -n (ring 0's when none
+                               * is): how deep the far surface lies straight through. An ear modelled as
+                               * a bump on a head reads as thin as the ear itself, where the mean over
+                               * the hemisphere follows the long rays into the head */
+} sam_thickness_statistic;
+
 typedef struct sam_thickness_settings {
     uint32_t strata; /* rays per vertex = strata^2, 1..32 (default 8: 64 rays) */
+    sam_thickness_statistic statistic; /* default SAM_THICKNESS_MEAN */
     float offset;    /* ray origins' depth below the surface, times the bounding-box diagonal, in
                       * (0, 0.01] (default 1e-4: clear of the vertex's own triangles in float, far
                       * thinner than any part the technique can tell from another) */
