@@ -17,7 +17,6 @@
 in vec3 v_position;
 in vec3 v_normal;
 in vec3 v_to_eye;
-in vec3 v_irradiance;
 in vec3 v_translucency;
 
 uniform uint u_light_count;       // 0 for translucency only
@@ -144,6 +143,22 @@ void main()
     }
     vec3 albedo = surface_albedo(v_uv);
     bool blurred = u_split != 0 || u_texture_space != 0;
+    // L_d at this pixel, as the irradiance pass computes it at the vertices
+    // (lights times rho_dt(N.L), shadowed, and the environment), and the
+    // specular lobe under the same shadows. Per pixel rather than the
+    // vertices' L_d interpolated: on a coarse mesh an interpolated shadow
+    // edge ran along the triangles, a staircase a vertex apart.
+    vec3 front = vec3(0.0), specular = vec3(0.0);
+    for (uint i = 0u; i < u_light_count; ++i) {
+        float n_dot_l;
+        vec3 e = light_irradiance(lights[i], v_position, n, n_dot_l);
+        if (e == vec3(0.0))
+            continue;
+        float s = shadow(lights[i], v_position, n);
+        front += e * rho_dt(n_dot_l) * s;
+        specular += u_specular_k * ks_specular(n, light_direction(lights[i], v_position), v) * e * s;
+    }
+    front += environment_irradiance(n);
     vec3 entering = vec3(0.0);
     if (u_texture_space != 0) {
         // Clamped half a texel inside the used corner: bilinear taps past it
@@ -161,20 +176,11 @@ void main()
     } else {
         entering = technique_translucency(v_translucency, v_position, n);
         if (u_front != 0)
-            entering += (u_preintegrated != 0 ? preintegrated_front(n, v_position) : v_irradiance) *
-                        u_total_reflectance;
+            entering += (u_preintegrated != 0 ? preintegrated_front(n, v_position) : front) * u_total_reflectance;
         if (u_split != 0)
             entering *= sqrt(albedo);
     }
     vec3 factor = rho_dt(dot(n, v)) / PI * (blurred ? sqrt(albedo) : albedo);
-    vec3 specular = vec3(0.0);
-    for (uint i = 0u; i < u_light_count; ++i) {
-        float n_dot_l;
-        vec3 e = light_irradiance(lights[i], v_position, n, n_dot_l);
-        if (e != vec3(0.0))
-            specular += u_specular_k * ks_specular(n, light_direction(lights[i], v_position), v) * e *
-                        shadow(lights[i], v_position, n);
-    }
     if (u_split != 0) {
         o_color = vec4(entering, v_depth);
         o_factor = vec4(factor, 1.0);

@@ -1,12 +1,12 @@
 #version 430 core
-// Forward shading of the mesh: per-vertex L_d and T come from the SAM
-// passes' buffers, indexed by the vertex the index buffer names.
+// Forward shading of the mesh: per-vertex T comes from the SAM passes'
+// buffers, indexed by the vertex the index buffer names (the front's L_d is
+// shaded per pixel).
 #include "sam_bindings.h"
 layout(location = 0) in vec4 a_position;
 layout(location = 1) in vec4 a_normal;
 layout(location = 2) in vec2 a_uv;
 
-layout(std430, binding = SAM_B_IRRADIANCE) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = SAM_B_TRANSLUCENCY) readonly buffer Translucency { vec4 translucency[]; };
 layout(std430, binding = SAM_B_CURVATURE) readonly buffer Curvature { float curvature[]; };
 
@@ -17,7 +17,6 @@ uniform vec3 u_eye;
 out vec3 v_position;
 out vec3 v_normal;
 out vec3 v_to_eye;
-out vec3 v_irradiance;
 out vec3 v_translucency;
 out float v_depth;
 out float v_curvature;       // 1/mm
@@ -28,7 +27,6 @@ void main()
     v_position = a_position.xyz;
     v_normal = a_normal.xyz;
     v_to_eye = u_eye - a_position.xyz;
-    v_irradiance = irradiance[gl_VertexID].rgb;
     v_translucency = translucency[gl_VertexID].rgb;
     v_depth = dot(a_position.xyz - u_eye, u_forward);
     v_curvature = curvature[gl_VertexID];
