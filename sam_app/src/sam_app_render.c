@@ -5,15 +5,18 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sam/sam_app_backlight.h"
+#include "sam/sam_app_cache.h"
+#include "sam/sam_app_output.h"
 #include "sam/sam_app_render.h"
-#include "sam/sam_app_scene.h"
+#include "sam/sam_app_stage.h"
 #include "sam/sam_app_thickness.h"
 #include "sam/sam_runtime_scene.h"
 
 void sam_app_render_defaults(sam_app_render_job *job)
 {
     memset(job, 0, sizeof *job);
-    job->technique = job->diffusion = job->sss_kernel = job->tonemap = -1;
+    job->technique = job->diffusion = job->sss_kernel = job->tonemap = job->beside = -1;
     job->exposure = NAN;
     job->frames = 1;
     job->fps = 30.0f;
@@ -90,39 +93,114 @@ static void apply_overrides(const sam_app_render_job *job, sam_render_view *view
         view->options.texels_per_pixel = job->texels_per_pixel;
 }
 
+/* `v` turned by `angle` radians about the unit `axis` through `centre`
+ * (Rodrigues). */
+static void turn(const float centre[3], const float axis[3], float angle, const float v[3], float out[3])
+{
+    const float x[3] = {v[0] - centre[0], v[1] - centre[1], v[2] - centre[2]};
+    const float c = cosf(angle), s = sinf(angle), k = axis[0] * x[0] + axis[1] * x[1] + axis[2] * x[2];
+    const float cr[3] = {axis[1] * x[2] - axis[2] * x[1], axis[2] * x[0] - axis[0] * x[2],
+                         axis[0] * x[1] - axis[1] * x[0]};
+    for (int i = 0; i < 3; ++i)
+        out[i] = centre[i] + c * x[i] + s * cr[i] + (1 - c) * k * axis[i];
+}
+
+/* Picture `index` of a turntable: the view and the scene's lights turned
+ * together about the view's up through its target, as if the object turned
+ * under fixed lights (the environment, a distant backdrop, stays). */
+static sam_status turntable_step(const sam_app_render_job *job, const sam_scene *scene, sam_runtime *rt, long index,
+                                 sam_render_view *view, sam_error *err)
+{
+    const float angle = 2.0f * 3.14159265f * (float)index / (float)job->turntable;
+    float axis[3] = {view->up[0], view->up[1], view->up[2]};
+    const float len = sqrtf(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    for (int c = 0; c < 3; ++c)
+        axis[c] /= len;
+    turn(view->target, axis, angle, view->eye, view->eye);
+    sam_light *lights = calloc(scene->light_count ? scene->light_count : 1, sizeof *lights);
+    if (!lights)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory");
+    const float origin[3] = {0, 0, 0};
+    for (size_t i = 0; i < scene->light_count; ++i) {
+        sam_light *l = &lights[i];
+        *l = scene->lights[i];
+        turn(view->target, axis, angle, l->position, l->position);
+        turn(origin, axis, angle, l->direction, l->direction);
+        turn(origin, axis, angle, l->normal, l->normal);
+        for (uint32_t k = 0; k < l->vertex_count; ++k)
+            turn(view->target, axis, angle, l->vertices[k], l->vertices[k]);
+    }
+    sam_status st = sam_runtime_set_lights(rt, lights, scene->light_count, err);
+    free(lights);
+    return st;
+}
+
+/* One picture of the current frame into `img`: the view's, and with
+ * `beside` that technique's of the same frame to its right. */
+static sam_status render_picture(const sam_app_render_job *job, sam_runtime *rt, const sam_render_view *view,
+                                 sam_image *img, sam_error *err)
+{
+    if (job->beside < 0)
+        return sam_runtime_render(rt, view, img, err);
+    sam_image pair[2] = {{0}, {0}};
+    sam_render_view other = *view;
+    other.technique = (sam_technique)job->beside;
+    sam_status st = sam_runtime_render(rt, view, &pair[0], err);
+    if (st == SAM_OK && (st = sam_runtime_render(rt, &other, &pair[1], err)) == SAM_OK)
+        st = sam_image_row(pair, 2, img, err);
+    sam_image_destroy(&pair[0]);
+    sam_image_destroy(&pair[1]);
+    return st;
+}
+
 /* The frames and pictures: a still picture is the pose at time 0 after
- * `frames` passes; an animation one picture per frame, each a new pose. */
+ * `frames` passes; an animation one picture per frame, each a new pose; a
+ * turntable one picture per turn, each lit anew. `*exposure` NAN is read
+ * from the first picture (sam_app_stage_exposure) and kept for the rest. */
 static sam_status run_frames(const sam_app_render_job *job, const char *tool, const sam_scene *scene,
-                             sam_runtime *rt, const sam_render_view *view, sam_error *err)
+                             sam_runtime *rt, const sam_render_view *start, float *exposure, sam_error *err)
 {
     const int posed = scene->deformer_count || scene->keyframe_count;
-    const int use_sam = view->technique == SAM_TECHNIQUE_SAM;
-    const long animate = job->animate, pictures = animate ? animate : 1, passes = animate ? 1 : job->frames;
+    const int use_sam = start->technique == SAM_TECHNIQUE_SAM || job->beside == SAM_TECHNIQUE_SAM;
+    const long animate = job->animate, turns = job->turntable;
+    const long pictures = animate ? animate : turns ? turns : 1, passes = animate ? 1 : job->frames;
+    const int numbered_out = animate || turns;
     const float step = animate ? 1.0f / job->fps : job->dt;
     sam_tonemap curve = job->tonemap >= 0 ? (sam_tonemap)job->tonemap : scene->tonemap;
-    float exposure = isnan(job->exposure) ? scene->exposure : job->exposure;
+    const int png_out = sam_app_has_extension(job->out, ".png");
     sam_image img = {0};
     sam_status st = SAM_OK;
     for (long picture = 0; picture < pictures && st == SAM_OK; ++picture) {
+        sam_render_view view = *start;
+        if (turns && (st = turntable_step(job, scene, rt, picture, &view, err)) != SAM_OK)
+            break;
         for (long f = 0; f < passes && st == SAM_OK; ++f) {
             long frame = animate ? picture : f;
             if (posed && (frame == 0 || animate) &&
                 ((st = sam_runtime_deform(rt, (float)picture / job->fps, err)) != SAM_OK ||
                  (st = sam_runtime_walk(rt, err)) != SAM_OK))
                 break;
+            /* A turntable's picture is lit anew: no smoothing from the last. */
             if ((st = sam_runtime_irradiance(rt, err)) == SAM_OK && use_sam)
-                st = sam_runtime_translucency(rt, scene->samples_per_vertex, step, frame == 0, err);
+                st = sam_runtime_translucency(rt, scene->samples_per_vertex, step, frame == 0 || turns, err);
         }
-        char exr_path[4096], png_path[4096];
-        if (st != SAM_OK || (st = numbered(job->out, animate ? picture : -1, exr_path, sizeof exr_path, err)) != SAM_OK ||
-            (job->png && (st = numbered(job->png, animate ? picture : -1, png_path, sizeof png_path, err)) != SAM_OK))
+        char out_path[4096], png_path[4096];
+        if (st != SAM_OK || (st = numbered(job->out, numbered_out ? picture : -1, out_path, sizeof out_path, err)) != SAM_OK ||
+            (job->png && (st = numbered(job->png, numbered_out ? picture : -1, png_path, sizeof png_path, err)) != SAM_OK))
             break;
         sam_image_destroy(&img);
-        if ((st = sam_runtime_render(rt, view, &img, err)) != SAM_OK ||
-            (st = sam_image_write_picture(&img, exr_path, job->png ? png_path : NULL, curve, exposure, err)) != SAM_OK)
+        if ((st = render_picture(job, rt, &view, &img, err)) != SAM_OK)
             break;
-        if (animate)
-            fprintf(stderr, "\r%s: frame %ld of %ld%s", tool, picture + 1, animate, picture + 1 == animate ? "\n" : "");
+        if (isnan(*exposure)) {
+            *exposure = sam_app_stage_exposure(&img);
+            fprintf(stderr, "%s: exposure: %+.2f EV, read from the picture (--exposure to set it)\n", tool,
+                    *exposure);
+        }
+        st = sam_image_write_picture(&img, png_out ? NULL : out_path, png_out ? out_path : job->png ? png_path : NULL,
+                                     curve, *exposure, err);
+        if (st == SAM_OK && numbered_out)
+            fprintf(stderr, "\r%s: picture %ld of %ld%s", tool, picture + 1, pictures,
+                    picture + 1 == pictures ? "\n" : "");
     }
     sam_image_destroy(&img);
     return st;
@@ -159,7 +237,7 @@ static sam_status give_thickness(sam_runtime *rt, const samfile_data *sam, float
 
 /* The runtime's part: context, runtime, scene, thickness, frames, dump,
  * summary. */
-static sam_status render_map(const sam_app_render_job *job, const char *tool, const sam_scene *scene,
+static sam_status render_map(const sam_app_render_job *job, const char *tool, int staged, sam_scene *scene,
                              const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
                              sam_technique chosen, sam_error *err)
 {
@@ -171,13 +249,20 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, co
         (st = sam_runtime_create(sam, profile, mm_per_unit, &rt, err)) != SAM_OK ||
         (st = sam_runtime_scene_setup(rt, scene, NULL, NULL, warning, sizeof warning, err)) != SAM_OK ||
         (st = sam_runtime_scene_keyframes(rt, scene, sam, err)) != SAM_OK ||
-        (chosen == SAM_TECHNIQUE_THICKNESS && (st = give_thickness(rt, sam, mm_per_unit, tool, err)) != SAM_OK))
+        ((chosen == SAM_TECHNIQUE_THICKNESS || job->beside == SAM_TECHNIQUE_THICKNESS) &&
+         (st = give_thickness(rt, sam, mm_per_unit, tool, err)) != SAM_OK))
         goto done;
     if (warning[0])
         fprintf(stderr, "%s: warning: %s\n", tool, warning);
+    char note[256];
+    if (staged) {
+        if ((st = sam_app_backlight_place(rt, sam, scene, SAM_APP_STAGE_BACK_LIGHT, note, sizeof note, err)) != SAM_OK)
+            goto done;
+        fprintf(stderr, "%s: %s\n", tool, note);
+    }
     sam_render_view view;
     sam_runtime_scene_view(rt, scene, &view, warning, sizeof warning);
-    if (chosen == SAM_TECHNIQUE_TSM && view.diffusion != 3) {
+    if ((chosen == SAM_TECHNIQUE_TSM || job->beside == SAM_TECHNIQUE_TSM) && view.diffusion != 3) {
         char reason[160];
         sam_runtime_uv_status(rt, reason, sizeof reason);
         st = sam_fail(err, SAM_ERR_UNSUPPORTED, "the tsm technique needs texture-space diffusion, which cannot run: %s",
@@ -188,14 +273,14 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, co
         fprintf(stderr, "%s: warning: %s\n", tool, warning);
     view.technique = chosen;
     apply_overrides(job, &view);
-    if ((st = run_frames(job, tool, scene, rt, &view, err)) != SAM_OK ||
+    if ((st = run_frames(job, tool, scene, rt, &view, &scene->exposure, err)) != SAM_OK ||
         (job->dump && (st = dump_vertices(rt, chosen, job->dump, sam->vertex_count, err)) != SAM_OK))
         goto done;
-    long frames = job->animate ? job->animate : job->frames;
+    long frames = job->animate ? job->animate : job->turntable ? job->turntable : job->frames;
     double diffusion_ms = sam_runtime_pass_ms(rt, SAM_PASS_DIFFUSION);
     fprintf(stderr, "%s: %s: %ux%u, %u vertices, %ld frame%s; GPU ms: irradiance %.3f, translucency %.3f, "
                     "shade %.3f, diffusion %.3f (%s)\n",
-            tool, job->out, scene->width, scene->height, sam->vertex_count, frames, frames == 1 ? "" : "s",
+            tool, job->out, view.width, view.height, sam->vertex_count, frames, frames == 1 ? "" : "s",
             sam_runtime_pass_ms(rt, SAM_PASS_IRRADIANCE),
             chosen == SAM_TECHNIQUE_SAM || chosen == SAM_TECHNIQUE_THICKNESS
                 ? sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY)
@@ -208,11 +293,67 @@ done:
     return st;
 }
 
+/* The outputs and the options that go together, before any work. */
+static sam_status check_job(const sam_app_render_job *job, int bare, sam_error *err)
+{
+    static const char *const pictures[] = {".png", ".exr", NULL}, *const pngs[] = {".png", NULL},
+                             *const jsons[] = {".json", NULL};
+    sam_status st = sam_app_check_output("-o", job->out, pictures, err);
+    if (st == SAM_OK && job->png) {
+        if (sam_app_has_extension(job->out, ".png"))
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "--png is for an EXR output; -o %s is a PNG already",
+                            job->out);
+        st = sam_app_check_output("--png", job->png, pngs, err);
+    }
+    if (st == SAM_OK && job->write_scene)
+        st = sam_app_check_output("--write-scene", job->write_scene, jsons, err);
+    if (st == SAM_OK && job->dump)
+        st = sam_app_check_output("--dump-vertices", job->dump, NULL, err);
+    if (st != SAM_OK)
+        return st;
+    if (!bare && (job->material || job->size_mm || job->mm_per_unit || job->angle_deg))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "--material, --size-mm, --mm-per-unit and --angle are for a bare mesh; %s sets its own",
+                        job->scene_path);
+    if (job->animate && job->turntable)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "--animate and --turntable cannot go together");
+    return SAM_OK;
+}
+
+/* The scene of the job's input: a scene file, or a bare mesh staged with
+ * each assumption printed. */
+static sam_status job_scene(const sam_app_render_job *job, const char *tool, int bare, sam_scene *scene,
+                            sam_error *err)
+{
+    if (!bare) {
+        sam_status st = sam_scene_load(job->scene_path, scene, err);
+        if (st == SAM_OK && job->width) {
+            scene->width = job->width;
+            scene->height = job->height;
+        }
+        return st;
+    }
+    sam_app_stage_options options;
+    sam_app_stage_defaults(&options);
+    options.size_mm = job->size_mm;
+    options.mm_per_unit = job->mm_per_unit;
+    options.angle_deg = job->angle_deg;
+    options.width = job->width;
+    options.height = job->height;
+    sam_app_stage_notes notes;
+    sam_status st = sam_app_stage_scene(job->scene_path, job->material, &options, scene, &notes, err);
+    for (int i = 0; st == SAM_OK && i < notes.count; ++i)
+        fprintf(stderr, "%s: %s\n", tool, notes.line[i]);
+    return st;
+}
+
 sam_status sam_app_render_run(const sam_app_render_job *job, const char *tool, sam_error *err)
 {
+    const int bare = !sam_app_has_extension(job->scene_path, ".json");
     sam_scene scene;
-    sam_status st = sam_scene_load(job->scene_path, &scene, err);
-    if (st != SAM_OK)
+    sam_scene_init(&scene);
+    sam_status st = check_job(job, bare, err);
+    if (st != SAM_OK || (st = job_scene(job, tool, bare, &scene, err)) != SAM_OK)
         return st;
     if (job->animate && !scene.deformer_count && !scene.keyframe_count) {
         sam_scene_destroy(&scene);
@@ -222,24 +363,29 @@ sam_status sam_app_render_run(const sam_app_render_job *job, const char *tool, s
     sam_technique chosen = job->technique >= 0 ? (sam_technique)job->technique : scene.technique;
     if (job->diffusion >= 0)
         scene.diffusion = (sam_diffusion)job->diffusion;
-    if (chosen == SAM_TECHNIQUE_TSM && scene.diffusion != SAM_DIFFUSION_TEXTURE) {
+    if ((chosen == SAM_TECHNIQUE_TSM || job->beside == SAM_TECHNIQUE_TSM) && scene.diffusion != SAM_DIFFUSION_TEXTURE) {
         sam_scene_destroy(&scene);
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
                         "the tsm technique needs texture-space diffusion (--diffusion texture or the scene's "
                         "\"diffusion\": \"texture\")");
     }
+    /* A bare mesh's exposure is read from its first picture unless given. */
+    scene.exposure = !isnan(job->exposure) ? job->exposure : bare ? NAN : scene.exposure;
+    char cache_dir[4096];
+    sam_app_cache_dir(job->cache_dir, cache_dir, sizeof cache_dir);
     samfile_data sam;
     sam_profile profile;
     float mm_per_unit;
-    double built_seconds;
-    if ((st = sam_app_scene_object(&scene, NULL, NULL, NULL, &sam, &profile, &mm_per_unit, &built_seconds, err)) ==
+    if ((st = sam_app_cache_object(&scene, cache_dir, !job->no_cache, tool, &sam, &profile, &mm_per_unit, err)) ==
         SAM_OK) {
-        if (!scene.sam_path)
-            fprintf(stderr, "%s: built the map of %s (%u vertices) in %.2f s\n", tool, scene.mesh_path,
-                    sam.vertex_count, built_seconds);
-        st = render_map(job, tool, &scene, &sam, &profile, mm_per_unit, chosen, err);
+        if (!scene.light_count && !scene.environment.map)
+            fprintf(stderr, "%s: warning: %s has no lights and no environment: only the black of no light will show\n",
+                    tool, job->scene_path);
+        st = render_map(job, tool, bare, &scene, &sam, &profile, mm_per_unit, chosen, err);
         samfile_free(&sam);
     }
+    if (st == SAM_OK && job->write_scene && (st = sam_scene_write(job->write_scene, &scene, err)) == SAM_OK)
+        fprintf(stderr, "%s: wrote the scene to %s\n", tool, job->write_scene);
     sam_scene_destroy(&scene);
     return st;
 }

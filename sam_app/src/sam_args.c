@@ -92,6 +92,17 @@ static const sam_arg *find(const sam_args_spec *spec, const char *name)
     return NULL;
 }
 
+int sam_args_size(const char *text, uint32_t *w, uint32_t *h)
+{
+    long a, b;
+    char tail;
+    if (sscanf(text, "%ldx%ld%c", &a, &b, &tail) != 2 || a < 1 || b < 1 || a > 16384 || b > 16384)
+        return 0;
+    *w = (uint32_t)a;
+    *h = (uint32_t)b;
+    return 1;
+}
+
 int sam_args_parse(const sam_args_spec *spec, int argc, char **argv)
 {
     const char *tool = spec->tool;

@@ -144,29 +144,16 @@ static sam_status write_difference(const char *dir, const char *name, const sam_
     return st;
 }
 
-/* Copies `img` (3 channels) into `row` at column x0. */
-static void blit(sam_image *row, const sam_image *img, uint32_t x0)
-{
-    for (uint32_t y = 0; y < img->height; ++y)
-        memcpy(row->pixels + ((size_t)y * row->width + x0) * 3, img->pixels + (size_t)y * img->width * 3,
-               (size_t)img->width * 3 * sizeof *img->pixels);
-}
-
 /* row.png and translucency_row.png: the `count` display and normalised
  * images side by side. */
 static sam_status write_rows(const char *dir, const sam_image *shown, const sam_image *norm, int count,
                              sam_error *err)
 {
     sam_image row = {0}, row_t = {0};
-    uint32_t w = shown[0].width, h = shown[0].height;
-    sam_status st = sam_image_create(&row, w * (uint32_t)count, h, 3, err);
+    sam_status st = sam_image_row(shown, (uint32_t)count, &row, err);
     if (st == SAM_OK)
-        st = sam_image_create(&row_t, w * (uint32_t)count, h, 3, err);
+        st = sam_image_row(norm, (uint32_t)count, &row_t, err);
     if (st == SAM_OK) {
-        for (int i = 0; i < count; ++i) {
-            blit(&row, &shown[i], w * (uint32_t)i);
-            blit(&row_t, &norm[i], w * (uint32_t)i);
-        }
         char path[4096];
         st = sam_truth_report_path(path, sizeof path, dir, "row.png", err);
         if (st == SAM_OK)

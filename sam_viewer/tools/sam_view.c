@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "sam/sam_app_cache.h"
 #include "sam/sam_args.h"
 #include "sam/sam_viewer_load.h"
 #include "sam/sam_viewer_window.h"
@@ -25,17 +26,20 @@ static void usage(FILE *out)
             "Shows the object in a window with real-time SAM translucency. A bare mesh (.obj, .ply,\n"
             ".off, .stl) or a scene naming only a mesh has its map built first, with a progress bar,\n"
             "and cached (a cached map is used again while the mesh's SHA-256, the material, the scale\n"
-            "and N match). A .sam or a bare mesh is lit from behind and dimly from the front.\n"
+            "and N match; sam_render and sam_compare share the cache). A bare mesh gets sam_render's\n"
+            "staging: framed, a key light in front and a back light behind its thinnest part, each\n"
+            "assumption printed. A .sam is lit from behind and dimly from the front.\n"
             "options:\n"
             "  --material M         material of a bare mesh (a preset or a profile file; default skin)\n"
-            "  --size-mm D          a bare mesh's bounding-box diagonal in mm (default 60)\n"
+            "  --size-mm D          a bare mesh's bounding-box diagonal in mm (default: chosen so that\n"
+            "                       its thinnest parts glow, and said so)\n"
             "  --environment E.exr  a lat-long environment for a bare mesh or .sam\n"
             "  --truth T.exr        a ground-truth image for the difference view (same camera and size)\n"
             "  --size WxH           window size in pixels (default: the scene's resolution, at most\n"
             "                       1600x1000)\n"
             "  --shot PREFIX        screenshot names: PREFIX_0001.exr/.png/.json ... (default sam_view)\n"
-            "  --cache DIR          where built maps are kept (default $XDG_CACHE_HOME/sam_view or\n"
-            "                       ~/.cache/sam_view)\n"
+            "  --cache DIR          where built maps are kept (default $XDG_CACHE_HOME/sam or\n"
+            "                       ~/.cache/sam)\n"
             "  --no-cache           build without reading or writing the cache\n"
             "  --script FILE        timed key and mouse events (see docs/viewer.md)\n"
             "  --fps F              a fixed clock: every frame advances time by 1/F, however long it\n"
@@ -79,7 +83,7 @@ typedef struct options {
 /* Returns SAM_ARGS_*: the options into `o`, their defaults where not given. */
 static int parse_options(int argc, char **argv, options *o)
 {
-    *o = (options){.size_mm = 60.0f, .shot = "sam_view"};
+    *o = (options){.shot = "sam_view"};
     const sam_arg args[] = {
         {"--material", SAM_ARG_STRING, &o->material, .value = "M"},
         {"--size-mm", SAM_ARG_FLOAT, &o->size_mm, .lo = 0, .hi = FLT_MAX, .lo_open = 1, .value = "D",
@@ -96,11 +100,12 @@ static int parse_options(int argc, char **argv, options *o)
     const sam_args_spec spec = {"sam_view", args, sizeof args / sizeof args[0], &o->input, 1, 1,
                                 "SCENE.json | FILE.sam | MESH", usage};
     int r = sam_args_parse(&spec, argc, argv);
-    char tail;
-    if (r == SAM_ARGS_OK && o->size &&
-        (sscanf(o->size, "%dx%d%c", &o->width, &o->height, &tail) != 2 || o->width < 16 || o->height < 16 ||
-         o->width > 16384 || o->height > 16384))
-        return sam_args_fail("sam_view", "--size must be WxH with each in 16..16384, got \"%s\"", o->size);
+    uint32_t w, h;
+    if (r == SAM_ARGS_OK && o->size) {
+        if (!sam_args_size(o->size, &w, &h) || w < 16 || h < 16)
+            return sam_args_fail("sam_view", "--size must be WxH with each in 16..16384, got \"%s\"", o->size);
+        o->width = (int)w, o->height = (int)h;
+    }
     return r;
 }
 
@@ -115,19 +120,20 @@ int main(int argc, char **argv)
     sam_error err;
     sam_view_event *events = NULL;
     size_t event_count = 0;
-    int is_scene = 0, code = 1;
+    int needs_lights = 0, code = 1;
     sam_status st = SAM_OK;
     if (o.script)
         st = sam_view_script_load(o.script, &events, &event_count, &err);
     if (st == SAM_OK)
-        st = sam_viewer_load_scene(o.input, o.material, o.size_mm, o.environment, &w.state.scene, &is_scene, &err);
+        st = sam_viewer_load_scene(o.input, o.material, o.size_mm, o.environment, &w.state.scene, &needs_lights, &err);
     char cache_dir[4096];
-    sam_viewer_cache_dir(o.cache, cache_dir, sizeof cache_dir);
+    sam_app_cache_dir(o.cache, cache_dir, sizeof cache_dir);
     sam_profile profile;
     float mm_per_unit;
     if (st == SAM_OK)
-        st = sam_viewer_load_map(&w.state.scene, cache_dir, !o.no_cache, &w.sam, &profile, &mm_per_unit, &err);
-    const sam_viewer_window_options window = {o.width, o.height, !is_scene, o.truth};
+        st = sam_app_cache_object(&w.state.scene, cache_dir, !o.no_cache, "sam_view", &w.sam, &profile, &mm_per_unit,
+                                      &err);
+    const sam_viewer_window_options window = {o.width, o.height, needs_lights, o.truth};
     if (st == SAM_OK)
         st = sam_viewer_window_open(&w, &window, &profile, mm_per_unit, &err);
     if (st == SAM_OK) {

@@ -28,6 +28,7 @@
 #define SAM_ARGS_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #ifdef __cplusplus
@@ -84,6 +85,10 @@ int sam_args_fail(const char *tool, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+
+/* Parses a picture size "WxH" (each a whole number in 1..16384) into `w`
+ * and `h`. Returns 0, writing nothing, on anything else. */
+int sam_args_size(const char *text, uint32_t *w, uint32_t *h);
 
 /* The project's version ("0.1.0"). */
 const char *sam_args_version(void);

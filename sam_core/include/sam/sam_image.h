@@ -60,6 +60,13 @@ sam_status sam_image_create(sam_image *image, uint32_t width, uint32_t height, u
 /* Frees the pixels and zeroes `image`. Safe on a zeroed image and on NULL. */
 void sam_image_destroy(sam_image *image);
 
+/* The `count` images side by side, left to right, into `out` (the
+ * caller's, destroyed with sam_image_destroy): they must share height and
+ * channels. Errors: SAM_ERR_INVALID_ARGUMENT (count 0, a NULL or empty
+ * image, heights or channels that differ, naming both), and those of
+ * sam_image_create. On failure `out` is zeroed. */
+sam_status sam_image_row(const sam_image *images, uint32_t count, sam_image *out, sam_error *err);
+
 /* Reads the first part of an OpenEXR file: scanline or tiled (level 0 of a
  * mip/rip-mapped file), with half, float or uint channels and any compression
  * the Core library decodes. The image covers the data window. Channels R, G,
@@ -140,11 +147,13 @@ sam_status sam_image_tonemap(const sam_image *hdr, sam_tonemap curve, float expo
 #define SAM_IMAGE_PICTURE_BACKDROP 0.02f
 
 /* A render as the tools write it: the linear HDR image `hdr` to `exr`
- * (float EXR, alpha kept) and, when `png` is not NULL, its display version
- * (sam_image_tonemap with `curve` and `exposure_ev` over the grey
- * SAM_IMAGE_PICTURE_BACKDROP) to `png` as sRGB; each written atomically.
- * Errors: those of sam_image_write_exr, sam_image_tonemap and
- * sam_image_write_png (the EXR may exist when the PNG fails). */
+ * (float EXR, alpha kept) when `exr` is not NULL and, when `png` is not
+ * NULL, its display version (sam_image_tonemap with `curve` and
+ * `exposure_ev` over the grey SAM_IMAGE_PICTURE_BACKDROP) to `png` as
+ * sRGB; each written atomically.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (both NULL), those of
+ * sam_image_write_exr, sam_image_tonemap and sam_image_write_png (the EXR
+ * may exist when the PNG fails). */
 sam_status sam_image_write_picture(const sam_image *hdr, const char *exr, const char *png, sam_tonemap curve,
                                    float exposure_ev, sam_error *err);
 

@@ -58,6 +58,35 @@ void sam_image_destroy(sam_image *image)
     memset(image, 0, sizeof *image);
 }
 
+sam_status sam_image_row(const sam_image *images, uint32_t count, sam_image *out, sam_error *err)
+{
+    if (!out)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "image row: NULL output image");
+    memset(out, 0, sizeof *out);
+    if (!images || !count)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "image row: no images");
+    uint64_t width = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+        const sam_image *a = &images[i];
+        if (!a->pixels || !a->width || !a->height)
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "image row: image %u is empty", i);
+        if (a->height != images[0].height || a->channels != images[0].channels)
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                            "image row: image %u is %ux%u with %u channels, image 0 %ux%u with %u", i, a->width,
+                            a->height, a->channels, images[0].width, images[0].height, images[0].channels);
+        width += a->width;
+    }
+    if (width > UINT32_MAX)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "image row: %llu pixels wide", (unsigned long long)width);
+    const uint32_t c = images[0].channels, h = images[0].height;
+    sam_status st = sam_image_create(out, (uint32_t)width, h, c, err);
+    for (uint32_t i = 0, x0 = 0; st == SAM_OK && i < count; x0 += images[i++].width)
+        for (uint32_t y = 0; y < h; ++y)
+            memcpy(out->pixels + ((size_t)y * out->width + x0) * c, images[i].pixels + (size_t)y * images[i].width * c,
+                   (size_t)images[i].width * c * sizeof *out->pixels);
+    return st;
+}
+
 sam_status sam_image_check(const char *what, const sam_image *image, sam_error *err)
 {
     if (!image || !image->pixels)

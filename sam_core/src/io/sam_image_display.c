@@ -66,7 +66,9 @@ sam_status sam_image_tonemap(const sam_image *hdr, sam_tonemap curve, float expo
 sam_status sam_image_write_picture(const sam_image *hdr, const char *exr, const char *png, sam_tonemap curve,
                                    float exposure_ev, sam_error *err)
 {
-    sam_status st = sam_image_write_exr(exr, hdr, SAM_EXR_FLOAT, err);
+    if (!exr && !png)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "write picture: neither an EXR nor a PNG path");
+    sam_status st = exr ? sam_image_write_exr(exr, hdr, SAM_EXR_FLOAT, err) : SAM_OK;
     if (st != SAM_OK || !png)
         return st;
     static const float backdrop[3] = {SAM_IMAGE_PICTURE_BACKDROP, SAM_IMAGE_PICTURE_BACKDROP,

@@ -52,7 +52,7 @@ typedef struct sam_viewer_window {
 
 typedef struct sam_viewer_window_options {
     int width, height;       /* pixels; 0: the scene's size, at most 1600 x 1000 */
-    int default_lights;      /* 1: light the object with sam_viewer_default_lights (bare inputs) */
+    int default_lights;      /* 1: light the object with sam_viewer_default_lights (a bare .sam) */
     const char *truth;       /* a truth EXR for the difference view; may be NULL */
 } sam_viewer_window_options;
 

@@ -1,0 +1,29 @@
+/*
+ * sam_app_output: the tools' outputs checked before any work, so that a
+ * long build or render never ends in "cannot write".
+ */
+#ifndef SAM_APP_OUTPUT_H
+#define SAM_APP_OUTPUT_H
+
+#include "sam/sam_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Whether a file can be written at `path`: its folder exists and is
+ * writable, and `path` is not a folder or another non-regular file. When
+ * `extensions` is not NULL (a NULL-terminated list such as {".png", ".exr",
+ * NULL}) the name must end in one of them (case-insensitive). `what` names
+ * the output in messages (e.g. "-o"). Writes nothing.
+ * Errors: SAM_ERR_INVALID_ARGUMENT naming `what`, the path and the reason. */
+sam_status sam_app_check_output(const char *what, const char *path, const char *const *extensions, sam_error *err);
+
+/* 1 when `path` ends in `extension` (case-insensitive). */
+int sam_app_has_extension(const char *path, const char *extension);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,89 @@
+/* The staged scene's back light (sam_app_backlight.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "sam/sam_app_backlight.h"
+
+#define PI_F 3.14159265f
+
+static void normalize3(float v[3])
+{
+    float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int c = 0; len > 0 && c < 3; ++c)
+        v[c] /= len;
+}
+
+/* The translucency the camera-facing side receives under `l` alone. */
+static sam_status score(sam_runtime *rt, const samfile_data *sam, const float eye[3], const sam_light *l, float *t,
+                        double *out, sam_error *err)
+{
+    sam_status st;
+    if ((st = sam_runtime_set_lights(rt, l, 1, err)) != SAM_OK || (st = sam_runtime_irradiance(rt, err)) != SAM_OK ||
+        (st = sam_runtime_translucency(rt, 0, 1.0f / 60.0f, 1, err)) != SAM_OK ||
+        (st = sam_runtime_read_translucency(rt, t, err)) != SAM_OK)
+        return st;
+    double sum = 0;
+    for (uint32_t v = 0; v < sam->vertex_count; ++v) {
+        const float *p = sam->positions + 3 * (size_t)v, *nrm = sam->normals + 3 * (size_t)v;
+        const float facing = nrm[0] * (eye[0] - p[0]) + nrm[1] * (eye[1] - p[1]) + nrm[2] * (eye[2] - p[2]);
+        if (facing > 0)
+            sum += (0.2126 * t[3 * v] + 0.7152 * t[3 * v + 1] + 0.0722 * t[3 * v + 2]) * sam->fan_area[v];
+    }
+    *out = sum;
+    return SAM_OK;
+}
+
+sam_status sam_app_backlight_place(sam_runtime *rt, const samfile_data *sam, sam_scene *scene, size_t light,
+                                   char *note, size_t n, sam_error *err)
+{
+    if (!scene->has_camera || light >= scene->light_count || scene->lights[light].type != SAM_LIGHT_POINT)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "back light: the scene needs a camera and point light %zu",
+                        light);
+    float *t = malloc((size_t)sam->vertex_count * 3 * sizeof *t);
+    if (!t)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "back light: out of memory for %u vertices", sam->vertex_count);
+    const sam_camera *cam = &scene->camera;
+    float centre[3], radius, back[3], side[3], up[3];
+    sam_runtime_bounds(rt, centre, &radius);
+    for (int c = 0; c < 3; ++c)
+        back[c] = cam->target[c] - cam->position[c];
+    normalize3(back);
+    side[0] = back[1] * cam->up[2] - back[2] * cam->up[1];
+    side[1] = back[2] * cam->up[0] - back[0] * cam->up[2];
+    side[2] = back[0] * cam->up[1] - back[1] * cam->up[0];
+    normalize3(side);
+    up[0] = side[1] * back[2] - side[2] * back[1];
+    up[1] = side[2] * back[0] - side[0] * back[2];
+    up[2] = side[0] * back[1] - side[1] * back[0];
+    /* Rings at 25, 50 and 75 degrees off the line of sight behind. */
+    sam_light best = scene->lights[light], l = best;
+    double best_score = -1;
+    float best_angle = 0;
+    const float dist = 2.0f * radius;
+    l.intensity = 4.0f * dist * dist;
+    sam_status st = SAM_OK;
+    for (int k = 0; k < SAM_APP_BACKLIGHT_CANDIDATES && st == SAM_OK; ++k) {
+        const int ring = k == 0 ? 0 : 1 + (k - 1) / 8;
+        const float theta = 25.0f * (float)ring * PI_F / 180.0f, phi = 2.0f * PI_F * (float)((k - 1) % 8) / 8.0f;
+        for (int c = 0; c < 3; ++c)
+            l.position[c] = centre[c] + dist * (cosf(theta) * back[c] +
+                                                sinf(theta) * (cosf(phi) * side[c] + sinf(phi) * up[c]));
+        double s;
+        if ((st = score(rt, sam, cam->position, &l, t, &s, err)) == SAM_OK && s > best_score) {
+            best_score = s;
+            best = l;
+            best_angle = 25.0f * (float)ring;
+        }
+    }
+    free(t);
+    if (st != SAM_OK)
+        return st;
+    scene->lights[light] = best;
+    if (note && n)
+        snprintf(note, n,
+                 "back light: a point light %.0f degrees off the line of sight behind the object, where the side "
+                 "the camera sees gets the most translucency of %d places tried",
+                 best_angle, SAM_APP_BACKLIGHT_CANDIDATES);
+    return sam_runtime_set_lights(rt, scene->lights, scene->light_count, err);
+}
