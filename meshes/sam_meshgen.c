@@ -1,7 +1,7 @@
 /*
  * sam_meshgen: writes a procedural test mesh (sam_shape) as OBJ or PLY.
  *
- *   sam_meshgen SHAPE -o OUT.obj|OUT.ply [--resolution N] [--size S]
+ *   sam_meshgen SHAPE -o OUT.obj|OUT.ply [--resolution N] [--extent S]
  *               [--depth D] [--thickness T] [--count N] [--seed S]
  *               [--ascii] [--force]
  */
@@ -40,7 +40,7 @@ static void usage(FILE *out)
         const char *option, *text;
         unsigned uses;
     } rows[] = {{"--resolution N", "segments along the main direction", 0},
-                {"--size S", "overall size, > 0", 0},
+                {"--extent S", "overall size in model units, > 0", 0},
                 {"--depth D", "slab depth, > 0", SAM_SHAPE_USES_DEPTH},
                 {"--thickness T", "shell thickness or tube diameter", SAM_SHAPE_USES_THICKNESS},
                 {"--count N", "number of blobs, or holes along each side", SAM_SHAPE_USES_COUNT},
@@ -123,7 +123,7 @@ static int parse_u64(const char *opt, const char *text, uint64_t *out)
     return 0;
 }
 
-static const char *const value_options[6] = {"--resolution", "--size", "--depth", "--thickness", "--count", "--seed"};
+static const char *const value_options[6] = {"--resolution", "--extent", "--depth", "--thickness", "--count", "--seed"};
 
 /* The options given (values[k] for value_options[k], NULL when absent)
  * into `p`, with a note for each the shape does not use. Returns 0, or the
@@ -195,7 +195,8 @@ int main(int argc, char **argv)
         {"-o", SAM_ARG_STRING, &output, .value = "OUT.obj|OUT.ply"},
         {"--output", SAM_ARG_STRING, &output, .value = "OUT.obj|OUT.ply"},
         {"--resolution", SAM_ARG_STRING, &values[0], .value = "N"},
-        {"--size", SAM_ARG_STRING, &values[1], .value = "S"},
+        {"--extent", SAM_ARG_STRING, &values[1], .value = "S"},
+        {"--size", SAM_ARG_STRING, &values[1], .value = "S", .now = "--extent"},
         {"--depth", SAM_ARG_STRING, &values[2], .value = "D"},
         {"--thickness", SAM_ARG_STRING, &values[3], .value = "T"},
         {"--count", SAM_ARG_STRING, &values[4], .value = "C"},

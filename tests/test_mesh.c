@@ -620,6 +620,82 @@ static void test_body_counts_are_checked(void **state)
                  "line 4 contains the control character 0x02");
 }
 
+/* A sphere wound inside out (every triangle reversed, so its computed
+ * normals point in): negative volume, turned outside out with normals
+ * pointing away from the centre and fans with the same areas, and then a
+ * winding number of 1 inside and 0 outside; the same sphere facing out,
+ * and an open sheet, are left alone. */
+static void test_inside_out_mesh_is_turned(void **state)
+{
+    (void)state;
+    sam_mesh good;
+    sam_test_shape_mesh("sphere", 16, 1.0, 0, 0, &good);
+    uint32_t *tri = malloc((size_t)good.triangle_count * 3 * sizeof *tri);
+    assert_non_null(tri);
+    for (uint32_t t = 0; t < good.triangle_count; ++t) {
+        tri[3 * t] = good.triangles[3 * t];
+        tri[3 * t + 1] = good.triangles[3 * t + 2];
+        tri[3 * t + 2] = good.triangles[3 * t + 1];
+    }
+    sam_mesh_input in = {.name = "inside out", .vertex_count = good.vertex_count, .positions = good.positions,
+                         .uvs = good.uvs, .triangle_count = good.triangle_count, .triangles = tri};
+    sam_mesh bad;
+    sam_error err;
+    if (sam_mesh_create(&in, &bad, NULL, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    const double volume = sam_mesh_signed_volume(&good);
+    print_message("sphere: volume %.6f, inside out %.6f\n", volume, sam_mesh_signed_volume(&bad));
+    assert_true(volume > 0.45 && volume < 4.0 / 3.0 * 3.1416 * 0.125);
+    assert_true(fabs(sam_mesh_signed_volume(&bad) + volume) < 1e-9);
+    assert_true(sam_mesh_is_closed(&bad));
+    assert_int_equal(sam_mesh_orient_outward(&good), 0);
+    assert_int_equal(sam_mesh_orient_outward(&bad), 1);
+    assert_true(fabs(sam_mesh_signed_volume(&bad) - volume) < 1e-9);
+    for (uint32_t v = 0; v < bad.vertex_count; ++v) {
+        const float *p = bad.positions + 3 * v, *n = bad.normals + 3 * v;
+        assert_true(p[0] * n[0] + p[1] * n[1] + p[2] * n[2] > 0);
+    }
+    for (uint32_t t = 0; t < bad.topo_count; ++t) {
+        const float *p = bad.positions + 3 * bad.topo_rep[t], *n = bad.topo_normals + 3 * t;
+        assert_true(p[0] * n[0] + p[1] * n[1] + p[2] * n[2] > 0);
+    }
+    float *fa = malloc(good.topo_count * sizeof *fa), *fb = malloc(bad.topo_count * sizeof *fb);
+    assert_non_null(fa);
+    assert_non_null(fb);
+    assert_int_equal(good.topo_count, bad.topo_count);
+    sam_mesh_fan_areas(&good, NULL, 1.0f, fa);
+    sam_mesh_fan_areas(&bad, NULL, 1.0f, fb);
+    for (uint32_t t = 0; t < good.topo_count; ++t)
+        assert_true(fabsf(fa[t] - fb[t]) <= 1e-6f * fa[t]);
+    free(fa);
+    free(fb);
+    free(tri);
+    const float centre[3] = {0, 0, 0}, near_skin[3] = {0.45f, 0, 0}, outside[3] = {0.6f, 0, 0},
+                far_away[3] = {3, 2, 1};
+    print_message("winding numbers: centre %.6f, just inside %.6f, just outside %.6f, far %.6f\n",
+                  sam_mesh_winding_number(bad.positions, bad.triangles, bad.triangle_count, centre),
+                  sam_mesh_winding_number(bad.positions, bad.triangles, bad.triangle_count, near_skin),
+                  sam_mesh_winding_number(bad.positions, bad.triangles, bad.triangle_count, outside),
+                  sam_mesh_winding_number(bad.positions, bad.triangles, bad.triangle_count, far_away));
+    assert_true(fabs(sam_mesh_winding_number(bad.positions, bad.triangles, bad.triangle_count, centre) - 1) < 1e-6);
+    assert_true(fabs(sam_mesh_winding_number(bad.positions, bad.triangles, bad.triangle_count, near_skin) - 1) < 1e-6);
+    assert_true(fabs(sam_mesh_winding_number(bad.positions, bad.triangles, bad.triangle_count, outside)) < 1e-6);
+    assert_true(fabs(sam_mesh_winding_number(bad.positions, bad.triangles, bad.triangle_count, far_away)) < 1e-6);
+    sam_mesh_destroy(&bad);
+    sam_mesh_destroy(&good);
+    /* An open sheet has no inside to face. */
+    const float pos[4 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const uint32_t sheet_tri[6] = {0, 2, 1, 0, 3, 2};
+    sam_mesh_input sheet_in = {.name = "sheet", .vertex_count = 4, .positions = pos, .triangle_count = 2,
+                               .triangles = sheet_tri};
+    sam_mesh sheet;
+    if (sam_mesh_create(&sheet_in, &sheet, NULL, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_false(sam_mesh_is_closed(&sheet));
+    assert_int_equal(sam_mesh_orient_outward(&sheet), 0);
+    sam_mesh_destroy(&sheet);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -628,6 +704,7 @@ int main(void)
         cmocka_unit_test(test_open_sheet_rings_and_fan_areas),
         cmocka_unit_test(test_sphere_curvature),
         cmocka_unit_test(test_repairs_are_reported),
+        cmocka_unit_test(test_inside_out_mesh_is_turned),
         cmocka_unit_test(test_non_manifold_edge),
         cmocka_unit_test(test_file_normals_are_used_and_normalised),
         cmocka_unit_test(test_bad_inputs_give_one_clear_error),

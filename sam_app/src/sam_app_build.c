@@ -67,6 +67,9 @@ static int load_mesh(const sam_app_build_job *job, const char *tool, sam_mesh *m
     sam_mesh_report_summary(&report, summary, sizeof summary);
     if (strcmp(summary, "no repairs"))
         fprintf(stderr, "%s: %s: %s\n", tool, job->mesh_path, summary);
+    if (!job->keep_orientation && sam_mesh_orient_outward(mesh))
+        fprintf(stderr, "%s: warning: %s is closed and faces inward (negative volume): turned outside out "
+                        "(--keep-orientation keeps it)\n", tool, job->mesh_path);
     *mm_per_unit = job->mm_per_unit;
     if (!isnan(job->size_mm)) {
         double diag = sam_mesh_diagonal(mesh);

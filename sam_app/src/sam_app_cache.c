@@ -53,19 +53,20 @@ static sam_status make_dirs(const char *path, sam_error *err)
     return SAM_OK;
 }
 
-/* Where the map of the scene's mesh is cached (see the header). */
-static sam_status cache_path(const char *dir, const sam_scene *scene, char *out, size_t n, sam_error *err)
+/* Where the map of the scene's mesh built with `set` is cached (see the
+ * header). */
+static sam_status cache_path(const char *dir, const sam_scene *scene, const sam_build_settings *set, char *out,
+                             size_t n, sam_error *err)
 {
     char mesh_hash[65];
     sam_status st = sam_sha256_file(scene->mesh_path, mesh_hash, err);
     if (st != SAM_OK)
         return st;
-    sam_build_settings settings;
-    sam_build_default_settings(&settings);
     char key[512];
-    snprintf(key, sizeof key, "%s\n%s\n%d %.9g\n%u %u %llu", mesh_hash, scene->material ? scene->material : "",
-             (int)scene->scale_kind, scene->scale_value, settings.samples_per_vertex, settings.mc_samples,
-             (unsigned long long)settings.seed);
+    snprintf(key, sizeof key, "%s\n%s\n%d %.9g\n%u %u %llu %d %.9g %u %.9g", mesh_hash,
+             scene->material ? scene->material : "", (int)scene->scale_kind, scene->scale_value,
+             sam_build_samples(set), set->mc_samples, (unsigned long long)set->seed, (int)set->map,
+             set->cut_tolerance, set->candidates, set->radius_tolerance);
     sam_sha256 h;
     uint8_t digest[32];
     sam_sha256_init(&h);
@@ -85,7 +86,7 @@ static sam_status cache_path(const char *dir, const sam_scene *scene, char *out,
 /* The cached map at `cached`, if it is there and sound: 1 read, 0 to build
  * (the scene then names no .sam again). */
 static int read_cached(sam_scene *s, const char *cached, const char *tool, samfile_data *sam,
-                       sam_profile *profile, float *mm_per_unit, sam_error *err)
+                       sam_profile *profile, float *mm_per_unit, double *built_seconds, sam_error *err)
 {
     struct stat info;
     if (stat(cached, &info) != 0)
@@ -98,6 +99,9 @@ static int read_cached(sam_scene *s, const char *cached, const char *tool, samfi
     sam_error cache_err;
     if (sam_app_scene_object(s, NULL, NULL, NULL, sam, profile, mm_per_unit, NULL, &cache_err) == SAM_OK) {
         fprintf(stderr, "%s: using the cached map %s\n", tool, cached);
+        samfile_info info;
+        if (built_seconds && samfile_info_read(sam, cached, &info, &cache_err) == SAM_OK)
+            *built_seconds = info.build_seconds;
         return 1;
     }
     /* A damaged or mismatched cache entry is rebuilt, not fatal. */
@@ -107,15 +111,21 @@ static int read_cached(sam_scene *s, const char *cached, const char *tool, samfi
     return 0;
 }
 
-sam_status sam_app_cache_object(sam_scene *s, const char *cache_dir, int use_cache, const char *tool,
-                                samfile_data *sam, sam_profile *profile, float *mm_per_unit, sam_error *err)
+sam_status sam_app_cache_object(sam_scene *s, const sam_build_settings *settings, const char *cache_dir,
+                                int use_cache, const char *tool, samfile_data *sam, sam_profile *profile,
+                                float *mm_per_unit, double *built_seconds, sam_error *err)
 {
+    sam_build_settings defaults;
+    sam_build_default_settings(&defaults);
+    const sam_build_settings *set = settings ? settings : &defaults;
     char cached[4096] = "";
+    if (built_seconds)
+        *built_seconds = 0;
     if (s->mesh_path && !s->sam_path && use_cache) {
-        sam_status st = cache_path(cache_dir, s, cached, sizeof cached, err);
+        sam_status st = cache_path(cache_dir, s, set, cached, sizeof cached, err);
         if (st != SAM_OK)
             return st;
-        int found = read_cached(s, cached, tool, sam, profile, mm_per_unit, err);
+        int found = read_cached(s, cached, tool, sam, profile, mm_per_unit, built_seconds, err);
         if (found)
             return found > 0 ? SAM_OK : err->status;
     }
@@ -127,11 +137,13 @@ sam_status sam_app_cache_object(sam_scene *s, const char *cache_dir, int use_cac
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     sam_status st =
-        sam_app_scene_object(s, NULL, sam_app_progress_update, &bar, sam, profile, mm_per_unit, &seconds, err);
+        sam_app_scene_object(s, set, sam_app_progress_update, &bar, sam, profile, mm_per_unit, &seconds, err);
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
     if (bar.open_line)
         fputc('\n', stderr);
+    if (built_seconds && st == SAM_OK)
+        *built_seconds = seconds;
     if (st != SAM_OK || !cached[0])
         return st;
     fprintf(stderr, "%s: built in %.1f s (%u vertices)\n", tool, seconds, sam->vertex_count);

@@ -15,7 +15,8 @@ int sam_app_has_extension(const char *path, const char *extension)
     return n > m && !strcasecmp(path + n - m, extension);
 }
 
-sam_status sam_app_check_output(const char *what, const char *path, const char *const *extensions, sam_error *err)
+sam_status sam_app_check_output(const char *what, const char *path, const char *const *extensions, int force,
+                                sam_error *err)
 {
     if (!path || !path[0])
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: no file name given", what);
@@ -25,6 +26,8 @@ sam_status sam_app_check_output(const char *what, const char *path, const char *
             return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s %s is a folder, not a file name", what, path);
         if (!S_ISREG(st.st_mode))
             return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s %s exists and is not a regular file", what, path);
+        if (!force)
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s %s exists (--force replaces it)", what, path);
     }
     char dir[4096];
     const char *slash = strrchr(path, '/');

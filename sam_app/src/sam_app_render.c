@@ -10,6 +10,7 @@
 #include "sam/sam_app_output.h"
 #include "sam/sam_app_render.h"
 #include "sam/sam_app_stage.h"
+#include "sam/sam_mesh.h"
 #include "sam/sam_app_thickness.h"
 #include "sam/sam_runtime_scene.h"
 
@@ -293,22 +294,50 @@ done:
     return st;
 }
 
-/* The outputs and the options that go together, before any work. */
+/* A warning for each point, spot or area light inside the object (the
+ * winding number of its position, or its polygon's centroid, over one
+ * half): it lights nothing a camera sees. */
+static void warn_lights_inside(const char *tool, const sam_scene *scene, const samfile_data *sam)
+{
+    for (size_t i = 0; i < scene->light_count; ++i) {
+        const sam_light *l = &scene->lights[i];
+        float at[3] = {l->position[0], l->position[1], l->position[2]};
+        if (l->type == SAM_LIGHT_DIRECTIONAL)
+            continue;
+        if (l->type == SAM_LIGHT_AREA)
+            for (int c = 0; c < 3; ++c) {
+                at[c] = 0;
+                for (uint32_t k = 0; k < l->vertex_count; ++k)
+                    at[c] += l->vertices[k][c] / (float)l->vertex_count;
+            }
+        if (sam_mesh_winding_number(sam->positions, sam->triangles, sam->triangle_count, at) > 0.5)
+            fprintf(stderr, "%s: warning: light %zu (%s) at %g %g %g is inside the object: it lights nothing seen\n",
+                    tool, i, sam_light_type_name(l->type), at[0], at[1], at[2]);
+    }
+}
+
+/* The outputs and the options that go together, before any work: every
+ * picture an animation or a turntable would write. */
 static sam_status check_job(const sam_app_render_job *job, int bare, sam_error *err)
 {
     static const char *const pictures[] = {".png", ".exr", NULL}, *const pngs[] = {".png", NULL},
                              *const jsons[] = {".json", NULL};
-    sam_status st = sam_app_check_output("-o", job->out, pictures, err);
-    if (st == SAM_OK && job->png) {
-        if (sam_app_has_extension(job->out, ".png"))
-            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "--png is for an EXR output; -o %s is a PNG already",
-                            job->out);
-        st = sam_app_check_output("--png", job->png, pngs, err);
+    if (job->png && sam_app_has_extension(job->out, ".png"))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "--png is for an EXR output; -o %s is a PNG already", job->out);
+    const long count = job->animate ? job->animate : job->turntable ? job->turntable : 1;
+    sam_status st = SAM_OK;
+    for (long i = 0; i < count && st == SAM_OK; ++i) {
+        char path[4096];
+        const long index = job->animate || job->turntable ? i : -1;
+        if ((st = numbered(job->out, index, path, sizeof path, err)) == SAM_OK)
+            st = sam_app_check_output("-o", path, pictures, job->force, err);
+        if (st == SAM_OK && job->png && (st = numbered(job->png, index, path, sizeof path, err)) == SAM_OK)
+            st = sam_app_check_output("--png", path, pngs, job->force, err);
     }
     if (st == SAM_OK && job->write_scene)
-        st = sam_app_check_output("--write-scene", job->write_scene, jsons, err);
+        st = sam_app_check_output("--write-scene", job->write_scene, jsons, job->force, err);
     if (st == SAM_OK && job->dump)
-        st = sam_app_check_output("--dump-vertices", job->dump, NULL, err);
+        st = sam_app_check_output("--dump-vertices", job->dump, NULL, job->force, err);
     if (st != SAM_OK)
         return st;
     if (!bare && (job->material || job->size_mm || job->mm_per_unit || job->angle_deg))
@@ -376,11 +405,13 @@ sam_status sam_app_render_run(const sam_app_render_job *job, const char *tool, s
     samfile_data sam;
     sam_profile profile;
     float mm_per_unit;
-    if ((st = sam_app_cache_object(&scene, cache_dir, !job->no_cache, tool, &sam, &profile, &mm_per_unit, err)) ==
+    if ((st = sam_app_cache_object(&scene, NULL, cache_dir, !job->no_cache, tool, &sam, &profile, &mm_per_unit, NULL,
+                                   err)) ==
         SAM_OK) {
         if (!scene.light_count && !scene.environment.map)
             fprintf(stderr, "%s: warning: %s has no lights and no environment: only the black of no light will show\n",
                     tool, job->scene_path);
+        warn_lights_inside(tool, &scene, &sam);
         st = render_map(job, tool, bare, &scene, &sam, &profile, mm_per_unit, chosen, err);
         samfile_free(&sam);
     }

@@ -1,4 +1,5 @@
 /* sam_app_scene_object: a scene's object as a map, read or built. */
+#include <stdio.h>
 #include <string.h>
 
 #include "sam/sam_app_scene.h"
@@ -61,6 +62,9 @@ sam_status sam_app_scene_object(const sam_scene *scene, const sam_build_settings
     sam_status st = sam_mesh_load(scene->mesh_path, &mesh, NULL, err);
     if (st != SAM_OK)
         return st;
+    if (sam_mesh_orient_outward(&mesh))
+        fprintf(stderr, "warning: %s is closed and faces inward (negative volume): turned outside out\n",
+                scene->mesh_path);
     *profile = scene->profile;
     *mm_per_unit = scene->scale_kind == SAM_SCALE_SIZE_MM ? (float)(scene->scale_value / sam_mesh_diagonal(&mesh))
                                                           : scene->scale_value;

@@ -265,7 +265,11 @@ sam_status sam_app_stage_scene(const char *mesh_path, const char *material, cons
     memset(&mesh, 0, sizeof mesh);
     measure ms = {{0, 0, 0}, {0, 0, 0}, 0, 0, NULL, 0};
     if ((st = sam_profile_from_spec(mat, &profile, err)) != SAM_OK ||
-        (st = sam_mesh_load(mesh_path, &mesh, NULL, err)) != SAM_OK || (st = measure_mesh(&mesh, &ms, err)) != SAM_OK)
+        (st = sam_mesh_load(mesh_path, &mesh, NULL, err)) != SAM_OK)
+        goto done;
+    /* As the map's build will turn it (sam_app_scene_object). */
+    sam_mesh_orient_outward(&mesh);
+    if ((st = measure_mesh(&mesh, &ms, err)) != SAM_OK)
         goto done;
     float mm_per_unit;
     if (options->mm_per_unit > 0) {

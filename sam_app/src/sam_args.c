@@ -138,6 +138,12 @@ int sam_args_parse(const sam_args_spec *spec, int argc, char **argv)
         seen[a - spec->args] = 1;
         if (a->given)
             *a->given = 1;
+        if (a->now) {
+            fprintf(stderr, "%s: warning: %s is now %s (the old spelling still works)\n", tool, text, a->now);
+            const sam_arg *today = find(spec, a->now);
+            if (today)
+                seen[today - spec->args] = 1;
+        }
         if (a->kind == SAM_ARG_FLAG) {
             store(a, NULL);
             continue;

@@ -53,6 +53,8 @@ static void usage(FILE *out)
             "                      (default %g)\n"
             "  --seed S            random seed (default %llu); the output is identical for any --threads\n"
             "  --threads T         worker threads, 0 = all cores (default 0)\n"
+            "  --keep-orientation  keep a closed mesh whose normals point inward as it is (by default it\n"
+            "                      is turned outside out, with a warning: inward, it renders black)\n"
             "  --force             overwrite OUT.sam if it exists\n"
             "  --quiet             no progress bar\n"
             "  -h, --help          this help;  --version  the version\n"
@@ -87,6 +89,7 @@ int main(int argc, char **argv)
         {"--seed", SAM_ARG_STRING, &seed, .value = "S"},
         {"--threads", SAM_ARG_INT, &threads, .lo = 0, .hi = 4096},
         {"--force", SAM_ARG_FLAG, .target = &job.force},
+        {"--keep-orientation", SAM_ARG_FLAG, .target = &job.keep_orientation},
         {"--quiet", SAM_ARG_FLAG, .target = &job.quiet},
     };
     const sam_args_spec spec = {"sam_build", args, sizeof args / sizeof *args, &job.mesh_path, 1, 1, "MESH", usage};

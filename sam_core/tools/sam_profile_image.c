@@ -8,6 +8,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 
+#include "sam/sam_app_output.h"
 #include "sam/sam_args.h"
 #include "sam/sam_image.h"
 #include "sam/sam_profile.h"
@@ -15,7 +16,7 @@
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: sam_profile_image MATERIAL -o OUT.png [--size N]\n"
+            "usage: sam_profile_image MATERIAL -o OUT.png [--size N] [--force]\n"
             "\n"
             "Draws a diffusion profile: a point of light seen through the material (left) and\n"
             "the energy per log radius 2 pi r^2 R_d(r) per channel over r on a log axis from\n"
@@ -25,6 +26,7 @@ static void usage(FILE *out)
             "             potato, skimmilk, skin1, skin2, wholemilk) or a profile file (.json, .txt)\n"
             "  -o OUT.png output image (written atomically)\n"
             "  --size N   height in pixels, 64..4096 (default 512); the width is 2N\n"
+            "  --force    replace OUT.png if it exists\n"
             "\n"
             "examples:\n"
             "  sam_profile_image skin -o skin.png\n"
@@ -35,9 +37,11 @@ int main(int argc, char **argv)
 {
     const char *material = NULL, *out = NULL;
     long size = 512;
+    int force = 0;
     const sam_arg args[] = {
         {"-o", SAM_ARG_STRING, &out, .value = "OUT.png", .required = 1},
         {"--size", SAM_ARG_INT, &size, .lo = 64, .hi = 4096},
+        {"--force", SAM_ARG_FLAG, .target = &force},
     };
     const sam_args_spec spec = {"sam_profile_image", args, sizeof args / sizeof *args, &material, 1, 1, "MATERIAL",
                                 usage};
@@ -48,7 +52,10 @@ int main(int argc, char **argv)
     sam_image img;
     sam_error err;
     float extent;
-    sam_status st = sam_profile_from_spec(material, &profile, &err);
+    static const char *const pngs[] = {".png", NULL};
+    sam_status st = sam_app_check_output("-o", out, pngs, force, &err);
+    if (st == SAM_OK)
+        st = sam_profile_from_spec(material, &profile, &err);
     if (st == SAM_OK && (st = sam_profile_plot(&profile, (uint32_t)size, &img, &extent, &err)) == SAM_OK) {
         st = sam_image_write_png(out, &img, SAM_PNG_LINEAR, &err);
         sam_image_destroy(&img);

@@ -98,6 +98,8 @@ sam_status sam_runtime_scene_keyframes(sam_runtime *rt, const sam_scene *scene, 
         sam_mesh mesh;
         if ((st = sam_mesh_load(path, &mesh, NULL, err)) != SAM_OK)
             break;
+        /* Turned as the rest mesh was when its map was built. */
+        sam_mesh_orient_outward(&mesh);
         if ((st = check_topology(path, &mesh, sam, err)) == SAM_OK) {
             /* Taken over, not copied: the mesh's positions outlive it. */
             positions[i] = mesh.positions;

@@ -19,14 +19,14 @@ static void usage(FILE *out)
             "(RGBA float), by the output's extension, written atomically.\n"
             "\n"
             "A bare mesh (.obj, .ply, .off, .stl) needs no scene file: it is framed from the front, lit\n"
-            "by a key light in front and a back light behind its thinnest part that the camera sees,\n"
-            "and exposed from the picture; each assumption is printed. Its map is built once and\n"
-            "cached (shared with sam_view and sam_compare).\n"
+            "by a key light in front and a back light placed where the camera sees the most light\n"
+            "come through, and exposed from the picture; each assumption is printed. Its map is built\n"
+            "once and cached (shared with sam_view and sam_compare).\n"
             "  --material M           a preset (skin, marble, wholemilk, ...) or a profile file (default skin)\n"
             "  --size-mm D            the mesh's bounding-box diagonal in mm, or\n"
             "  --mm-per-unit X        millimetres per model unit (neither: a size is chosen at which\n"
             "                         the thinnest parts glow, and said loudly)\n"
-            "  --angle DEG            turn the camera about the vertical axis from the front (default 0)\n"
+            "  --angle DEG            turn the camera about the up axis from the front (default 0)\n"
             "  --write-scene S.json   save the scene used (camera, lights, exposure) to edit and re-render\n"
             "  --cache DIR, --no-cache  the map cache (default $XDG_CACHE_HOME/sam or ~/.cache/sam)\n"
             "\n"
@@ -40,7 +40,7 @@ static void usage(FILE *out)
             "  --tonemap aces|reinhard, --exposure EV\n"
             "                         the PNG's tone curve and exposure (default: the scene's; a bare\n"
             "                         mesh's is read from the picture)\n"
-            "  --frames N             frames to run the SAM passes before the picture (default 1)\n"
+            "  --passes N             frames of the SAM passes run before a still picture (default 1)\n"
             "  --animate N            render N frames of the scene's deformers and keyframes instead: OUT_0000.png,\n"
             "                         OUT_0001.png, ..., the pose, the sample walk, L_d and smoothed\n"
             "                         translucency updated every frame\n"
@@ -68,6 +68,7 @@ static void usage(FILE *out)
             "                         depth-sized, or none (default: the scene's, else clipped)\n"
             "  --texels-per-pixel X   depth-sized atlas density at the nearest point (default 1)\n"
             "  --dump-vertices FILE   write per-vertex L_d and T as CSV\n"
+            "  --force                replace existing outputs (without it they are refused before any work)\n"
             "Per-pass GPU times are printed to stderr.\n"
             "\n"
             "examples:\n"
@@ -99,6 +100,7 @@ int main(int argc, char **argv)
         {"--turntable", SAM_ARG_INT, &job.turntable, .lo = 1, .hi = 3600, .must = "a number of pictures in 1..3600"},
         {"--cache", SAM_ARG_STRING, &job.cache_dir, .value = "DIR"},
         {"--no-cache", SAM_ARG_FLAG, .target = &job.no_cache},
+        {"--force", SAM_ARG_FLAG, .target = &job.force},
         {"--png", SAM_ARG_STRING, &job.png, .value = "OUT.png"},
         {"--dump-vertices", SAM_ARG_STRING, &job.dump, .value = "FILE"},
         {"--technique", SAM_ARG_CHOICE, &job.technique, .choices = techniques},
@@ -112,7 +114,8 @@ int main(int argc, char **argv)
         {"--texels-per-pixel", SAM_ARG_FLOAT, &job.texels_per_pixel, .lo = 0, .hi = 16, .lo_open = 1},
         {"--animate", SAM_ARG_INT, &job.animate, .lo = 1, .hi = 100000, .must = "a number of frames in 1..100000"},
         {"--fps", SAM_ARG_FLOAT, &job.fps, .lo = 0, .hi = 1000, .lo_open = 1},
-        {"--frames", SAM_ARG_INT, &job.frames, .lo = 1, .hi = 100000, .given = &frames_given},
+        {"--passes", SAM_ARG_INT, &job.frames, .lo = 1, .hi = 100000, .given = &frames_given},
+        {"--frames", SAM_ARG_INT, &job.frames, .lo = 1, .hi = 100000, .given = &frames_given, .now = "--passes"},
         {"--dt", SAM_ARG_FLOAT, &job.dt, .lo = 0, .hi = FLT_MAX, .must = "a finite number >= 0"},
         {"--translucency-only", SAM_ARG_FLAG, .target = &job.translucency_only},
     };
@@ -133,7 +136,7 @@ int main(int argc, char **argv)
                              "--optimize takes culled, clipped, depth-sized (comma-separated) or none, got \"%s\"",
                              job.optimize);
     if (job.animate && frames_given)
-        return sam_args_fail("sam_render", "--frames is for still pictures; --animate renders one picture per frame");
+        return sam_args_fail("sam_render", "--passes is for still pictures; --animate renders one picture per frame");
     sam_error err;
     if (sam_app_render_run(&job, "sam_render", &err) != SAM_OK) {
         fprintf(stderr, "sam_render: %s\n", err.message);

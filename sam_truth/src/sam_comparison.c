@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "sam/sam_app_cache.h"
 #include "sam/sam_app_scene.h"
 #include "sam/sam_app_thickness.h"
 #include "sam/sam_comparison.h"
@@ -467,15 +468,22 @@ static sam_status setup(compare_state *s, sam_error *err)
 {
     char warning[512];
     say(s, "[1/5] the map");
-    progress_state bps = {s->set->tool, "building the map", -1};
     sam_build_settings build;
     sam_build_default_settings(&build);
     build.map = (sam_build_map)s->set->map;
     if (s->set->map_samples)
         build.samples_per_vertex = s->set->map_samples;
-    sam_status st;
-    if ((st = sam_app_scene_object(s->scene, &build, build_progress, &bps, &s->sam, &s->profile, &s->mm_per_unit,
-                                   &s->build_seconds, err)) != SAM_OK ||
+    /* The cache names its map in a shallow copy of the scene, so the
+     * sweep's builds still start from the mesh. */
+    char cache_dir[4096];
+    sam_app_cache_dir(s->set->cache_dir, cache_dir, sizeof cache_dir);
+    sam_scene cached = *s->scene;
+    sam_status st = sam_app_cache_object(&cached, &build, cache_dir, !s->set->no_cache,
+                                         s->set->tool ? s->set->tool : "sam_compare", &s->sam, &s->profile,
+                                         &s->mm_per_unit, &s->build_seconds, err);
+    if (cached.sam_path != s->scene->sam_path)
+        free(cached.sam_path);
+    if (st != SAM_OK ||
         (st = sam_gl_context_create_headless(&s->gl, err)) != SAM_OK ||
         (st = sam_runtime_create(&s->sam, &s->profile, s->mm_per_unit, &s->rt, err)) != SAM_OK ||
         (st = sam_runtime_scene_setup(s->rt, s->scene, s->sh, &s->has_environment, warning, sizeof warning, err)) !=

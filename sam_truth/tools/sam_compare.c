@@ -26,7 +26,7 @@
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: sam_compare SCENE.json --out DIR [options]\n"
+            "usage: sam_compare SCENE.json -o DIR [options]\n"
             "\n"
             "Renders a ground truth of the scene's translucency (dense surface samples, exact\n"
             "visibility by ray casting, the same front lighting and surface diffusion as the\n"
@@ -67,6 +67,9 @@ static void usage(FILE *out)
             "                         frame 0, the pose at t = 0\n"
             "  --fps F                frames per second of --frames (default 30, as sam_render --animate)\n"
             "  --force                write into a DIR that already holds a report\n"
+            "  --cache DIR, --no-cache\n"
+            "                         the map cache sam_render and sam_view share (default\n"
+            "                         $XDG_CACHE_HOME/sam or ~/.cache/sam); the sweep's maps are built anew\n"
             "  -h, --help             this text\n"
             "PSNR is computed on the tonemapped 8-bit sRGB images over the object's pixels, over\n"
             "the pixels that differ from the truth (as the paper does), and on the translucency\n"
@@ -74,8 +77,8 @@ static void usage(FILE *out)
             "turned off for every render: they change the picture, and the comparison should not.\n"
             "\n"
             "examples:\n"
-            "  sam_compare scenes/compare_slab_area.json --out cmp_slab --samples-sweep 3,5,10,20\n"
-            "  sam_compare scenes/ear_twist.json --out cmp_twist --frames 0,15,30 --techniques sam,none\n");
+            "  sam_compare scenes/compare_slab_area.json -o cmp_slab --samples-sweep 3,5,10,20\n"
+            "  sam_compare scenes/ear_twist.json -o cmp_twist --frames 0,15,30 --techniques sam,none\n");
 }
 
 static void say(const char *fmt, ...)
@@ -170,7 +173,8 @@ static int parse_options(int argc, char **argv, options *o)
     /* In sam_build_map's order. */
     static const char *const map_names[] = {"cut", "flat", "flat-scaled", NULL};
     const sam_arg args[] = {
-        {"--out", SAM_ARG_STRING, &set->out, .value = "DIR", .required = 1},
+        {"-o", SAM_ARG_STRING, &set->out, .value = "DIR", .required = 1},
+        {"--out", SAM_ARG_STRING, &set->out, .value = "DIR", .now = "-o"},
         {"--techniques", SAM_ARG_STRING, &techniques, .value = "LIST"},
         {"--samples-sweep", SAM_ARG_STRING, &sweep_list, .value = "LIST"},
         {"--frames", SAM_ARG_STRING, &frame_list, .value = "LIST"},
@@ -180,6 +184,8 @@ static int parse_options(int argc, char **argv, options *o)
         {"--map", SAM_ARG_CHOICE, &set->map, .choices = map_names},
         {"--truth-samples", SAM_ARG_INT, &truth_samples, .lo = 1, .hi = 100000000, .value = "N"},
         {.name = "--force", .kind = SAM_ARG_FLAG, .target = &o->force},
+        {"--cache", SAM_ARG_STRING, &set->cache_dir, .value = "DIR"},
+        {"--no-cache", SAM_ARG_FLAG, .target = &set->no_cache},
     };
     const sam_args_spec spec = {TOOL, args, sizeof args / sizeof *args, &o->scene_path, 1, 1, "SCENE.json", usage};
     int r = sam_args_parse(&spec, argc, argv);

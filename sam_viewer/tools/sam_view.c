@@ -131,8 +131,8 @@ int main(int argc, char **argv)
     sam_profile profile;
     float mm_per_unit;
     if (st == SAM_OK)
-        st = sam_app_cache_object(&w.state.scene, cache_dir, !o.no_cache, "sam_view", &w.sam, &profile, &mm_per_unit,
-                                      &err);
+        st = sam_app_cache_object(&w.state.scene, NULL, cache_dir, !o.no_cache, "sam_view", &w.sam, &profile,
+                                  &mm_per_unit, NULL, &err);
     const sam_viewer_window_options window = {o.width, o.height, needs_lights, o.truth};
     if (st == SAM_OK)
         st = sam_viewer_window_open(&w, &window, &profile, mm_per_unit, &err);

@@ -76,5 +76,18 @@ rc=$?
 [ $rc -ne 0 ] || fail "interrupted build exited 0 (was the build already done? $(tail -1 "$tmp/int.txt"))"
 grep -q "interrupted; no output written" "$tmp/int.txt" || fail "no interruption message: $(tail -2 "$tmp/int.txt")"
 ls "$tmp"/bad.sam* > /dev/null 2>&1 && fail "interrupted build left files"
+# A closed mesh wound inside out (its normals point in) is turned outside out with one warning, and every
+# vertex gets samples; --keep-orientation keeps it (and then most vertices have no back side).
+"$bin/sam_meshgen" sphere -o "$tmp/sphere.obj" --resolution 12 2>/dev/null || fail "meshgen sphere"
+awk '/^f / { print $1, $2, $4, $3; next } { print }' "$tmp/sphere.obj" > "$tmp/inward.obj"
+"$bin/sam_build" "$tmp/inward.obj" -o "$tmp/inward.sam" --material skin --size-mm 20 --quiet 2> "$tmp/inward.txt" \
+  || fail "inward mesh: $(cat "$tmp/inward.txt")"
+[ "$(grep -c "warning: .*inward.obj is closed and faces inward (negative volume): turned outside out" "$tmp/inward.txt")" -eq 1 ] \
+  || fail "no orientation warning: $(cat "$tmp/inward.txt")"
+grep -q "(0.0% have none)" "$tmp/inward.txt" || fail "the turned mesh has vertices without samples: $(cat "$tmp/inward.txt")"
+"$bin/sam_build" "$tmp/inward.obj" -o "$tmp/kept.sam" --material skin --size-mm 20 --quiet --keep-orientation \
+  2> "$tmp/kept.txt" || fail "--keep-orientation: $(cat "$tmp/kept.txt")"
+grep -q "faces inward" "$tmp/kept.txt" && fail "--keep-orientation still warned"
+grep -q "(0.0% have none)" "$tmp/kept.txt" && fail "--keep-orientation turned the mesh anyway"
 "$bin/sam_build" --help | grep -q "usage: sam_build" || fail "--help"
 echo "sam_build cli: ok"

@@ -19,7 +19,7 @@ cat > "$tmp/scene.json" <<JSON
  "resolution": [48, 40]}
 JSON
 start=$(date +%s)
-"$bin/sam_compare" "$tmp/scene.json" --out "$tmp/out" --samples-sweep 1,3,6 2> "$tmp/log.txt" \
+"$bin/sam_compare" "$tmp/scene.json" -o "$tmp/out" --samples-sweep 1,3,6 2> "$tmp/log.txt" \
   || fail "sam_compare: $(cat "$tmp/log.txt")"
 echo "sam_compare took $(( $(date +%s) - start )) s"
 for f in truth truth_translucency sam sam_translucency none none_translucency transmittance thickness \
@@ -70,7 +70,7 @@ sed 's/^ "camera"/ "deformers": [{"type": "bend", "axis": [1, 0, 0], "direction"
  "camera"/' "$tmp/scene.json" > "$tmp/anim.json"
 grep -q deformers "$tmp/anim.json" || fail "the animated scene has no deformers"
 start=$(date +%s)
-"$bin/sam_compare" "$tmp/anim.json" --out "$tmp/anim" --frames 0,2 --fps 10 --techniques sam,none \
+"$bin/sam_compare" "$tmp/anim.json" -o "$tmp/anim" --frames 0,2 --fps 10 --techniques sam,none \
   2> "$tmp/anim_log.txt" || fail "sam_compare --frames: $(cat "$tmp/anim_log.txt")"
 echo "sam_compare --frames 0,2 took $(( $(date +%s) - start )) s"
 grep -q "ignored" "$tmp/anim_log.txt" && fail "still says the deformers are ignored: $(cat "$tmp/anim_log.txt")"
@@ -117,14 +117,14 @@ print("bent slab, frame 2: PSNR sam %.2f none %.2f dB; whole image against the p
       posed, stale, psnr(truth0, truth2)))
 PY
 # Without --frames an animated scene compares frame 0 in the single-pose layout, and says how to pick frames.
-"$bin/sam_compare" "$tmp/anim.json" --out "$tmp/anim0" --techniques sam 2> "$tmp/anim0_log.txt" \
+"$bin/sam_compare" "$tmp/anim.json" -o "$tmp/anim0" --techniques sam 2> "$tmp/anim0_log.txt" \
   || fail "animated scene without --frames: $(cat "$tmp/anim0_log.txt")"
 grep -q "comparing frame 0.*--frames LIST" "$tmp/anim0_log.txt" \
   || fail "no note on --frames: $(cat "$tmp/anim0_log.txt")"
 [ -s "$tmp/anim0/truth.exr" ] && grep -q '"frame": 0,' "$tmp/anim0/report.json" \
   || fail "frame 0 layout: $(ls "$tmp/anim0")"
 # A finished comparison is not overwritten without --force.
-"$bin/sam_compare" "$tmp/scene.json" --out "$tmp/out" --techniques none 2> "$tmp/err.txt" && fail "overwrote a report"
+"$bin/sam_compare" "$tmp/scene.json" -o "$tmp/out" --techniques none 2> "$tmp/err.txt" && fail "overwrote a report"
 grep -q "already holds a report" "$tmp/err.txt" || fail "no refusal message: $(cat "$tmp/err.txt")"
 expect_error() { # label args...
   local label=$1; shift
@@ -132,28 +132,32 @@ expect_error() { # label args...
   [ "$(wc -l < "$tmp/err.txt")" -ge 1 ] || fail "$label: no message"
   grep -q "sam_compare" "$tmp/err.txt" || fail "$label: message does not name the tool: $(cat "$tmp/err.txt")"
 }
-expect_error "unknown technique" "$tmp/scene.json" --out "$tmp/x" --techniques sam,foo
+expect_error "unknown technique" "$tmp/scene.json" -o "$tmp/x" --techniques sam,foo
 grep -q '"foo"' "$tmp/err.txt" && grep -q "thickness" "$tmp/err.txt" \
   || fail "unknown technique message: $(cat "$tmp/err.txt")"
-expect_error "bad sweep" "$tmp/scene.json" --out "$tmp/x" --samples-sweep 3,0
-expect_error "bad tolerance" "$tmp/scene.json" --out "$tmp/x" --truth-tolerance 0.7
-expect_error "missing scene" "$tmp/nope.json" --out "$tmp/x"
-expect_error "no --out" "$tmp/scene.json"
-expect_error "--frames, static scene" "$tmp/scene.json" --out "$tmp/x" --frames 0,2
+expect_error "bad sweep" "$tmp/scene.json" -o "$tmp/x" --samples-sweep 3,0
+expect_error "bad tolerance" "$tmp/scene.json" -o "$tmp/x" --truth-tolerance 0.7
+expect_error "missing scene" "$tmp/nope.json" -o "$tmp/x"
+expect_error "no -o" "$tmp/scene.json"
+grep -q "missing -o DIR" "$tmp/err.txt" || fail "no -o message: $(cat "$tmp/err.txt")"
+# The old spelling --out still works, with a warning naming the new one.
+"$bin/sam_compare" "$tmp/nope.json" --out "$tmp/x" 2> "$tmp/err.txt"
+grep -q "warning: --out is now -o" "$tmp/err.txt" || fail "--out gave no warning: $(cat "$tmp/err.txt")"
+expect_error "--frames, static scene" "$tmp/scene.json" -o "$tmp/x" --frames 0,2
 grep -q 'scene.json has no "deformers" or "keyframes"' "$tmp/err.txt" \
   || fail "static --frames message: $(cat "$tmp/err.txt")"
-expect_error "bad frame" "$tmp/anim.json" --out "$tmp/x" --frames 0,x
+expect_error "bad frame" "$tmp/anim.json" -o "$tmp/x" --frames 0,x
 grep -q '"0,x"' "$tmp/err.txt" || fail "bad --frames message: $(cat "$tmp/err.txt")"
-expect_error "frames out of order" "$tmp/anim.json" --out "$tmp/x" --frames 4,2
+expect_error "frames out of order" "$tmp/anim.json" -o "$tmp/x" --frames 4,2
 grep -q "got 2 after 4" "$tmp/err.txt" || fail "order message: $(cat "$tmp/err.txt")"
-expect_error "bad fps" "$tmp/anim.json" --out "$tmp/x" --frames 2 --fps 0
-expect_error "--fps alone" "$tmp/anim.json" --out "$tmp/x" --fps 24
-expect_error "--frames with a sweep" "$tmp/anim.json" --out "$tmp/x" --frames 2 --samples-sweep 3
+expect_error "bad fps" "$tmp/anim.json" -o "$tmp/x" --frames 2 --fps 0
+expect_error "--fps alone" "$tmp/anim.json" -o "$tmp/x" --fps 24
+expect_error "--frames with a sweep" "$tmp/anim.json" -o "$tmp/x" --frames 2 --samples-sweep 3
 [ -e "$tmp/x" ] && fail "a refused run left $tmp/x"
 # A run that fails before its first image leaves no output folder.
 printf 'SAMFjunk' > "$tmp/bad.sam"
 printf '{"sam": "bad.sam", "material": "skin", "scale": {"mm_per_unit": 10}, "resolution": [32, 32]}' > "$tmp/bad.json"
-expect_error "corrupted .sam" "$tmp/bad.json" --out "$tmp/badout"
+expect_error "corrupted .sam" "$tmp/bad.json" -o "$tmp/badout"
 grep -q "bad.sam: truncated" "$tmp/err.txt" || fail "corrupted .sam message: $(cat "$tmp/err.txt")"
 [ -e "$tmp/badout" ] && fail "a failed run left $tmp/badout"
 "$bin/sam_compare" --help | grep -q "usage: sam_compare" || fail "--help"

@@ -21,5 +21,9 @@ for args in "$tmp/broken.sam -o $tmp/x.png" "$tmp/missing.sam -o $tmp/x.png" "$t
   [ ! -e "$tmp/x.png" ] || fail "$args: wrote output"
 done
 "$bin/sam_preview" "$tmp/ear.sam" -o "$tmp/y.png" --view w 2>/dev/null; [ $? -eq 2 ] || fail "bad --view"
+# An existing picture is replaced only with --force.
+"$bin/sam_preview" "$tmp/ear.sam" -o "$tmp/ear.png" --size 64 2> "$tmp/err.txt" && fail "replaced without --force"
+grep -q "ear.png exists (--force replaces it)" "$tmp/err.txt" || fail "existing output message: $(cat "$tmp/err.txt")"
+"$bin/sam_preview" "$tmp/ear.sam" -o "$tmp/ear.png" --size 64 --force 2>/dev/null || fail "--force"
 "$bin/sam_preview" --help | grep -q usage || fail "--help"
 echo "sam_preview cli: ok"

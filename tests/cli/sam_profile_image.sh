@@ -18,5 +18,10 @@ cmp -s "$tmp/skin.png" "$tmp/marble.png" && fail "skin and marble images are ide
 "$bin/sam_profile_image" skin -o "$tmp/nodir/x.png" 2> /dev/null && fail "missing directory accepted"
 ls "$tmp/nodir" 2>/dev/null && fail "left files behind"
 "$bin/sam_profile_image" skin -o "$tmp/y.png" --size 9 2> /dev/null; [ $? -eq 2 ] || fail "bad --size accepted"
+# An existing picture is replaced only with --force.
+"$bin/sam_profile_image" skin -o "$tmp/again.png" --size 64 2>/dev/null || fail "first write"
+"$bin/sam_profile_image" skin -o "$tmp/again.png" --size 64 2> "$tmp/err.txt" && fail "replaced without --force"
+grep -q "again.png exists (--force replaces it)" "$tmp/err.txt" || fail "existing output message: $(cat "$tmp/err.txt")"
+"$bin/sam_profile_image" skin -o "$tmp/again.png" --size 64 --force 2>/dev/null || fail "--force"
 "$bin/sam_profile_image" --help | grep -q usage || fail "--help"
 echo "sam_profile_image cli: ok"

@@ -13,16 +13,16 @@ cat > "$tmp/scene.json" <<JSON
             {"type": "area", "vertices": [[-1,1,1],[1,1,1],[1,1,-1],[-1,1,-1]], "intensity": 0.5, "shadow": false}],
  "resolution": [96, 96]}
 JSON
-"$bin/sam_render" "$tmp/scene.json" -o "$tmp/a.exr" --png "$tmp/a.png" --dump-vertices "$tmp/a.csv" --frames 3 \
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/a.exr" --png "$tmp/a.png" --dump-vertices "$tmp/a.csv" --passes 3 \
   2> "$tmp/log.txt" || fail "render: $(cat "$tmp/log.txt")"
 grep -q "GPU ms: irradiance" "$tmp/log.txt" || fail "no pass timings: $(cat "$tmp/log.txt")"
 head -c 4 "$tmp/a.exr" | od -An -tx1 | grep -q "76 2f 31 01" || fail "not an EXR"
 head -c 8 "$tmp/a.png" | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 1a 0a" || fail "not a PNG"
 [ "$(head -1 "$tmp/a.csv")" = "vertex,ld_r,ld_g,ld_b,t_r,t_g,t_b" ] || fail "vertex dump header"
 awk -F, 'NR > 1 && $5 > 0 { lit++ } END { exit !(lit > 0) }' "$tmp/a.csv" || fail "no vertex has translucency"
-"$bin/sam_render" "$tmp/scene.json" -o "$tmp/b.exr" --frames 3 2>/dev/null || fail "second render"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/b.exr" --passes 3 2>/dev/null || fail "second render"
 cmp -s "$tmp/a.exr" "$tmp/b.exr" || fail "two renders of the same scene differ"
-"$bin/sam_render" "$tmp/scene.json" -o "$tmp/none.exr" --technique none --frames 3 2>/dev/null || fail "technique none"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/none.exr" --technique none --passes 3 2>/dev/null || fail "technique none"
 cmp -s "$tmp/a.exr" "$tmp/none.exr" && fail "technique none looks the same as sam"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/t.exr" --translucency-only 2>/dev/null || fail "--translucency-only"
 # The comparison techniques: each gives translucency of its own through the ear.
@@ -47,12 +47,12 @@ awk -F, 'NR > 1 && $5 > 0 { lit++ } END { exit !(lit > 0) }' "$tmp/th.csv" || fa
 cmp -s "$tmp/th.exr" "$tmp/th2.exr" || fail "two thickness renders differ"
 sed 's/"technique": "transmittance"/"technique": "thickness"/' "$tmp/trscene.json" > "$tmp/thscene.json"
 "$bin/sam_render" "$tmp/thscene.json" -o "$tmp/ths.exr" 2>/dev/null || fail "the scene's technique thickness"
-"$bin/sam_render" "$tmp/scene.json" -o "$tmp/nd.exr" --diffusion none --frames 3 2>/dev/null || fail "--diffusion none"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/nd.exr" --diffusion none --passes 3 2>/dev/null || fail "--diffusion none"
 cmp -s "$tmp/a.exr" "$tmp/nd.exr" && fail "screen diffusion changed nothing"
-"$bin/sam_render" "$tmp/scene.json" -o "$tmp/pi.exr" --diffusion preintegrated --frames 3 2>/dev/null \
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/pi.exr" --diffusion preintegrated --passes 3 2>/dev/null \
   || fail "--diffusion preintegrated"
 cmp -s "$tmp/pi.exr" "$tmp/nd.exr" && fail "pre-integrated shading changed nothing"
-"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tx.exr" --diffusion texture --frames 3 2> "$tmp/tx.txt" \
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tx.exr" --diffusion texture --passes 3 2> "$tmp/tx.txt" \
   || fail "--diffusion texture: $(cat "$tmp/tx.txt")"
 grep -q warning "$tmp/tx.txt" && fail "the ear has UVs, yet texture space fell back"
 cmp -s "$tmp/tx.exr" "$tmp/nd.exr" && fail "texture-space diffusion changed nothing"
@@ -68,13 +68,13 @@ printf '{"mesh": "stack.obj", "material": "skin", "scale": {"mm_per_unit": 10}, 
 [ "$(grep -c 'falls back to screen space: .*more than one triangle' "$tmp/stack.txt")" -eq 1 ] \
   || fail "expected one overlap warning: $(cat "$tmp/stack.txt")"
 # The diffusion settings: each kernel and optimisation renders, and changes the picture where it should.
-"$bin/sam_render" "$tmp/scene.json" -o "$tmp/eq1.exr" --sss-kernel eq1 --sss-samples 9 --frames 3 2>/dev/null || fail "--sss-kernel eq1"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/eq1.exr" --sss-kernel eq1 --sss-samples 9 --passes 3 2>/dev/null || fail "--sss-kernel eq1"
 cmp -s "$tmp/eq1.exr" "$tmp/a.exr" && fail "the eq.-1 kernel gave the fit2d picture"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/opt.exr" --diffusion texture --optimize culled,clipped,depth-sized \
-  --texels-per-pixel 2 --atlas-size 512 --frames 3 2>/dev/null || fail "--optimize"
-"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tm.exr" --png "$tmp/r.png" --tonemap reinhard --exposure 1 --frames 3 2>/dev/null \
+  --texels-per-pixel 2 --atlas-size 512 --passes 3 2>/dev/null || fail "--optimize"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tm.exr" --png "$tmp/r.png" --tonemap reinhard --exposure 1 --passes 3 2>/dev/null \
   || fail "--tonemap"
-"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tm.exr" --png "$tmp/aces.png" --frames 3 2>/dev/null || fail "aces png"
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/tm.exr" --png "$tmp/aces.png" --passes 3 --force 2>/dev/null || fail "aces png"
 cmp -s "$tmp/r.png" "$tmp/aces.png" && fail "--tonemap reinhard --exposure 1 gave the default PNG"
 
 expect_error() { # status label args...
@@ -116,7 +116,7 @@ grep -q "tsm technique needs texture-space diffusion" "$tmp/err.txt" || fail "ts
 grep -q "tsm technique needs texture-space diffusion, which cannot run: the mesh has no UVs" "$tmp/err.txt" \
   || fail "tsm without UVs message: $(cat "$tmp/err.txt")"
 ls "$tmp"/bad.exr* > /dev/null 2>&1 && fail "tsm without UVs left output"
-expect_error 2 "bad frames" "$tmp/scene.json" --frames 0
+expect_error 2 "bad passes" "$tmp/scene.json" --passes 0
 expect_error 2 "bad diffusion" "$tmp/scene.json" --diffusion blur
 # A prebuilt .sam renders too, with its recorded material and scale.
 printf '{"sam": "ear.sam", "lights": [{"type": "point", "position": [0.1, 0.0, -1.2], "intensity": 6.0}], "resolution": [64, 64]}' > "$tmp/sam.json"
@@ -147,8 +147,8 @@ cmp -s "$tmp/anim_0000.exr" "$tmp/anim_0001.exr" && fail "frames 0 and 1 of a be
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/bad.exr" --animate 2 2> "$tmp/err.txt" && fail "--animate without deformers"
 grep -q 'has no "deformers" or "keyframes" to animate' "$tmp/err.txt" || fail "no-deformers message: $(cat "$tmp/err.txt")"
 # --animate with a keyframe: the same sphere at another size has the rest mesh's topology.
-"$bin/sam_meshgen" sphere -o "$tmp/sphere.obj" --resolution 8 --size 1 > /dev/null 2>&1 || fail "meshgen sphere"
-"$bin/sam_meshgen" sphere -o "$tmp/pose.obj" --resolution 8 --size 1.4 > /dev/null 2>&1 || fail "meshgen pose"
+"$bin/sam_meshgen" sphere -o "$tmp/sphere.obj" --resolution 8 --extent 1 > /dev/null 2>&1 || fail "meshgen sphere"
+"$bin/sam_meshgen" sphere -o "$tmp/pose.obj" --resolution 8 --extent 1.4 > /dev/null 2>&1 || fail "meshgen pose"
 cat > "$tmp/keys.json" <<JSON
 {"mesh": "sphere.obj", "material": "skin", "scale": {"mm_per_unit": 30},
  "lights": [{"type": "point", "position": [0.2, 0.3, -2.0], "intensity": 6.0}],
@@ -158,10 +158,13 @@ JSON
   || fail "--animate keyframes: $(cat "$tmp/keys.txt")"
 [ -s "$tmp/keys_0000.exr" ] && [ -s "$tmp/keys_0001.exr" ] || fail "--animate keyframes wrote no frames: $(ls "$tmp")"
 cmp -s "$tmp/keys_0000.exr" "$tmp/keys_0001.exr" && fail "frames 0 and 1 of a growing sphere are the same picture"
-"$bin/sam_meshgen" sphere -o "$tmp/pose.obj" --resolution 12 --size 1.4 --force > /dev/null 2>&1 || fail "meshgen pose 12"
+"$bin/sam_meshgen" sphere -o "$tmp/pose.obj" --resolution 12 --extent 1.4 --force > /dev/null 2>&1 || fail "meshgen pose 12"
 "$bin/sam_render" "$tmp/keys.json" -o "$tmp/bad.exr" --animate 2 2> "$tmp/err.txt" && fail "a keyframe of another topology"
 grep -q 'pose.obj: .* vertices, the rest mesh has' "$tmp/err.txt" || fail "topology message: $(cat "$tmp/err.txt")"
-expect_error 2 "--animate with --frames" "$tmp/anim.json" --animate 2 --frames 3
+expect_error 2 "--animate with --passes" "$tmp/anim.json" --animate 2 --passes 3
+# The old spelling --frames still works, with a warning naming --passes.
+"$bin/sam_render" "$tmp/scene.json" -o "$tmp/old.exr" --frames 2 2> "$tmp/old.txt" || fail "--frames: $(cat "$tmp/old.txt")"
+grep -q "warning: --frames is now --passes" "$tmp/old.txt" || fail "--frames gave no warning: $(cat "$tmp/old.txt")"
 expect_error 2 "bad --fps" "$tmp/anim.json" --animate 2 --fps 0
 "$bin/sam_render" --help | grep -q "usage: sam_render" || fail "--help"
 echo "sam_render cli: ok"

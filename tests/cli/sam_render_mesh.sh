@@ -53,6 +53,14 @@ PY
   2> "$tmp/turn.txt" || fail "--turntable: $(cat "$tmp/turn.txt")"
 for k in 0000 0001 0002; do [ -s "$tmp/turn_$k.png" ] || fail "--turntable wrote no picture $k"; done
 [ "$(png differ "$tmp/turn_0000.png" "$tmp/turn_0001.png")" = 0 ] && fail "turntable pictures 0 and 1 are the same"
+# A scene whose only light is inside the object, and one with no light at all: a warning each.
+"$bin/sam_meshgen" sphere -o "$tmp/sphere.obj" --resolution 12 2>/dev/null || fail "meshgen sphere"
+printf '{"mesh": "sphere.obj", "material": "skin", "scale": {"size_mm": 30}, "resolution": [32, 32], "lights": [{"type": "point", "position": [0.05, 0, 0]}]}' > "$tmp/inside.json"
+"$bin/sam_render" "$tmp/inside.json" -o "$tmp/inside.png" "${cache[@]}" 2> "$tmp/inside.txt" || fail "light inside: $(cat "$tmp/inside.txt")"
+grep -q "warning: light 0 (point) at 0.05 0 0 is inside the object" "$tmp/inside.txt" || fail "no inside warning: $(cat "$tmp/inside.txt")"
+printf '{"mesh": "sphere.obj", "material": "skin", "scale": {"size_mm": 30}, "resolution": [32, 32]}' > "$tmp/dark.json"
+"$bin/sam_render" "$tmp/dark.json" -o "$tmp/dark.png" "${cache[@]}" 2> "$tmp/dark.txt" || fail "no lights: $(cat "$tmp/dark.txt")"
+grep -q "warning: .*dark.json has no lights and no environment" "$tmp/dark.txt" || fail "no dark warning: $(cat "$tmp/dark.txt")"
 # Outputs that cannot be written, and options that do not fit, are refused at once: one line, nothing built.
 expect_error() { # label args...
   local label=$1; shift
@@ -77,4 +85,9 @@ grep -q 'unknown option "--sizemm"' "$tmp/err.txt" || fail "unknown option messa
 expect_error "no -o" "$tmp/ear.obj"
 grep -q "missing -o" "$tmp/err.txt" || fail "missing -o message: $(cat "$tmp/err.txt")"
 ls "$tmp"/x.* "$tmp"/y.* > /dev/null 2>&1 && fail "a refused run left output"
+# An existing picture is replaced only with --force (a turntable's numbered ones too), and is checked first.
+expect_error "an existing output" "$tmp/ear.obj" -o "$tmp/ear.png"
+grep -q "ear.png exists (--force replaces it)" "$tmp/err.txt" || fail "existing output message: $(cat "$tmp/err.txt")"
+expect_error "an existing turntable picture" "$tmp/ear.obj" -o "$tmp/turn.png" --turntable 3
+"$bin/sam_render" "$tmp/ear.obj" -o "$tmp/ear.png" --size 96x72 "${cache[@]}" --force 2>/dev/null || fail "--force"
 echo "sam_render bare mesh cli: ok"

@@ -27,6 +27,7 @@ typedef struct sam_app_build_job {
     float size_mm;                /* NAN, or the bounding-box diagonal in mm; exactly one of the two */
     sam_build_settings settings;  /* sam_build_default_settings, then the caller's changes */
     int force, quiet;
+    int keep_orientation;         /* 1: a closed mesh facing inward stays so (else turned out, with a warning) */
     volatile sig_atomic_t *cancel; /* non-zero stops the build, leaving no output; may be NULL */
 } sam_app_build_job;
 

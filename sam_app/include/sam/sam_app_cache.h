@@ -24,8 +24,11 @@ extern "C" {
 void sam_app_cache_dir(const char *given, char *out, size_t n);
 
 /* The scene's map into `sam` (the caller frees it with samfile_free), with
- * the material's `profile` and the scene's `mm_per_unit`, built with the
- * default settings. A scene naming a mesh and no .sam reads the map from
+ * the material's `profile` and the scene's `mm_per_unit`, built with
+ * `settings` (NULL: the defaults), which are part of the cache's key.
+ * `*built_seconds` (may be NULL) gets the build's time, the recorded one
+ * for a cached map, 0 for a prebuilt .sam. A scene naming a mesh and no
+ * .sam reads the map from
  * `cache_dir` when `use_cache` and it is there (a damaged entry is rebuilt
  * with a note), else builds it with a progress bar on stderr
  * (SIGINT/SIGTERM cancel the build) and caches it; the scene then names the
@@ -34,8 +37,9 @@ void sam_app_cache_dir(const char *given, char *out, size_t n);
  * written is a warning.
  * Errors: those of sam_app_scene_object and sam_sha256_file;
  * SAM_ERR_INVALID_ARGUMENT for a cache path too long. */
-sam_status sam_app_cache_object(sam_scene *scene, const char *cache_dir, int use_cache, const char *tool,
-                                samfile_data *sam, sam_profile *profile, float *mm_per_unit, sam_error *err);
+sam_status sam_app_cache_object(sam_scene *scene, const sam_build_settings *settings, const char *cache_dir,
+                                int use_cache, const char *tool, samfile_data *sam, sam_profile *profile,
+                                float *mm_per_unit, double *built_seconds, sam_error *err);
 
 #ifdef __cplusplus
 }

@@ -12,12 +12,14 @@ extern "C" {
 #endif
 
 /* Whether a file can be written at `path`: its folder exists and is
- * writable, and `path` is not a folder or another non-regular file. When
+ * writable, `path` is not a folder or another non-regular file, and it is
+ * no existing file unless `force` (the tools' --force). When
  * `extensions` is not NULL (a NULL-terminated list such as {".png", ".exr",
  * NULL}) the name must end in one of them (case-insensitive). `what` names
  * the output in messages (e.g. "-o"). Writes nothing.
  * Errors: SAM_ERR_INVALID_ARGUMENT naming `what`, the path and the reason. */
-sam_status sam_app_check_output(const char *what, const char *path, const char *const *extensions, sam_error *err);
+sam_status sam_app_check_output(const char *what, const char *path, const char *const *extensions, int force,
+                                sam_error *err);
 
 /* 1 when `path` ends in `extension` (case-insensitive). */
 int sam_app_has_extension(const char *path, const char *extension);

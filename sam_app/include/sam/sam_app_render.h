@@ -39,6 +39,7 @@ typedef struct sam_app_render_job {
     int beside;              /* -1: none; else a sam_technique rendered of the same frame and put to the
                               * right of each picture, at the same exposure */
     const char *cache_dir;   /* the map cache (NULL: sam_app_cache_dir's default) */
+    int force;               /* 1: replace existing outputs (else they are refused before any work) */
     int no_cache;            /* 1: build a bare mesh's map without the cache */
     const char *dump;        /* per-vertex L_d and T (the thickness technique's own T with it) as CSV, or NULL */
     int technique;           /* -1: the scene's; else a sam_technique */

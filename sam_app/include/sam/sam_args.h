@@ -22,7 +22,12 @@
  * and names the option and the value found: an unknown option is called
  * unknown, a missing value or a missing required option or argument is
  * named, a number out of range gives the range. -h/--help prints the usage
- * to stdout and --version the project's version.
+ * to stdout and --version the project's version. An old spelling (`now`
+ * set) still works and warns once with the new one.
+ *
+ * The vocabulary every program keeps: -o for the output, --size WxH for a
+ * picture's pixels, --size-mm (or --mm-per-unit) for an object's real
+ * size, --force wherever an existing file would be replaced.
  */
 #ifndef SAM_ARGS_H
 #define SAM_ARGS_H
@@ -56,6 +61,9 @@ typedef struct sam_arg {
                                   * NULL: said from the kind and range */
     int required;                /* 1: missing is an error that names it */
     int *given;                  /* may be NULL; set to 1 when the option appears */
+    const char *now;             /* an old spelling kept for scripts: its name today, which a warning
+                                  * gives when this one is used (the entry stores into the same target;
+                                  * usage texts list only the new name) */
 } sam_arg;
 
 typedef struct sam_args_spec {

@@ -133,6 +133,29 @@ void sam_mesh_mean_curvature(const sam_mesh *mesh, float *out);
 void sam_mesh_ring_curvature(uint32_t count, const float *positions, const uint32_t *position_of,
                              const float *normals, const uint32_t *ring_offsets, const uint32_t *ring, float *out);
 
+/* The volume the triangles enclose, model units^3: positive when they wind
+ * counter-clockwise seen from outside (the convention above), negative for
+ * a closed mesh turned inside out; meaningless for an open one. */
+double sam_mesh_signed_volume(const sam_mesh *mesh);
+
+/* 1 when every topo vertex's fan is closed (no boundary), else 0. */
+int sam_mesh_is_closed(const sam_mesh *mesh);
+
+/* Turns a closed mesh with negative signed volume (its normals pointing
+ * in, as some exporters write) outside out: triangles rewound, render and
+ * topo normals negated, rings reversed. Returns 1 when it did, 0 for an
+ * open mesh or one already facing out (left as it is). A mesh facing in
+ * renders black: its back side is its front. */
+int sam_mesh_orient_outward(sam_mesh *mesh);
+
+/* The winding number of `point` about the `triangle_count` triangles
+ * (3 indices each into `positions`, 3 floats per vertex, counter-clockwise
+ * seen from outside): about 1 inside a closed mesh, 0 outside, something
+ * between near or inside an open one. Takes one pass over the triangles;
+ * works on a mesh's or a .sam's arrays. */
+double sam_mesh_winding_number(const float *positions, const uint32_t *triangles, uint32_t triangle_count,
+                               const float point[3]);
+
 /* One-line summary of a report's repairs into buf (size n), e.g.
  * "dropped 2 degenerate, 1 zero-area triangles; split 1 non-manifold vertex"
  * or "no repairs". Returns buf. */

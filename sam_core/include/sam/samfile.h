@@ -171,6 +171,7 @@ typedef struct samfile_info {
     float mm_per_unit;         /* 0 when INFO records no scale */
     char source_file[256];     /* "" when not recorded; cut to fit */
     char source_sha256[65];    /* 64 hex digits, or "" when not recorded */
+    double build_seconds;      /* the build's wall time; 0 when not recorded */
 } samfile_info;
 
 /*

@@ -20,6 +20,9 @@ sam_status samfile_info_read(const samfile_data *data, const char *name, samfile
     const cJSON *scale = cJSON_GetObjectItemCaseSensitive(info, "mm_per_unit");
     if (cJSON_IsNumber(scale))
         out->mm_per_unit = (float)scale->valuedouble;
+    const cJSON *seconds = cJSON_GetObjectItemCaseSensitive(info, "build_seconds");
+    if (cJSON_IsNumber(seconds) && seconds->valuedouble >= 0)
+        out->build_seconds = seconds->valuedouble;
     const cJSON *source = cJSON_GetObjectItemCaseSensitive(info, "source");
     const cJSON *file = cJSON_GetObjectItemCaseSensitive(source, "file");
     const cJSON *sha = cJSON_GetObjectItemCaseSensitive(source, "sha256");

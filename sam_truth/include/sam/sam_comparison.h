@@ -51,6 +51,9 @@ typedef struct sam_comparison_settings {
     const long *frames;      /* frame_count (1..SAM_COMPARISON_MAX_FRAMES) increasing frames to compare, each
                               * into out/frame_NNNN/, with a summary in out; NULL: frame 0 into out itself */
     int frame_count;
+    const char *cache_dir;   /* where the map of a scene naming only a mesh is cached (sam_app_cache.h);
+                              * NULL: the default; the sweep's maps are not cached */
+    int no_cache;            /* 1: build that map without the cache */
 } sam_comparison_settings;
 
 /* Runs the comparison of `scene` (loaded from `scene_path`, which the
