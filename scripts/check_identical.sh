@@ -53,7 +53,7 @@ jobs() {
     "$bin/sam_info" demo_ear.sam > demo_info.txt 2>&1
     q "$bin/sam_profile_image" skin -o demo_profile_skin.png
     q "$bin/sam_preview" demo_ear.sam -o demo_ear_translucency.png
-    q "$bin/sam_render" "$root/scenes/ear_backlit.json" -o demo_render.exr --png demo_render.png --frames 4
+    q "$bin/sam_render" "$root/scenes/ear_backlit.json" -o demo_render.exr --png demo_render.png --passes 4
     # Every scene: its map and its picture.
     for scene in "$root"/scenes/*.json; do
       name=$(basename "$scene" .json)
@@ -71,7 +71,7 @@ PY
       if [ "$animated" = 1 ]; then
         q "$bin/sam_render" "$scene" -o "$name.exr" --png "$name.png" --animate 3
       else
-        q "$bin/sam_render" "$scene" -o "$name.exr" --png "$name.png" --frames 2 --dump-vertices "$name.csv"
+        q "$bin/sam_render" "$scene" -o "$name.exr" --png "$name.png" --passes 2 --dump-vertices "$name.csv"
       fi
     done
     # The comparison scenes under every technique (tsm needs texture space).
@@ -85,7 +85,7 @@ PY
     done
     # sam_compare end to end on small truths.
     for name in slab_area slab_environment; do
-      q "$bin/sam_compare" "$root/scenes/compare_$name.json" --out "cmp_$name" --truth-samples 4096 \
+      q "$bin/sam_compare" "$root/scenes/compare_$name.json" -o "cmp_$name" --truth-samples 4096 \
         --samples-sweep 3,5
     done
     # Timings are the one thing allowed to change: zero them.

@@ -23,7 +23,7 @@ for scene in "$root"/scenes/compare_*.json; do
   if [ "$name" = statue ]; then extra=(--samples 24); else extra=(--samples-sweep ${SWEEP:-3,32,64}); fi
   echo "compare_scenes.sh: $name" >&2
   start=$(date +%s)
-  "$bin/sam_compare" "$scene" --out "$out/$name" --force "${extra[@]}" 2> "$out/$name.log" \
+  "$bin/sam_compare" "$scene" -o "$out/$name" --force "${extra[@]}" 2> "$out/$name.log" \
     || { tail -5 "$out/$name.log" >&2; exit 1; }
   echo "compare_scenes.sh: $name done in $(( $(date +%s) - start )) s" >&2
 done
