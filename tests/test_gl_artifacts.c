@@ -250,6 +250,42 @@ static terminator measure_terminator(const sam_image *img, float level)
     return t;
 }
 
+/* Fine (rt[0]) and coarse (rt[1]) meshes of one shape, from the front
+ * under one directional light along `dir`: the coarse edge where the
+ * luminance crosses `level` of the fine picture's peak runs down the rows
+ * as smoothly as the fine one (rms second difference at most twice the
+ * fine one's and a quarter pixel, over at least `min_rows` rows), and the
+ * coarse picture stays within 5% of the fine one. Frees both. */
+static void check_coarse_against_fine(const char *what, sam_runtime *rt[2], samfile_data d[2], const float dir[3],
+                                      float level, uint32_t min_rows)
+{
+    const float eye[3] = {0.0f, 0.0f, 3.2f};
+    sam_image img[2];
+    terminator t[2];
+    float peak = 0;
+    for (int k = 0; k < 2; ++k) {
+        light(rt[k], dir[0], dir[1], dir[2], 0);
+        img[k] = render(rt[k], 256, eye, 0);
+    }
+    for (uint32_t i = 0; i < img[0].width * img[0].height; ++i)
+        peak = fmaxf(peak, luminance(&img[0], i % img[0].width, i / img[0].width));
+    for (int k = 0; k < 2; ++k)
+        t[k] = measure_terminator(&img[k], level * peak);
+    double diff = mean_difference(&img[1], &img[0]);
+    print_message("%s at %.0f%% of the peak: fine (%u vertices) %u rows, rms second difference %.3f px; coarse (%u "
+                  "vertices) %u rows, %.3f px; coarse against fine %.2f%%\n",
+                  what, 100 * level, d[0].vertex_count, t[0].rows, t[0].rms_d2, d[1].vertex_count, t[1].rows,
+                  t[1].rms_d2, 100 * diff);
+    assert_true(t[0].rows > min_rows && t[1].rows > min_rows);
+    assert_true(t[1].rms_d2 <= 2.0 * t[0].rms_d2 + 0.25);
+    assert_true(diff < 0.05);
+    for (int k = 0; k < 2; ++k) {
+        sam_image_destroy(&img[k]);
+        sam_runtime_destroy(rt[k]);
+        samfile_free(&d[k]);
+    }
+}
+
 /* A coarse sphere (a few hundred vertices) lit from the side: its
  * terminator runs as smoothly down the picture as a fine sphere's (25k),
  * and its shading stays close to the fine one's. This held before the
@@ -258,35 +294,14 @@ static terminator measure_terminator(const sam_image *img, float level)
 static void test_coarse_terminator_is_smooth(void **state)
 {
     (void)state;
-    const float eye[3] = {0.0f, 0.0f, 3.2f};
-    sam_image img[2];
-    terminator t[2];
-    float peak = 0;
     const int resolution[2] = {256, 28};
+    const float dir[3] = {-1.0f, -0.25f, 0.35f};
     samfile_data d[2];
     sam_runtime *rt[2];
-    for (int k = 0; k < 2; ++k) {
-        /* Half a metre across: no translucency to speak of, the front alone. */
-        rt[k] = shape_runtime("sphere", resolution[k], 0, 500.0f, &d[k]);
-        light(rt[k], -1.0f, -0.25f, 0.35f, 0);
-        img[k] = render(rt[k], 256, eye, 0);
-    }
-    for (uint32_t i = 0; i < img[0].width * img[0].height; ++i)
-        peak = fmaxf(peak, luminance(&img[0], i % img[0].width, i / img[0].width));
+    /* Half a metre across: no translucency to speak of, the front alone. */
     for (int k = 0; k < 2; ++k)
-        t[k] = measure_terminator(&img[k], 0.15f * peak);
-    double diff = mean_difference(&img[1], &img[0]);
-    print_message("terminator at 15%% of the peak: fine sphere (%u vertices) %u rows, rms second difference %.3f px; "
-                  "coarse (%u vertices) %u rows, %.3f px; coarse against fine %.2f%%\n",
-                  d[0].vertex_count, t[0].rows, t[0].rms_d2, d[1].vertex_count, t[1].rows, t[1].rms_d2, 100 * diff);
-    assert_true(t[0].rows > 60 && t[1].rows > 60);
-    assert_true(t[1].rms_d2 <= 2.0 * t[0].rms_d2 + 0.25);
-    assert_true(diff < 0.05);
-    for (int k = 0; k < 2; ++k) {
-        sam_image_destroy(&img[k]);
-        sam_runtime_destroy(rt[k]);
-        samfile_free(&d[k]);
-    }
+        rt[k] = shape_runtime("sphere", resolution[k], 0, 500.0f, &d[k]);
+    check_coarse_against_fine("terminator", rt, d, dir, 0.15f, 60);
 }
 
 /* Two spheres of `resolution` in one mesh: a unit one at the origin and a
@@ -342,34 +357,13 @@ static sam_runtime *shadowed_sphere(int resolution, samfile_data *d)
 static void test_coarse_cast_shadow_is_smooth(void **state)
 {
     (void)state;
-    const float eye[3] = {0.0f, 0.0f, 3.2f};
     const int resolution[2] = {256, 28};
-    sam_image img[2];
-    terminator t[2];
+    const float dir[3] = {0.45f, -0.45f, -1.0f};
     samfile_data d[2];
     sam_runtime *rt[2];
-    float peak = 0;
-    for (int k = 0; k < 2; ++k) {
-        rt[k] = shadowed_sphere(resolution[k], &d[k]);
-        light(rt[k], 0.45f, -0.45f, -1.0f, 0);
-        img[k] = render(rt[k], 256, eye, 0);
-    }
-    for (uint32_t i = 0; i < img[0].width * img[0].height; ++i)
-        peak = fmaxf(peak, luminance(&img[0], i % img[0].width, i / img[0].width));
     for (int k = 0; k < 2; ++k)
-        t[k] = measure_terminator(&img[k], 0.5f * peak);
-    double diff = mean_difference(&img[1], &img[0]);
-    print_message("cast shadow's edge at half the peak: fine (%u vertices) %u rows, rms second difference %.3f px; "
-                  "coarse (%u vertices) %u rows, %.3f px; coarse against fine %.2f%%\n",
-                  d[0].vertex_count, t[0].rows, t[0].rms_d2, d[1].vertex_count, t[1].rows, t[1].rms_d2, 100 * diff);
-    assert_true(t[0].rows > 25 && t[1].rows > 25);
-    assert_true(t[1].rms_d2 <= 2.0 * t[0].rms_d2 + 0.25);
-    assert_true(diff < 0.05);
-    for (int k = 0; k < 2; ++k) {
-        sam_image_destroy(&img[k]);
-        sam_runtime_destroy(rt[k]);
-        samfile_free(&d[k]);
-    }
+        rt[k] = shadowed_sphere(resolution[k], &d[k]);
+    check_coarse_against_fine("cast shadow's edge", rt, d, dir, 0.5f, 25);
 }
 
 int main(void)
