@@ -337,7 +337,7 @@ static sam_runtime *shadowed_sphere(int resolution, samfile_data *d)
     sam_build_settings set;
     sam_build_default_settings(&set);
     set.map = SAM_BUILD_MAP_FLAT;
-    sam_runtime *rt;
+    sam_runtime *rt = NULL;
     if (sam_build_samfile(&mesh, &profile, 500.0f, &set, NULL, NULL, NULL, d, NULL, &err) != SAM_OK ||
         sam_runtime_create(d, &profile, 500.0f, &rt, &err) != SAM_OK)
         fail_msg("%s", err.message);

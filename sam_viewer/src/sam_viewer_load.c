@@ -68,11 +68,11 @@ static sam_status mesh_scene(const char *input, const char *material, float size
 }
 
 sam_status sam_viewer_load_scene(const char *input, const char *material, float size_mm, const char *environment,
-                                 sam_scene *scene, int *needs_lights, sam_error *err)
+                                 sam_scene *scene, sam_viewer_input *kind, sam_error *err)
 {
     const int scene_file = has_suffix(input, ".json"), sam_file = has_suffix(input, ".sam");
-    if (needs_lights)
-        *needs_lights = sam_file;
+    if (kind)
+        *kind = scene_file ? SAM_VIEWER_INPUT_SCENE : sam_file ? SAM_VIEWER_INPUT_SAM : SAM_VIEWER_INPUT_MESH;
     if (scene_file && (material || environment))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
                         "--material and --environment are for a bare mesh or .sam; %s sets its own", input);

@@ -11,6 +11,8 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "sam/sam_app_backlight.h"
+#include "sam/sam_app_stage.h"
 #include "sam/sam_app_thickness.h"
 #include "sam/sam_light.h"
 #include "sam/sam_runtime_scene.h"
@@ -237,8 +239,16 @@ sam_status sam_viewer_window_open(sam_viewer_window *w, const sam_viewer_window_
     char warning[512];
     if ((o->default_lights && (st = sam_viewer_default_lights(&v->scene, centre, radius, err)) != SAM_OK) ||
         (st = sam_runtime_scene_setup(w->rt, &v->scene, NULL, NULL, warning, sizeof warning, err)) != SAM_OK ||
-        (st = sam_runtime_scene_keyframes(w->rt, &v->scene, &w->sam, err)) != SAM_OK ||
-        (st = sam_viewer_draw_create(w, err)) != SAM_OK)
+        (st = sam_runtime_scene_keyframes(w->rt, &v->scene, &w->sam, err)) != SAM_OK)
+        return st;
+    if (o->staged) {
+        char note[256];
+        if ((st = sam_app_backlight_place(w->rt, &w->sam, &v->scene, SAM_APP_STAGE_BACK_LIGHT, note, sizeof note,
+                                          err)) != SAM_OK)
+            return st;
+        fprintf(stderr, "sam_view: %s\n", note);
+    }
+    if ((st = sam_viewer_draw_create(w, err)) != SAM_OK)
         return st;
     load_images(w, o->truth);
     if (warning[0])

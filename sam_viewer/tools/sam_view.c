@@ -120,12 +120,13 @@ int main(int argc, char **argv)
     sam_error err;
     sam_view_event *events = NULL;
     size_t event_count = 0;
-    int needs_lights = 0, code = 1;
+    sam_viewer_input kind = SAM_VIEWER_INPUT_SCENE;
+    int code = 1;
     sam_status st = SAM_OK;
     if (o.script)
         st = sam_view_script_load(o.script, &events, &event_count, &err);
     if (st == SAM_OK)
-        st = sam_viewer_load_scene(o.input, o.material, o.size_mm, o.environment, &w.state.scene, &needs_lights, &err);
+        st = sam_viewer_load_scene(o.input, o.material, o.size_mm, o.environment, &w.state.scene, &kind, &err);
     char cache_dir[4096];
     sam_app_cache_dir(o.cache, cache_dir, sizeof cache_dir);
     sam_profile profile;
@@ -133,7 +134,8 @@ int main(int argc, char **argv)
     if (st == SAM_OK)
         st = sam_app_cache_object(&w.state.scene, NULL, cache_dir, !o.no_cache, "sam_view", &w.sam, &profile,
                                   &mm_per_unit, NULL, &err);
-    const sam_viewer_window_options window = {o.width, o.height, needs_lights, o.truth};
+    const sam_viewer_window_options window = {o.width, o.height, kind == SAM_VIEWER_INPUT_SAM,
+                                              kind == SAM_VIEWER_INPUT_MESH, o.truth};
     if (st == SAM_OK)
         st = sam_viewer_window_open(&w, &window, &profile, mm_per_unit, &err);
     if (st == SAM_OK) {

@@ -18,19 +18,25 @@
 extern "C" {
 #endif
 
+/* What sam_view was given. */
+typedef enum sam_viewer_input {
+    SAM_VIEWER_INPUT_SCENE, /* a scene file */
+    SAM_VIEWER_INPUT_SAM,   /* a bare .sam: sam_viewer_default_lights lights it */
+    SAM_VIEWER_INPUT_MESH   /* a bare mesh, staged: its back light is placed on the runtime */
+} sam_viewer_input;
+
 /* The scene of `input`: a scene file (.json) is loaded; a mesh gets the
  * staged scene sam_render gives it (sam_app_stage.h: `size_mm` its
  * bounding-box diagonal, 0 to have one chosen; the assumptions printed on
  * stderr); a .sam gets a scene naming it and no lights. `material` may be
  * NULL (the .sam's own, or skin for a mesh), the lat-long `environment`
- * EXR too. `*needs_lights` (may be NULL) is set to 1 for a bare .sam,
- * which sam_viewer_default_lights then lights. `scene` is the caller's,
- * freed with sam_scene_destroy whatever the result.
+ * EXR too. `*kind` (may be NULL) says which it was. `scene` is the
+ * caller's, freed with sam_scene_destroy whatever the result.
  * Errors: SAM_ERR_INVALID_ARGUMENT (`material` or `environment` given with
  * a scene file), SAM_ERR_IO (no environment file), and those of
  * sam_scene_load, sam_scene_parse and sam_app_stage_scene. */
 sam_status sam_viewer_load_scene(const char *input, const char *material, float size_mm, const char *environment,
-                                 sam_scene *scene, int *needs_lights, sam_error *err);
+                                 sam_scene *scene, sam_viewer_input *kind, sam_error *err);
 
 /* Replaces the scene's lights (it must have none) with two point lights
  * about the object at `centre` of `radius`: one behind it as the camera

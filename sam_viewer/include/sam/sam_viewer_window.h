@@ -53,6 +53,7 @@ typedef struct sam_viewer_window {
 typedef struct sam_viewer_window_options {
     int width, height;       /* pixels; 0: the scene's size, at most 1600 x 1000 */
     int default_lights;      /* 1: light the object with sam_viewer_default_lights (a bare .sam) */
+    int staged;              /* 1: a staged bare mesh: its back light is placed (sam_app_backlight.h) */
     const char *truth;       /* a truth EXR for the difference view; may be NULL */
 } sam_viewer_window_options;
 
