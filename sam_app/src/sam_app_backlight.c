@@ -4,15 +4,9 @@
 #include <stdlib.h>
 
 #include "sam/sam_app_backlight.h"
+#include "sam/sam_vec3.h"
 
 #define PI_F 3.14159265f
-
-static void normalize3(float v[3])
-{
-    float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (int c = 0; len > 0 && c < 3; ++c)
-        v[c] /= len;
-}
 
 /* The translucency the camera-facing side receives under `l` alone. */
 static sam_status score(sam_runtime *rt, const samfile_data *sam, const float eye[3], const sam_light *l, float *t,
@@ -26,7 +20,8 @@ static sam_status score(sam_runtime *rt, const samfile_data *sam, const float ey
     double sum = 0;
     for (uint32_t v = 0; v < sam->vertex_count; ++v) {
         const float *p = sam->positions + 3 * (size_t)v, *nrm = sam->normals + 3 * (size_t)v;
-        const float facing = nrm[0] * (eye[0] - p[0]) + nrm[1] * (eye[1] - p[1]) + nrm[2] * (eye[2] - p[2]);
+        const float to_eye[3] = {eye[0] - p[0], eye[1] - p[1], eye[2] - p[2]};
+        const float facing = sam_vec3_dot(nrm, to_eye);
         if (facing > 0)
             sum += (0.2126 * t[3 * v] + 0.7152 * t[3 * v + 1] + 0.0722 * t[3 * v + 2]) * sam->fan_area[v];
     }
@@ -48,14 +43,10 @@ sam_status sam_app_backlight_place(sam_runtime *rt, const samfile_data *sam, sam
     sam_runtime_bounds(rt, centre, &radius);
     for (int c = 0; c < 3; ++c)
         back[c] = cam->target[c] - cam->position[c];
-    normalize3(back);
-    side[0] = back[1] * cam->up[2] - back[2] * cam->up[1];
-    side[1] = back[2] * cam->up[0] - back[0] * cam->up[2];
-    side[2] = back[0] * cam->up[1] - back[1] * cam->up[0];
-    normalize3(side);
-    up[0] = side[1] * back[2] - side[2] * back[1];
-    up[1] = side[2] * back[0] - side[0] * back[2];
-    up[2] = side[0] * back[1] - side[1] * back[0];
+    sam_vec3_normalize(back);
+    sam_vec3_cross(back, cam->up, side);
+    sam_vec3_normalize(side);
+    sam_vec3_cross(side, back, up);
     /* Rings at 25, 50 and 75 degrees off the line of sight behind. */
     sam_light best = scene->lights[light], l = best;
     double best_score = -1;

@@ -11,6 +11,7 @@
 #include "sam/sam_app_stage.h"
 #include "sam/sam_mesh.h"
 #include "sam/sam_thickness.h"
+#include "sam/sam_vec3.h"
 
 #define PI_F 3.14159265f
 #define FOV_DEG 30.0f
@@ -65,26 +66,6 @@ static float glow_thickness_mm(const sam_profile *profile, float glow)
     return 0.5f * (lo + hi);
 }
 
-static float dot3(const float a[3], const float b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void normalize3(float v[3])
-{
-    float len = sqrtf(dot3(v, v));
-    if (len > 0)
-        for (int c = 0; c < 3; ++c)
-            v[c] /= len;
-}
-
-static void cross3(const float a[3], const float b[3], float out[3])
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* What the staging measures of the mesh. */
 typedef struct measure {
     float centre[3], extent[3], radius, diagonal;
@@ -109,7 +90,7 @@ static sam_status measure_mesh(const sam_mesh *m, measure *out, sam_error *err)
     for (uint32_t v = 0; v < m->vertex_count; ++v) {
         const float *p = m->positions + 3 * (size_t)v;
         float d[3] = {p[0] - out->centre[0], p[1] - out->centre[1], p[2] - out->centre[2]};
-        r2 = fmaxf(r2, dot3(d, d));
+        r2 = fmaxf(r2, sam_vec3_dot(d, d));
     }
     out->diagonal = sqrtf(d2);
     out->radius = sqrtf(r2);
@@ -160,7 +141,7 @@ static sam_status place(const measure *ms, float angle_deg, sam_scene *scene, sa
     const float up_axis[3] = {0, z_up ? 0.0f : 1.0f, z_up ? 1.0f : 0.0f};
     const float front[3] = {0, z_up ? -1.0f : 0.0f, z_up ? 0.0f : 1.0f};
     float side[3];
-    cross3(up_axis, front, side);
+    sam_vec3_cross(up_axis, front, side);
     const float tall = z_up ? ext[2] : ext[1], across = fminf(ext[0], z_up ? ext[1] : ext[2]);
     const float elevation = tall < 0.25f * across ? 50.0f : ELEVATION_DEG;
     const float a = angle_deg * PI_F / 180.0f, e = elevation * PI_F / 180.0f;
@@ -178,9 +159,9 @@ static sam_status place(const measure *ms, float angle_deg, sam_scene *scene, sa
     cam->fov_deg = FOV_DEG;
     cam->near_plane = cam->far_plane = 0.0f;
     float forward[3] = {-dir[0], -dir[1], -dir[2]}, right[3], up[3];
-    cross3(forward, cam->up, right);
-    normalize3(right);
-    cross3(right, forward, up);
+    sam_vec3_cross(forward, cam->up, right);
+    sam_vec3_normalize(right);
+    sam_vec3_cross(right, forward, up);
     scene->lights = calloc(2, sizeof *scene->lights);
     if (!scene->lights)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "stage: out of memory");
@@ -190,7 +171,7 @@ static sam_status place(const measure *ms, float angle_deg, sam_scene *scene, sa
     float key_dir[3], key[3];
     for (int c = 0; c < 3; ++c)
         key_dir[c] = dir[c] + 0.6f * up[c] - 0.6f * right[c];
-    normalize3(key_dir);
+    sam_vec3_normalize(key_dir);
     const float key_dist = 3.0f * ms->radius;
     for (int c = 0; c < 3; ++c)
         key[c] = ms->centre[c] + key_dist * key_dir[c];
