@@ -2,8 +2,9 @@
  * sam_app_stage: the scene a bare mesh gets when the user writes none, so
  * that their own OBJ/PLY/OFF/STL gives a picture where back-lit thin parts
  * glow: the object's size when it is not given, a camera that frames it, a
- * key light in front and a back light behind the thinnest part the camera
- * sees, and, once rendered, an exposure read from the picture. sam_render
+ * key light in front and a back light (placed on the runtime where the
+ * camera sees the most light come through), and, once rendered, an
+ * exposure read from the picture. sam_render
  * and sam_view use it; each assumption comes back as one line of text for
  * the tool to print, and the scene can be saved (sam_scene_write) to be
  * edited from there. Part of sam_app_build: the thickness is measured with
