@@ -648,6 +648,15 @@ static double ratio_or_zero(double a, double b)
     return a > 0 && b > 0 ? a / b : 0;
 }
 
+/* Counts the knot of `nv` vertices as not measured; larger knots are then
+ * skipped too. */
+static void skip_knot(cut_summary *sum, uint32_t nv)
+{
+    size_t used = strlen(sum->unbuilt_list);
+    snprintf(sum->unbuilt_list + used, sizeof sum->unbuilt_list - used, "%s%u", used ? ", " : "", nv);
+    sum->unbuilt++;
+}
+
 /* The default cut map (its default N) against the flat map (N = 3) on the knot of
  * cfg->resolutions[m], both runtimes side by side (median_ms_pair):
  * sam_runtime_translucency, which runs a cut map's node pass before the
@@ -663,8 +672,8 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
     const uint32_t nv = mesh.vertex_count;
     fprintf(json, "%s      {\"vertices\": %u", m ? ",\n" : "", nv);
     if (sum->unbuilt) {
-        printf("%9u  not measured: a smaller knot's cut map was not built within the limit\n", nv);
-        fprintf(json, ", \"skipped\": \"a smaller knot's cut map was not built within the limit\"}");
+        printf("%9u  not measured: a smaller knot's cut map was not built within the limit or not loaded\n", nv);
+        fprintf(json, ", \"skipped\": \"a smaller knot's cut map was not built within the limit or not loaded\"}");
     }
     samfile_data d[2]; /* cut, flat */
     double build_s[2];
@@ -684,9 +693,7 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
         }
     }
     if (sum->unbuilt || deadline.cancelled) {
-        size_t used = strlen(sum->unbuilt_list);
-        snprintf(sum->unbuilt_list + used, sizeof sum->unbuilt_list - used, "%s%u", used ? ", " : "", nv);
-        sum->unbuilt++;
+        skip_knot(sum, nv);
         sam_mesh_destroy(&mesh);
         return;
     }
@@ -703,9 +710,7 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
                 sam_runtime_destroy(rt[k]);
                 samfile_free(&d[k]);
             }
-            size_t used = strlen(sum->unbuilt_list);
-            snprintf(sum->unbuilt_list + used, sizeof sum->unbuilt_list - used, "%s%u", used ? ", " : "", nv);
-            sum->unbuilt++;
+            skip_knot(sum, nv);
             sam_mesh_destroy(&mesh);
             return;
         }
