@@ -1,0 +1,245 @@
+/* bench_frame's cut study: the default cut map against the flat N = 3 map
+ * on the same knots, side by side (frame_common.h). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "frame_common.h"
+
+/* The cut map's cost targets against the flat map (N = 3), as ratios. */
+#define CUT_TRANSLUCENCY_TARGET 2.0 /* node + translucency passes over the flat map's translucency pass */
+#define CUT_ANIMATED_TARGET 1.5     /* an animated frame's deform, walk, irradiance, node and translucency */
+
+/* A whole animated frame's SAM work: the update (deform, walk), the
+ * irradiance pass, then the node and translucency passes (user: as
+ * frame_run_update's). */
+static sam_status run_animated_frame(sam_runtime *rt, void *user, sam_error *err)
+{
+    sam_status st = frame_run_update(rt, user, err);
+    if (st == SAM_OK)
+        st = frame_run_irradiance(rt, NULL, err);
+    return st == SAM_OK ? frame_run_translucency(rt, NULL, err) : st;
+}
+
+/* Samples per vertex that name something (the translucency pass skips
+ * empty slots, so its cost follows these, not N). */
+static double filled_samples(const samfile_data *d)
+{
+    size_t filled = 0, slots = (size_t)d->vertex_count * d->samples_per_vertex;
+    for (size_t i = 0; i < slots; ++i)
+        filled += d->sample_index[i] != SAMFILE_NO_SAMPLE;
+    return (double)filled / d->vertex_count;
+}
+
+/* The largest ratio of each kind over the cut study's knots (0: none
+ * measured), and which knots it could not measure. */
+enum { CUT_TRANSLUCENCY, CUT_TRANSLUCENCY_GPU, CUT_ANIMATED, CUT_ANIMATED_GPU, CUT_RATIOS };
+typedef struct cut_summary {
+    double worst[CUT_RATIOS];
+    uint32_t smallest, largest; /* vertices of the knots measured */
+    int measured, unbuilt;      /* knots measured; knots whose cut map was not built, or not loaded */
+    char unbuilt_list[128];     /* the vertex counts of those */
+} cut_summary;
+
+/* The sum of `count` timer-query times, or 0 where one is missing. */
+static double gpu_sum(const double *ms, int count)
+{
+    double sum = 0;
+    for (int k = 0; k < count; ++k) {
+        if (!(ms[k] > 0))
+            return 0;
+        sum += ms[k];
+    }
+    return sum;
+}
+
+static double ratio_or_zero(double a, double b)
+{
+    return a > 0 && b > 0 ? a / b : 0;
+}
+
+/* Counts the knot of `nv` vertices as not measured; larger knots are then
+ * skipped too. */
+static void skip_knot(cut_summary *sum, uint32_t nv)
+{
+    size_t used = strlen(sum->unbuilt_list);
+    snprintf(sum->unbuilt_list + used, sizeof sum->unbuilt_list - used, "%s%u", used ? ", " : "", nv);
+    sum->unbuilt++;
+}
+
+/* The default cut map (its default N) against the flat map (N = 3) on the knot of
+ * cfg->resolutions[m], both runtimes side by side (frame_median_ms_pair):
+ * sam_runtime_translucency, which runs a cut map's node pass before the
+ * translucency pass, and an animated frame's whole SAM work. The cut build
+ * stops at `limit_s` (bench_deadline): such a knot is reported with the
+ * build's estimate, and larger knots, whose builds take longer still, are
+ * not built. A row on stdout, an object in `json`. */
+static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, double limit_s, int timers,
+                      cut_summary *sum, FILE *json)
+{
+    sam_mesh mesh;
+    frame_knot_mesh(cfg->resolutions[m], &mesh);
+    const uint32_t nv = mesh.vertex_count;
+    fprintf(json, "%s      {\"vertices\": %u", m ? ",\n" : "", nv);
+    if (sum->unbuilt) {
+        printf("%9u  not measured: a smaller knot's cut map was not built within the limit or not loaded\n", nv);
+        fprintf(json, ", \"skipped\": \"a smaller knot's cut map was not built within the limit or not loaded\"}");
+    }
+    samfile_data d[2]; /* cut, flat */
+    double build_s[2];
+    bench_deadline deadline;
+    bench_deadline_start(&deadline, limit_s);
+    if (!sum->unbuilt) {
+        frame_knot_map(&mesh, skin, SAM_BUILD_MAP_FLAT, NULL, &d[1], &build_s[1]);
+        fprintf(json, ", \"flat_build_s\": %.3f", build_s[1]);
+        if (!frame_knot_map(&mesh, skin, SAM_BUILD_MAP_CUT, &deadline, &d[0], &build_s[0])) {
+            char how[128];
+            bench_deadline_describe(&deadline, how, sizeof how);
+            printf("%9u  not measured: the cut build passed the limit: %s (flat %.1f s)\n", nv, how, build_s[1]);
+            fprintf(json, ", \"skipped\": \"the cut build passed the limit\", ");
+            bench_deadline_json(json, "cut_build", &deadline);
+            fprintf(json, "}");
+            samfile_free(&d[1]);
+        }
+    }
+    if (sum->unbuilt || deadline.cancelled) {
+        skip_knot(sum, nv);
+        sam_mesh_destroy(&mesh);
+        return;
+    }
+    /* A GL may not hold the cut map's samples (llvmpipe: 128 MiB per
+     * storage block, passed near 260k vertices at N = 32): said, and the
+     * larger knots skipped, rather than the whole study lost. */
+    sam_runtime *rt[2] = {NULL, NULL};
+    sam_error err;
+    for (int r = 0; r < 2; ++r) {
+        if (sam_runtime_create(&d[r], skin, 40.0f, &rt[r], &err) != SAM_OK) {
+            printf("%9u  not measured: the %s map does not load: %s\n", nv, r ? "flat" : "cut", err.message);
+            fprintf(json, ", \"skipped\": \"the %s map does not load on this GL\"}", r ? "flat" : "cut");
+            for (int k = 0; k < 2; ++k) {
+                sam_runtime_destroy(rt[k]);
+                samfile_free(&d[k]);
+            }
+            skip_knot(sum, nv);
+            sam_mesh_destroy(&mesh);
+            return;
+        }
+        frame_light_knot(rt[r]);
+    }
+    for (int r = 0; r < 2; ++r)
+        if (sam_runtime_irradiance(rt[r], &err) != SAM_OK)
+            frame_die("irradiance", &err);
+    /* The node pass last: a flat map has none, so its sums take one pass fewer. */
+    static const sam_pass passes[5] = {SAM_PASS_DEFORM, SAM_PASS_WALK, SAM_PASS_IRRADIANCE, SAM_PASS_TRANSLUCENCY,
+                                       SAM_PASS_NODES};
+    void *const no_user[2] = {NULL, NULL};
+    double tra[2], tra_gpu[2][SAM_PASS_COUNT];
+    frame_median_ms_pair(rt, frame_run_translucency, no_user, cfg->pass_runs, passes + 3, 2, tra, tra_gpu);
+    for (int r = 0; r < 2; ++r)
+        if (sam_runtime_set_deformers(rt[r], &frame_knot_bend, 1, &err) != SAM_OK)
+            frame_die("deformers", &err);
+    int frames[2] = {0, 0}; /* both maps see the same poses */
+    void *const frame_user[2] = {&frames[0], &frames[1]};
+    double ani[2], ani_gpu[2][SAM_PASS_COUNT];
+    frame_median_ms_pair(rt, run_animated_frame, frame_user, cfg->pass_runs, passes, 5, ani, ani_gpu);
+    const double ratio[CUT_RATIOS] = {
+        tra[0] / tra[1], timers ? ratio_or_zero(gpu_sum(tra_gpu[0], 2), gpu_sum(tra_gpu[1], 1)) : 0,
+        ani[0] / ani[1], timers ? ratio_or_zero(gpu_sum(ani_gpu[0], 5), gpu_sum(ani_gpu[1], 4)) : 0};
+    const double filled[2] = {filled_samples(&d[0]), filled_samples(&d[1])};
+    printf("%9u %8.1f s %6.1f s %7.2f %7.2f %10.3f ms %10.3f ms %6.2fx %10.1f ms %10.1f ms %6.2fx", nv, build_s[0],
+           build_s[1], filled[0], filled[1], tra[0], tra[1], ratio[CUT_TRANSLUCENCY], ani[0], ani[1],
+           ratio[CUT_ANIMATED]);
+    if (ratio[CUT_TRANSLUCENCY_GPU] > 0 || ratio[CUT_ANIMATED_GPU] > 0)
+        printf("   GPU %.2fx, %.2fx", ratio[CUT_TRANSLUCENCY_GPU], ratio[CUT_ANIMATED_GPU]);
+    printf("\n");
+    fprintf(json,
+            ", \"cut_build_s\": %.3f, \"cut_samples_per_vertex\": %u, \"cut_nodes\": %u, "
+            "\"cut_samples_filled_per_vertex\": %.3f, "
+            "\"flat_samples_filled_per_vertex\": %.3f, \"cut_translucency_ms\": %.4f, \"flat_translucency_ms\": "
+            "%.4f, \"translucency_ratio\": %.4f, ",
+            build_s[0], d[0].samples_per_vertex, d[0].node_count, filled[0], filled[1], tra[0], tra[1],
+            ratio[CUT_TRANSLUCENCY]);
+    frame_json_positive(json, "cut_nodes_gpu_ms", timers ? tra_gpu[0][1] : 0);
+    fprintf(json, ", ");
+    frame_json_positive(json, "cut_translucency_gpu_ms", timers ? tra_gpu[0][0] : 0);
+    fprintf(json, ", ");
+    frame_json_positive(json, "flat_translucency_gpu_ms", timers ? tra_gpu[1][0] : 0);
+    fprintf(json, ", ");
+    frame_json_positive(json, "translucency_gpu_ratio", ratio[CUT_TRANSLUCENCY_GPU]);
+    fprintf(json, ", \"cut_animated_frame_ms\": %.4f, \"flat_animated_frame_ms\": %.4f, \"animated_ratio\": %.4f, ",
+            ani[0], ani[1], ratio[CUT_ANIMATED]);
+    frame_json_positive(json, "cut_animated_frame_gpu_ms", timers ? gpu_sum(ani_gpu[0], 5) : 0);
+    fprintf(json, ", ");
+    frame_json_positive(json, "flat_animated_frame_gpu_ms", timers ? gpu_sum(ani_gpu[1], 4) : 0);
+    fprintf(json, ", ");
+    frame_json_positive(json, "animated_gpu_ratio", ratio[CUT_ANIMATED_GPU]);
+    fprintf(json, "}");
+    for (int k = 0; k < CUT_RATIOS; ++k)
+        sum->worst[k] = fmax(sum->worst[k], ratio[k]);
+    if (!sum->measured++)
+        sum->smallest = nv;
+    sum->largest = nv;
+    for (int r = 0; r < 2; ++r) {
+        sam_runtime_destroy(rt[r]);
+        samfile_free(&d[r]);
+    }
+    sam_mesh_destroy(&mesh);
+}
+
+/* One ratio's summary line against its target, and its JSON fields. */
+static void cut_verdict(const cut_summary *sum, int k, const char *key, const char *what, double target,
+                        double limit_s, int quick, FILE *json)
+{
+    const double worst = sum->worst[k];
+    const char *verdict = !(worst > 0) ? "NOT MEASURED" : worst <= target ? "PASS" : "MISS";
+    printf("cut against flat N = 3, %s: ", what);
+    if (worst > 0)
+        printf("worst %.2fx on knots of %u to %u vertices", worst, sum->smallest, sum->largest);
+    else if (sum->measured)
+        printf("no GL timer-query times (a CPU rasteriser times submission, not execution)");
+    else
+        printf("no knot measured");
+    printf("; target <= %.1f: %s", target, verdict);
+    if (sum->unbuilt)
+        printf(" (not measured at %s vertices: no cut map built within the %g s limit, or loaded by the GL)",
+               sum->unbuilt_list, limit_s);
+    printf("%s\n", quick ? " [--quick: not a measurement]" : "");
+    fprintf(json, ",\n    ");
+    frame_json_positive(json, key, worst);
+    fprintf(json, ", \"%s_target\": %.1f, \"%s_verdict\": \"%s\"", key, target, key, verdict);
+}
+
+/* The cut study on every knot of `cfg`, with its summary lines and the
+ * "cut_against_flat" JSON object. */
+void frame_cut_section(const frame_config *cfg, const sam_profile *skin, double limit_s, int timers, int quick,
+                        FILE *json)
+{
+    sam_build_settings defaults;
+    sam_build_default_settings(&defaults);
+    const uint32_t cut_n = sam_build_samples(&defaults);
+    defaults.map = SAM_BUILD_MAP_FLAT;
+    printf("\ncut map (N = %u) against flat map (N = %u), side by side, medians of %d: sam_runtime_translucency "
+           "(cut: node + translucency pass) and an animated frame (deform, walk, irradiance, node, translucency)\n",
+           cut_n, sam_build_samples(&defaults), cfg->pass_runs);
+    printf("%9s %10s %8s %15s %13s %13s %7s %13s %13s %7s\n", "vertices", "cut build", "flat", "filled cut/flat",
+           "cut transl.", "flat transl.", "ratio", "cut frame", "flat frame", "ratio");
+    fprintf(json, "  \"cut_against_flat\": {\n    \"build_limit_s\": %g, \"runs\": %d, \"knots\": [\n", limit_s,
+            cfg->pass_runs);
+    cut_summary sum;
+    memset(&sum, 0, sizeof sum);
+    for (int m = 0; m < cfg->mesh_count; ++m)
+        cut_study(cfg, m, skin, limit_s, timers, &sum, json);
+    fprintf(json, "\n    ]");
+    cut_verdict(&sum, CUT_TRANSLUCENCY, "translucency_ratio_worst",
+                "node + translucency pass / translucency pass (wall)", CUT_TRANSLUCENCY_TARGET, limit_s, quick, json);
+    cut_verdict(&sum, CUT_TRANSLUCENCY_GPU, "translucency_gpu_ratio_worst",
+                "node + translucency pass / translucency pass (GL timer queries)", CUT_TRANSLUCENCY_TARGET, limit_s,
+                quick, json);
+    cut_verdict(&sum, CUT_ANIMATED, "animated_ratio_worst",
+                "animated frame's deform + walk + irradiance + node + translucency (wall)", CUT_ANIMATED_TARGET,
+                limit_s, quick, json);
+    cut_verdict(&sum, CUT_ANIMATED_GPU, "animated_gpu_ratio_worst",
+                "animated frame's deform + walk + irradiance + node + translucency (GL timer queries)",
+                CUT_ANIMATED_TARGET, limit_s, quick, json);
+    fprintf(json, "\n  }\n");
+}
