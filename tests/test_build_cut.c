@@ -24,6 +24,7 @@
 typedef struct cut_fixture {
     sam_mesh mesh;
     sam_profile profile;
+    float mm_per_unit;
     sam_build_context *ctx;
     sam_build_result r;
 } cut_fixture;
@@ -32,6 +33,7 @@ static void build_cut(cut_fixture *f, const char *shape, int resolution, double 
                       const char *material, float mm_per_unit, uint32_t budget, int threads)
 {
     sam_test_shape_mesh(shape, resolution, size, thickness, 0, &f->mesh);
+    f->mm_per_unit = mm_per_unit;
     assert_int_equal(sam_profile_preset(material, &f->profile, NULL), SAM_OK);
     sam_build_settings s;
     sam_build_default_settings(&s);
@@ -54,12 +56,7 @@ static void destroy_cut(cut_fixture *f)
 /* Mean-RGB K summed over vertex o's cut. */
 static double cut_total(const sam_build_result *r, uint32_t o)
 {
-    double sum = 0;
-    const uint32_t n = r->samples_per_vertex;
-    for (uint32_t k = 0; k < n && r->sample[(size_t)o * n + k] != SAM_BUILD_NO_SAMPLE; ++k)
-        for (int c = 0; c < 3; ++c)
-            sum += r->k[3 * ((size_t)o * n + k) + c] / 3.0;
-    return sum;
+    return ((double)r->k_total[3 * (size_t)o] + r->k_total[3 * (size_t)o + 1] + r->k_total[3 * (size_t)o + 2]) / 3.0;
 }
 
 /* The cut carries the vertex's whole back-side transport: its K summed
@@ -148,12 +145,26 @@ static void test_uniform_slab_closed_form(void **state)
     }
 }
 
-/* Sums the Monte Carlo K of the back-side members of `id` (mean RGB) and
- * counts the members on either side. */
-static double member_k(const cut_fixture *f, uint32_t o, uint32_t id, uint32_t *back, uint32_t *front)
+/* Topo vertex t's position in mm. */
+static void topo_mm(const cut_fixture *f, uint32_t t, float out[3])
+{
+    for (int c = 0; c < 3; ++c)
+        out[c] = f->mesh.positions[3 * (size_t)f->mesh.topo_rep[t] + c] * f->mm_per_unit;
+}
+
+/* Sums the Monte Carlo K of the back-side members of `id` (mean RGB),
+ * counts the members on either side, and adds every member's fan area and
+ * area-weighted position (mm) to moment[4]. */
+static double member_k(const cut_fixture *f, uint32_t o, uint32_t id, uint32_t *back, uint32_t *front,
+                       double moment[4])
 {
     const uint32_t n = f->mesh.topo_count;
     if (id < n) {
+        float p[3];
+        topo_mm(f, id, p);
+        moment[0] += f->r.fan_area[id];
+        for (int c = 0; c < 3; ++c)
+            moment[1 + c] += (double)f->r.fan_area[id] * p[c];
         if (id == o || !sam_build_is_back_side(f->ctx, o, id)) {
             ++*front;
             return 0;
@@ -163,8 +174,26 @@ static double member_k(const cut_fixture *f, uint32_t o, uint32_t id, uint32_t *
         sam_build_form_factor(f->ctx, o, id, 64, 1, k, &e);
         return (k[0] + k[1] + k[2]) / 3.0;
     }
-    return member_k(f, o, f->r.node_children[2 * (size_t)(id - n)], back, front) +
-           member_k(f, o, f->r.node_children[2 * (size_t)(id - n) + 1], back, front);
+    return member_k(f, o, f->r.node_children[2 * (size_t)(id - n)], back, front, moment) +
+           member_k(f, o, f->r.node_children[2 * (size_t)(id - n) + 1], back, front, moment);
+}
+
+/* The K (mean RGB) a cut map stores for a sample of receiver o: eq. 15
+ * undone, K = K' F' R_d(d), with the node's area and centroid from its
+ * members' moment[4]. */
+static double stored_k(const cut_fixture *f, uint32_t o, const float kprime[3], const double moment[4])
+{
+    float p[3], rd[3], d2 = 0;
+    topo_mm(f, o, p);
+    for (int c = 0; c < 3; ++c) {
+        const float dc = (float)(moment[1 + c] / moment[0]) - p[c];
+        d2 += dc * dc;
+    }
+    sam_profile_eval(&f->profile, sqrtf(d2), rd);
+    double k = 0;
+    for (int c = 0; c < 3; ++c)
+        k += kprime[c] * moment[0] * rd[c] / 3.0;
+    return k;
 }
 
 /* A node's K is its back-side members' K and nothing else: on scans with
@@ -188,9 +217,9 @@ static void test_node_k_counts_only_back_side_members(void **state)
                 if (id < n)
                     continue;
                 uint32_t nb = 0, nf = 0;
-                brute += member_k(&f, o, id, &nb, &nf);
-                const float *kk = f.r.k + 3 * ((size_t)o * b + k);
-                stored += (kk[0] + kk[1] + kk[2]) / 3.0;
+                double moment[4] = {0, 0, 0, 0};
+                brute += member_k(&f, o, id, &nb, &nf, moment);
+                stored += stored_k(&f, o, f.r.kprime + 3 * ((size_t)o * b + k), moment);
                 nodes++;
                 straddling += nf > 0;
                 back += nb;
@@ -216,7 +245,8 @@ static void test_bit_identical_for_any_thread_count(void **state)
     const size_t n = (size_t)f[0].r.topo_count * f[0].r.samples_per_vertex;
     for (int t = 1; t < 3; ++t) {
         assert_memory_equal(f[t].r.sample, f[0].r.sample, n * sizeof *f[0].r.sample);
-        assert_memory_equal(f[t].r.k, f[0].r.k, 3 * n * sizeof *f[0].r.k);
+        assert_memory_equal(f[t].r.tau, f[0].r.tau, n * sizeof *f[0].r.tau);
+        assert_memory_equal(f[t].r.k_total, f[0].r.k_total, 3 * (size_t)f[0].r.topo_count * sizeof *f[0].r.k_total);
         assert_memory_equal(f[t].r.kprime, f[0].r.kprime, 3 * n * sizeof *f[0].r.kprime);
         assert_memory_equal(f[t].r.node_children, f[0].r.node_children,
                             2 * (size_t)f[0].r.node_count * sizeof *f[0].r.node_children);
@@ -261,6 +291,45 @@ static void test_samfile_versions(void **state)
     destroy_cut(&f);
 }
 
+/* The .sam's rows follow render vertices: on a mesh with UV seams every
+ * render copy of a topo vertex carries its samples, renumbered; the
+ * in-place assembly (sam_build_move_to_samfile) writes what the copying one
+ * does. */
+static void test_samfile_rows_follow_render_vertices(void **state)
+{
+    (void)state;
+    cut_fixture f;
+    build_cut(&f, "knot", 24, 0, 0, "marble", 40.0f, 8, 0);
+    const sam_mesh *m = &f.mesh;
+    assert_true(m->vertex_count > m->topo_count);
+    samfile_data d, moved;
+    sam_error err;
+    assert_int_equal(sam_build_to_samfile(f.ctx, &f.r, NULL, &d, &err), SAM_OK);
+    const uint32_t n = f.r.samples_per_vertex;
+    for (uint32_t v = 0; v < m->vertex_count; ++v)
+        for (uint32_t k = 0; k < n; ++k) {
+            const size_t at = (size_t)v * n + k, from = (size_t)m->topo_of[v] * n + k;
+            const uint32_t s = f.r.sample[from];
+            const uint32_t want = s == SAM_BUILD_NO_SAMPLE ? SAMFILE_NO_SAMPLE
+                                  : s < m->topo_count  ? m->topo_rep[s]
+                                                       : m->vertex_count + (s - m->topo_count);
+            assert_int_equal(d.sample_index[at], want);
+            assert_memory_equal(d.sample_kprime + 3 * at, f.r.kprime + 3 * from, 3 * sizeof(float));
+            assert_memory_equal(d.sample_tau + at, f.r.tau + from, sizeof(float));
+        }
+    assert_int_equal(sam_build_move_to_samfile(f.ctx, &f.r, NULL, &moved, &err), SAM_OK);
+    assert_null(f.r.sample);
+    assert_null(f.r.kprime);
+    assert_null(f.r.tau);
+    const size_t slots = (size_t)d.vertex_count * n;
+    assert_memory_equal(moved.sample_index, d.sample_index, slots * sizeof(uint32_t));
+    assert_memory_equal(moved.sample_kprime, d.sample_kprime, 3 * slots * sizeof(float));
+    assert_memory_equal(moved.sample_tau, d.sample_tau, slots * sizeof(float));
+    samfile_free(&moved);
+    samfile_free(&d);
+    destroy_cut(&f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -268,6 +337,7 @@ int main(void)
         cmocka_unit_test(test_uniform_slab_closed_form),
         cmocka_unit_test(test_node_k_counts_only_back_side_members),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
+        cmocka_unit_test(test_samfile_rows_follow_render_vertices),
         cmocka_unit_test(test_samfile_versions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

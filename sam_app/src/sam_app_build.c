@@ -84,22 +84,23 @@ static int load_mesh(const sam_app_build_job *job, const char *tool, sam_mesh *m
 }
 
 /* One line on what was written: samples per vertex used, vertices with none, time. */
-static void print_summary(const char *tool, const char *path, const sam_mesh *mesh, const sam_build_result *result)
+static void print_summary(const char *tool, const char *path, const samfile_data *data, const sam_build_result *result)
 {
     uint64_t used = 0, empty = 0;
-    for (uint32_t t = 0; t < result->topo_count; ++t) {
+    const uint32_t n = data->samples_per_vertex;
+    for (uint32_t v = 0; v < data->vertex_count; ++v) {
         uint32_t k = 0;
-        while (k < result->samples_per_vertex &&
-               result->sample[(size_t)t * result->samples_per_vertex + k] != SAM_BUILD_NO_SAMPLE)
+        while (k < n && data->sample_index[(size_t)v * n + k] != SAMFILE_NO_SAMPLE)
             ++k;
         used += k;
         empty += k == 0;
     }
+    const double vertices = data->vertex_count ? data->vertex_count : 1;
     fprintf(stderr,
             "%s: wrote %s: %u vertices, %.2f back-side samples per vertex (%.1f%% have none), "
             "%.2f s (%.2f us per vertex)\n",
-            tool, path, mesh->vertex_count, (double)used / result->topo_count,
-            100.0 * (double)empty / result->topo_count, result->seconds, 1e6 * result->seconds / result->topo_count);
+            tool, path, data->vertex_count, (double)used / vertices, 100.0 * (double)empty / vertices,
+            result->seconds, 1e6 * result->seconds / vertices);
 }
 
 int sam_app_build_run(const sam_app_build_job *job, const char *tool)
@@ -132,10 +133,10 @@ int sam_app_build_run(const sam_app_build_job *job, const char *tool)
     if (sam_build_run(ctx, sam_app_progress_update, &view, &result, &err) != SAM_OK)
         goto done;
     sam_build_source source = {job->mesh_path, sha};
-    if (sam_build_to_samfile(ctx, &result, &source, &data, &err) != SAM_OK ||
+    if (sam_build_move_to_samfile(ctx, &result, &source, &data, &err) != SAM_OK ||
         samfile_write(job->out_path, &data, &err) != SAM_OK)
         goto done;
-    print_summary(tool, job->out_path, &mesh, &result);
+    print_summary(tool, job->out_path, &data, &result);
     code = 0;
 done:
     if (code)

@@ -15,7 +15,7 @@ typedef struct cut_entry {
     int back;       /* 1: every member is on the back side; 0: some are not (K counts those that are) */
     float priority; /* back: area x the fall of mean R_d across it; mixed: area x R_d at its nearest point */
     float estimate; /* back: area x mean R_d at its centroid; mixed: 0 */
-    float k[3], k_error;
+    float k[3];
     float tau;      /* node_tau; 0 for a vertex */
 } cut_entry;
 
@@ -101,7 +101,7 @@ typedef struct cut_scratch {
     cut_entry *entry;                 /* N + 1 */
     float *points;                    /* 3 * mc_samples */
     uint32_t *ids;                    /* N */
-    float *k, *k_error, *centre;      /* 3N, N, 3N */
+    float *k, *centre;                /* 3N, 3N */
     sam_build_cut_k_scratch *k_scratch;
 } cut_scratch;
 
@@ -111,7 +111,6 @@ static void cut_scratch_free(cut_scratch *sc)
     free(sc->points);
     free(sc->ids);
     free(sc->k);
-    free(sc->k_error);
     free(sc->centre);
     sam_build_cut_k_scratch_destroy(sc->k_scratch);
 }
@@ -124,10 +123,9 @@ static int cut_scratch_alloc(const sam_build_context *ctx, cut_scratch *sc)
     sc->points = malloc((size_t)ctx->settings.mc_samples * 3 * sizeof *sc->points);
     sc->ids = malloc(n * sizeof *sc->ids);
     sc->k = malloc(3 * n * sizeof *sc->k);
-    sc->k_error = malloc(n * sizeof *sc->k_error);
     sc->centre = malloc(3 * n * sizeof *sc->centre);
     sc->k_scratch = sam_build_cut_k_scratch_create((uint32_t)n, (uint32_t)n * SAM_BUILD_CUT_OPENINGS);
-    if (sc->entry && sc->points && sc->ids && sc->k && sc->k_error && sc->centre && sc->k_scratch)
+    if (sc->entry && sc->points && sc->ids && sc->k && sc->centre && sc->k_scratch)
         return 1;
     cut_scratch_free(sc);
     return 0;
@@ -182,11 +180,12 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         for (uint32_t c = 0; c < kept; ++c)
             sc->ids[c] = e[c].id;
         sam_build_cut_k(ctx, tree, o, sc->points, sc->ids, kept, budget * SAM_BUILD_CUT_OPENINGS, sc->k_scratch, sc->k,
-                        sc->k_error, sc->centre);
+                        sc->centre);
     }
     for (uint32_t c = 0; c < kept; ++c) {
         memcpy(e[c].k, sc->k + 3 * (size_t)c, sizeof e[c].k);
-        e[c].k_error = sc->k_error[c];
+        for (int ch = 0; ch < 3; ++ch)
+            r->k_total[3 * (size_t)o + ch] += e[c].k[ch];
         if (e[c].id >= n)
             e[c].tau = node_tau(ctx, tree, e[c].id - n, sc->centre + 3 * (size_t)c);
     }
@@ -201,9 +200,7 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         const float area = id < n ? ctx->fan_area[id] : tree->node[id - n].area;
         size_t at = (size_t)o * budget + slot++;
         r->sample[at] = id;
-        r->k_error[at] = e[c].k_error;
         r->tau[at] = e[c].tau;
-        memcpy(r->k + 3 * at, e[c].k, sizeof e[c].k);
         sam_build_kprime(ctx, e[c].k, area, sam_build_distance(po, q), r->kprime + 3 * at);
     }
     return classified;
@@ -232,7 +229,7 @@ sam_status sam_build_run_cut(const sam_build_context *ctx, sam_build_progress_fn
 {
     double start = sam_seconds();
     sam_build_tree tree;
-    sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, result, err);
+    sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, 1, result, err);
     if (st != SAM_OK)
         return st;
     if ((st = sam_build_tree_create(ctx, &tree, err)) != SAM_OK || (st = keep_tree(&tree, result, err)) != SAM_OK) {

@@ -15,7 +15,7 @@ typedef struct part {
 
 /* A cut node's K accumulating. */
 typedef struct k_sum {
-    double k[3], var, centre[3];
+    double k[3], centre[3];
 } k_sum;
 
 struct sam_build_cut_k_scratch {
@@ -46,15 +46,14 @@ void sam_build_cut_k_scratch_destroy(sam_build_cut_k_scratch *s)
     free(s);
 }
 
-/* Adds a part of K `kv` at `at` (its standard error `error`). */
-static void k_add(k_sum *s, const float at[3], const float kv[3], float error)
+/* Adds a part of K `kv` at `at`. */
+static void k_add(k_sum *s, const float at[3], const float kv[3])
 {
     const double w = (double)kv[0] + kv[1] + kv[2];
     for (int c = 0; c < 3; ++c) {
         s->k[c] += kv[c];
         s->centre[c] += w * at[c];
     }
-    s->var += (double)error * error;
 }
 
 #define STRADDLE_SAMPLES 8u
@@ -92,7 +91,7 @@ static void straddle_estimate(const sam_build_context *ctx, const sam_build_tree
         sam_build_sample_fan(ctx, i, rng, q);
         sam_build_rd(ctx, sam_build_distance(points + 3 * (size_t)(j % ctx->settings.mc_samples), q), rd);
         const float kv[3] = {weight * rd[0], weight * rd[1], weight * rd[2]};
-        k_add(s, q, kv, 0.0f);
+        k_add(s, q, kv);
     }
 }
 
@@ -195,7 +194,7 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
         sam_build_rd(ctx, d, rd);
         for (int ch = 0; ch < 3; ++ch)
             kv[ch] = area * rd[ch];
-        k_add(s, q, kv, 0.0f);
+        k_add(s, q, kv);
         return;
     }
     const sam_build_node *node = &c->tree->node[id - n];
@@ -216,12 +215,12 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
     sam_build_rd(ctx, sam_build_distance(p, node->centroid), rd);
     for (int ch = 0; ch < 3; ++ch)
         kv[ch] = node->area * rd[ch];
-    k_add(s, node->centroid, kv, 0.0f);
+    k_add(s, node->centroid, kv);
 }
 
 void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, const float *points,
                      const uint32_t *ids, uint32_t count, uint32_t openings, sam_build_cut_k_scratch *scratch,
-                     float *k, float *k_error, float *centre)
+                     float *k, float *centre)
 {
     const uint32_t n = ctx->mesh->topo_count, m = ctx->settings.mc_samples;
     const float tol = ctx->settings.cut_tolerance, *p = ctx->pos + 3 * (size_t)o;
@@ -243,12 +242,12 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
     for (int ch = 0; ch < 3; ++ch)
         c.flat.floor[ch] = rough_area > 0 ? (float)(tol * rough[ch] / rough_area) : 0.0f;
     for (uint32_t e = 0; e < count; ++e) {
-        scratch->sum[e] = (k_sum){{0, 0, 0}, 0, {0, 0, 0}};
+        scratch->sum[e] = (k_sum){{0, 0, 0}, {0, 0, 0}};
         if (ids[e] < n) {
             /* A vertex of the cut: the fans' Monte Carlo, as in a flat map. */
             float kv[3], ev;
             sam_build_form_factor_from(ctx, o, points, ids[e], m, ctx->settings.seed, kv, &ev);
-            k_add(&scratch->sum[e], ctx->pos + 3 * (size_t)ids[e], kv, ev);
+            k_add(&scratch->sum[e], ctx->pos + 3 * (size_t)ids[e], kv);
         } else {
             part_take(&c, e, ids[e]);
         }
@@ -277,7 +276,7 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
              * budget is spent. */
             float kv[3], ev;
             sam_build_form_factor_from(ctx, o, points, at.id, open ? m : STRADDLE_SAMPLES, ctx->settings.seed, kv, &ev);
-            k_add(s, ctx->pos + 3 * (size_t)at.id, kv, ev);
+            k_add(s, ctx->pos + 3 * (size_t)at.id, kv);
         }
     }
     for (uint32_t e = 0; e < count; ++e) {
@@ -288,6 +287,5 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
             k[3 * (size_t)e + ch] = (float)s->k[ch];
             centre[3 * (size_t)e + ch] = total > 0 ? (float)(s->centre[ch] / total) : fallback[ch];
         }
-        k_error[e] = (float)sqrt(s->var);
     }
 }

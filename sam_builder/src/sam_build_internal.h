@@ -113,12 +113,12 @@ void sam_build_cut_k_scratch_destroy(sam_build_cut_k_scratch *s);
  * node, eq. 11 summed over its back-side members, opening at most
  * `openings` subnodes or near members across the whole cut, those whose R_d
  * falls most first. `points` are o's shared receiver points. Writes
- * k[3 * count], k_error[count] (standard error) and centre[3 * count] (the
+ * k[3 * count] and centre[3 * count] (the
  * K-weighted centre of what each part's light comes from, mm).
  * Deterministic: the same for any thread. */
 void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, const float *points,
                      const uint32_t *ids, uint32_t count, uint32_t openings, sam_build_cut_k_scratch *scratch,
-                     float *k, float *k_error, float *centre);
+                     float *k, float *centre);
 
 /* |b - a| of two points in mm, summed in the order every builder file used. */
 static inline float sam_build_distance(const float a[3], const float b[3])
@@ -137,8 +137,9 @@ sam_status sam_build_run_cut(const sam_build_context *ctx, sam_build_progress_fn
 
 /* ---- what the flat and cut builders share (sam_build_search.c) */
 
-/* Allocates a result of `stride` samples per vertex, all empty. */
-sam_status sam_build_result_alloc(const sam_build_context *ctx, uint32_t stride, sam_build_result *r,
+/* Allocates a result of `stride` samples per vertex, all empty: with k and
+ * k_error for a flat map, k_total for a cut map (`cut` non-zero). */
+sam_status sam_build_result_alloc(const sam_build_context *ctx, uint32_t stride, int cut, sam_build_result *r,
                                   sam_error *err);
 
 /* Progress and cancellation shared by the worker threads. */

@@ -37,14 +37,13 @@ static sam_status run_flat_scaled(const sam_build_context *ctx, sam_build_progre
         sam_build_result_destroy(result);
         return st;
     }
-    const uint32_t n = result->samples_per_vertex, b = cut.samples_per_vertex;
+    const uint32_t n = result->samples_per_vertex;
     for (size_t t = 0; t < result->topo_count; ++t)
         for (int c = 0; c < 3; ++c) {
-            double flat = 0, total = 0;
+            double flat = 0;
+            const double total = cut.k_total[3 * t + c];
             for (uint32_t k = 0; k < n; ++k)
                 flat += result->k[3 * (t * n + k) + c];
-            for (uint32_t k = 0; k < b; ++k)
-                total += cut.k[3 * (t * b + k) + c];
             if (!(flat > 0))
                 continue;
             const float scale = (float)(total / flat);

@@ -65,12 +65,72 @@ static uint32_t render_index(const sam_mesh *m, uint32_t s)
     return s < m->topo_count ? m->topo_rep[s] : m->vertex_count + (s - m->topo_count);
 }
 
-sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_result *r,
-                                const sam_build_source *source, samfile_data *out, sam_error *err)
+/* Where each topo row goes when rows become render-vertex rows in place:
+ * topo row t to its representative render vertex topo_rep[t], the other
+ * render copies' (still empty) rows onto the rest, so that `dest` is a
+ * permutation of [0, vertex_count). */
+static void row_destinations(const sam_mesh *m, uint32_t *dest, unsigned char *is_rep)
 {
-    memset(out, 0, sizeof *out);
+    memset(is_rep, 0, m->vertex_count);
+    for (uint32_t t = 0; t < m->topo_count; ++t) {
+        dest[t] = m->topo_rep[t];
+        is_rep[m->topo_rep[t]] = 1;
+    }
+    for (uint32_t v = 0, s = m->topo_count; v < m->vertex_count; ++v)
+        if (!is_rep[v])
+            dest[s++] = v;
+}
+
+/* Grows *rows from topo_count to vertex_count rows of `row` bytes and puts
+ * them in render order in place (row v = topo row topo_of[v]): the rows
+ * follow `dest` cycle by cycle, then each copy takes its representative's
+ * row. One array of the whole map's samples is never held twice, which is
+ * what keeps a large build's peak memory near the map's own size.
+ * `moved` (vertex_count bytes) and tmp (2 * row bytes) are scratch.
+ * Returns 0, with *rows unchanged, when out of memory. */
+static int rows_to_render_order(const sam_mesh *m, const uint32_t *dest, unsigned char *moved, unsigned char *tmp,
+                                size_t row, void **rows)
+{
+    const size_t nv = m->vertex_count;
+    unsigned char *a = realloc(*rows, (nv ? nv : 1) * row);
+    if (!a)
+        return 0;
+    *rows = a;
+    unsigned char *carry = tmp, *spare = tmp + row;
+    memset(moved, 0, nv);
+    for (size_t s = 0; s < nv; ++s) {
+        if (moved[s])
+            continue;
+        memcpy(carry, a + s * row, row);
+        for (size_t at = s;;) {
+            const size_t to = dest[at];
+            moved[at] = 1;
+            if (to == s) {
+                memcpy(a + s * row, carry, row);
+                break;
+            }
+            memcpy(spare, a + to * row, row);
+            memcpy(a + to * row, carry, row);
+            unsigned char *swap = carry;
+            carry = spare, spare = swap;
+            at = to;
+        }
+    }
+    for (size_t v = 0; v < nv; ++v) {
+        const uint32_t rep = m->topo_rep[m->topo_of[v]];
+        if (rep != v)
+            memcpy(a + v * row, a + (size_t)rep * row, row);
+    }
+    return 1;
+}
+
+/* The mesh, adjacency, tree and INFO of the .sam: everything but the
+ * per-sample arrays. */
+static sam_status fill_mesh_part(const sam_build_context *ctx, const sam_build_result *r,
+                                 const sam_build_source *source, samfile_data *out, sam_error *err)
+{
     const sam_mesh *m = ctx->mesh;
-    const size_t nv = m->vertex_count, nt = m->triangle_count, n = r->samples_per_vertex;
+    const size_t nv = m->vertex_count, nt = m->triangle_count;
     /* Every render copy carries its topo vertex's whole ring. */
     size_t adjacency = 0;
     for (size_t v = 0; v < nv; ++v) {
@@ -82,13 +142,11 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
                         adjacency);
     out->vertex_count = (uint32_t)nv;
     out->triangle_count = (uint32_t)nt;
-    out->samples_per_vertex = (uint32_t)n;
+    out->samples_per_vertex = r->samples_per_vertex;
     out->positions = malloc(nv * 3 * sizeof(float));
     out->normals = malloc(nv * 3 * sizeof(float));
     out->uvs = m->uvs ? malloc(nv * 2 * sizeof(float)) : NULL;
     out->triangles = malloc(nt * 3 * sizeof(uint32_t));
-    out->sample_index = malloc(nv * n * sizeof(uint32_t));
-    out->sample_kprime = malloc(nv * n * 3 * sizeof(float));
     out->fan_area = malloc(nv * sizeof(float));
     out->adjacency_offsets = malloc((nv + 1) * sizeof(uint32_t));
     out->adjacency_count = (uint32_t)adjacency;
@@ -98,17 +156,14 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
         out->level_count = r->level_count;
         out->node_children = malloc((size_t)r->node_count * 2 * sizeof(uint32_t));
         out->level_offsets = malloc(((size_t)r->level_count + 1) * sizeof(uint32_t));
-        out->sample_tau = malloc(nv * n * sizeof(float));
     }
     cJSON *info = info_json(ctx, r, source);
     out->info_json = info ? cJSON_PrintUnformatted(info) : NULL;
     cJSON_Delete(info);
-    if (!out->positions || !out->normals || (m->uvs && !out->uvs) || !out->triangles || !out->sample_index ||
-        !out->sample_kprime || !out->fan_area || !out->adjacency_offsets || !out->adjacency || !out->info_json ||
-        (r->node_count && (!out->node_children || !out->level_offsets || !out->sample_tau))) {
-        samfile_free(out);
+    if (!out->positions || !out->normals || (m->uvs && !out->uvs) || !out->triangles || !out->fan_area ||
+        !out->adjacency_offsets || !out->adjacency || !out->info_json ||
+        (r->node_count && (!out->node_children || !out->level_offsets)))
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory assembling the .sam of %zu vertices", nv);
-    }
     memcpy(out->positions, m->positions, nv * 3 * sizeof(float));
     memcpy(out->normals, m->normals, nv * 3 * sizeof(float));
     if (m->uvs)
@@ -117,12 +172,6 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
     size_t a = 0;
     for (size_t v = 0; v < nv; ++v) {
         uint32_t t = m->topo_of[v];
-        for (size_t k = 0; k < n; ++k) {
-            out->sample_index[v * n + k] = render_index(m, r->sample[(size_t)t * n + k]);
-            memcpy(out->sample_kprime + 3 * (v * n + k), r->kprime + 3 * ((size_t)t * n + k), 3 * sizeof(float));
-            if (r->node_count)
-                out->sample_tau[v * n + k] = r->tau[(size_t)t * n + k];
-        }
         out->fan_area[v] = r->fan_area[t];
         out->adjacency_offsets[v] = (uint32_t)a;
         for (uint32_t k = m->ring_offsets[t]; k < m->ring_offsets[t + 1]; ++k)
@@ -134,6 +183,69 @@ sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_re
     if (r->node_count)
         memcpy(out->level_offsets, r->level_offsets, ((size_t)r->level_count + 1) * sizeof(uint32_t));
     return SAM_OK;
+}
+
+sam_status sam_build_move_to_samfile(const sam_build_context *ctx, sam_build_result *r,
+                                     const sam_build_source *source, samfile_data *out, sam_error *err)
+{
+    memset(out, 0, sizeof *out);
+    const sam_mesh *m = ctx->mesh;
+    const size_t nv = m->vertex_count, n = r->samples_per_vertex;
+    sam_status st = fill_mesh_part(ctx, r, source, out, err);
+    uint32_t *dest = malloc((nv ? nv : 1) * sizeof *dest);
+    unsigned char *scratch = malloc(nv + 2 * 3 * n * sizeof(float) + 1);
+    if (st == SAM_OK && (!dest || !scratch))
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory assembling the .sam of %zu vertices", nv);
+    if (st == SAM_OK) {
+        row_destinations(m, dest, scratch);
+        unsigned char *tmp = scratch + nv;
+        if (!rows_to_render_order(m, dest, scratch, tmp, n * sizeof *r->sample, (void **)&r->sample) ||
+            !rows_to_render_order(m, dest, scratch, tmp, 3 * n * sizeof *r->kprime, (void **)&r->kprime) ||
+            (r->tau && !rows_to_render_order(m, dest, scratch, tmp, n * sizeof *r->tau, (void **)&r->tau)))
+            st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory assembling the .sam of %zu vertices",
+                          nv);
+    }
+    free(dest);
+    free(scratch);
+    if (st == SAM_OK) {
+        for (size_t i = 0; i < nv * n; ++i)
+            r->sample[i] = render_index(m, r->sample[i]);
+        out->sample_index = r->sample;
+        out->sample_kprime = r->kprime;
+        out->sample_tau = r->tau;
+    } else {
+        samfile_free(out);
+        free(r->sample);
+        free(r->kprime);
+        free(r->tau);
+    }
+    r->sample = NULL;
+    r->kprime = NULL;
+    r->tau = NULL;
+    return st;
+}
+
+sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_result *r,
+                                const sam_build_source *source, samfile_data *out, sam_error *err)
+{
+    const size_t slots = (size_t)r->topo_count * r->samples_per_vertex;
+    sam_build_result copy = *r;
+    copy.sample = malloc((slots ? slots : 1) * sizeof *copy.sample);
+    copy.kprime = malloc((slots ? slots : 1) * 3 * sizeof *copy.kprime);
+    copy.tau = r->tau ? malloc((slots ? slots : 1) * sizeof *copy.tau) : NULL;
+    if (!copy.sample || !copy.kprime || (r->tau && !copy.tau)) {
+        free(copy.sample);
+        free(copy.kprime);
+        free(copy.tau);
+        memset(out, 0, sizeof *out);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory assembling the .sam of %u vertices",
+                        ctx->mesh->vertex_count);
+    }
+    memcpy(copy.sample, r->sample, slots * sizeof *copy.sample);
+    memcpy(copy.kprime, r->kprime, slots * 3 * sizeof *copy.kprime);
+    if (r->tau)
+        memcpy(copy.tau, r->tau, slots * sizeof *copy.tau);
+    return sam_build_move_to_samfile(ctx, &copy, source, out, err);
 }
 
 sam_status sam_build_samfile(const sam_mesh *mesh, const sam_profile *profile, float mm_per_unit,
@@ -154,7 +266,7 @@ sam_status sam_build_samfile(const sam_mesh *mesh, const sam_profile *profile, f
     sam_build_result result;
     st = sam_build_run(ctx, progress, user, &result, err);
     if (st == SAM_OK) {
-        st = sam_build_to_samfile(ctx, &result, source, out, err);
+        st = sam_build_move_to_samfile(ctx, &result, source, out, err);
         if (seconds)
             *seconds = result.seconds;
         sam_build_result_destroy(&result);

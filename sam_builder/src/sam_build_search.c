@@ -11,7 +11,7 @@
 
 #include "sam_build_internal.h"
 
-sam_status sam_build_result_alloc(const sam_build_context *ctx, uint32_t stride, sam_build_result *r,
+sam_status sam_build_result_alloc(const sam_build_context *ctx, uint32_t stride, int cut, sam_build_result *r,
                                   sam_error *err)
 {
     memset(r, 0, sizeof *r);
@@ -19,11 +19,15 @@ sam_status sam_build_result_alloc(const sam_build_context *ctx, uint32_t stride,
     r->topo_count = (uint32_t)n;
     r->samples_per_vertex = (uint32_t)s;
     r->sample = malloc(n * s * sizeof *r->sample);
-    r->k = calloc(n * s * 3, sizeof *r->k);
-    r->k_error = calloc(n * s, sizeof *r->k_error);
+    if (cut) {
+        r->k_total = calloc(n * 3, sizeof *r->k_total);
+    } else {
+        r->k = calloc(n * s * 3, sizeof *r->k);
+        r->k_error = calloc(n * s, sizeof *r->k_error);
+    }
     r->kprime = calloc(n * s * 3, sizeof *r->kprime);
     r->fan_area = malloc(n * sizeof *r->fan_area);
-    if (!r->sample || !r->k || !r->k_error || !r->kprime || !r->fan_area) {
+    if (!r->sample || (cut ? !r->k_total : !r->k || !r->k_error) || !r->kprime || !r->fan_area) {
         sam_build_result_destroy(r);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for the results of %zu vertices", n);
     }
@@ -41,6 +45,7 @@ void sam_build_result_destroy(sam_build_result *r)
     free(r->sample);
     free(r->k);
     free(r->k_error);
+    free(r->k_total);
     free(r->kprime);
     free(r->fan_area);
     free(r->node_children);
@@ -514,7 +519,7 @@ sam_status sam_build_run_flat(const sam_build_context *ctx, sam_build_progress_f
                               sam_build_result *result, sam_error *err)
 {
     double start = sam_seconds();
-    sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, result, err);
+    sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, 0, result, err);
     if (st != SAM_OK)
         return st;
     cluster_set clusters;
@@ -574,7 +579,7 @@ sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_
                                sam_build_result *result, sam_error *err)
 {
     double start = sam_seconds();
-    sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, result, err);
+    sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, 0, result, err);
     if (st != SAM_OK)
         return st;
     return search_vertices(ctx, search_all, NULL, ctx->mesh->topo_count, 16, "reference build", progress, user,

@@ -86,8 +86,12 @@ typedef struct sam_build_result {
     uint32_t topo_count;
     uint32_t samples_per_vertex;
     uint32_t *sample;    /* topo_count * N: topo vertex, topo_count + node, or SAM_BUILD_NO_SAMPLE */
-    float *k;            /* topo_count * N * 3: Monte Carlo K (RGB), 0 for no sample */
-    float *k_error;      /* topo_count * N: standard error of the mean-RGB K estimate */
+    float *k;            /* flat maps: topo_count * N * 3: Monte Carlo K (RGB), 0 for no sample; NULL in a
+                          * cut map, whose samples' K lives only in kprime (memory: see k_total) */
+    float *k_error;      /* flat maps: topo_count * N: standard error of the mean-RGB K estimate; NULL in a
+                          * cut map */
+    float *k_total;      /* cut maps: topo_count * 3: K (RGB) summed over the vertex's cut, its whole
+                          * back-side transport; NULL in a flat map */
     float *kprime;       /* topo_count * N * 3: K' of eq. 15 */
     float *fan_area;     /* topo_count: reduced fan area in mm^2 */
     /* The cluster tree of a cut map (node_count 0 and NULL arrays in a flat
@@ -154,9 +158,9 @@ int sam_build_is_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i)
 sam_status sam_build_run(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
                          sam_build_result *result, sam_error *err);
 
-/* The O(m^2) reference of the flat map: Monte Carlo for every back-side
- * vertex of every vertex, keep the best N. For tests and benchmarks on
- * small meshes. */
+/* Testing aid. The O(m^2) reference of the flat map: Monte Carlo for every
+ * back-side vertex of every vertex, keep the best N, for tests and
+ * benchmarks on small meshes. */
 sam_status sam_build_reference(const sam_build_context *ctx, sam_build_progress_fn progress, void *user,
                                sam_build_result *result, sam_error *err);
 
@@ -176,6 +180,14 @@ typedef struct sam_build_source {
  * Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_build_to_samfile(const sam_build_context *ctx, const sam_build_result *result,
                                 const sam_build_source *source, samfile_data *out, sam_error *err);
+
+/* sam_build_to_samfile without a second copy of the samples: the result's
+ * sample, kprime and tau arrays become the .sam's (grown to render
+ * vertices and renumbered in place), so a large map is never held twice.
+ * On return, success or not, those three are NULL in `result` (the rest of
+ * it stays, for sam_build_result_destroy). Errors: as sam_build_to_samfile. */
+sam_status sam_build_move_to_samfile(const sam_build_context *ctx, sam_build_result *result,
+                                     const sam_build_source *source, samfile_data *out, sam_error *err);
 
 /* Context, fast build and .sam assembly in one call, for callers that need
  * no intermediate result. `settings` may be NULL (defaults); `source`,

@@ -91,8 +91,8 @@ void sam_thickness_default_settings(sam_thickness_settings *settings);
  * so the rule averages anything linear in cos^2 theta exactly; strata
  * evenly spaced azimuths per ring, each ring turned by the golden fraction
  * of a step from the last, so no spoke lines up with another or with the
- * frame's axes. strata outside 1..32 writes nothing. For tests that
- * predict t. */
+ * frame's axes. strata outside 1..32 writes nothing. Testing aid, for
+ * tests that predict t. */
 void sam_thickness_directions(uint32_t strata, float *xyz);
 
 /* Local thickness in mm of every vertex of `surface` into `thickness_mm`
