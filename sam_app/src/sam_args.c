@@ -6,11 +6,7 @@
 
 #include "sam/sam_args.h"
 #include "sam/sam_common.h"
-
-const char *sam_args_version(void)
-{
-    return SAM_VERSION_STRING;
-}
+#include "sam/sam_version.h"
 
 int sam_args_fail(const char *tool, const char *fmt, ...)
 {
@@ -123,7 +119,7 @@ int sam_args_parse(const sam_args_spec *spec, int argc, char **argv)
             return SAM_ARGS_EXIT;
         }
         if (is_option && !strcmp(text, "--version")) {
-            printf("%s %s\n", tool, sam_args_version());
+            printf("%s %s\n", tool, sam_version());
             return SAM_ARGS_EXIT;
         }
         if (!is_option) {

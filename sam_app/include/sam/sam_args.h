@@ -98,9 +98,6 @@ int sam_args_fail(const char *tool, const char *fmt, ...)
  * and `h`. Returns 0, writing nothing, on anything else. */
 int sam_args_size(const char *text, uint32_t *w, uint32_t *h);
 
-/* The project's version ("0.1.0"). */
-const char *sam_args_version(void);
-
 #ifdef __cplusplus
 }
 #endif

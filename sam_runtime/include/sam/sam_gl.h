@@ -64,11 +64,11 @@ void sam_gl_context_destroy(sam_gl_context *ctx);
 /* Renderer, version and limits of a live context. */
 const sam_gl_info *sam_gl_context_info(const sam_gl_context *ctx);
 
-/* Number of embedded shader files and their names (for --help and tests). */
+/* Testing aid. Number of embedded shader files and their names. */
 size_t sam_gl_shader_file_count(void);
 const char *sam_gl_shader_file_name(size_t index);
 
-/* The full text of embedded file `name` after include expansion, with
+/* Testing aid. The full text of embedded file `name` after include expansion, with
  * #line directives, as GL will see it; `defines` (may be NULL) is inserted
  * after the #version line. Caller frees. Errors: SAM_ERR_INVALID_ARGUMENT
  * (unknown file, include cycle, malformed include: naming file and line). */
@@ -82,8 +82,8 @@ sam_status sam_gl_compute_program(const char *name, const char *defines, GLuint 
 sam_status sam_gl_render_program(const char *vertex, const char *fragment, const char *defines, GLuint *program,
                                  sam_error *err);
 
-/* Compiles a program from source text given directly (tests): `file_name`
- * is used in messages. */
+/* Testing aid. Compiles a program from source text given directly:
+ * `file_name` is used in messages. */
 sam_status sam_gl_compute_program_from_text(const char *file_name, const char *text, GLuint *program,
                                             sam_error *err);
 

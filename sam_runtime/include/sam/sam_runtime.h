@@ -32,6 +32,8 @@
  *
  * Results stay on the GPU between the steps; the read-back functions
  * (sam_runtime_read_*) exist for tests and tools and wait for the GPU.
+ * Calls whose contract starts "Testing aid" are for tests, tools and
+ * debugging: an engine embedding SAM never needs them.
  *
  * sam_runtime_create uploads a .sam (samfile_data) as shader-storage
  * buffers laid out for the GPU (std430), at the binding points that
@@ -202,20 +204,20 @@ typedef enum sam_posed_k {
  * Errors: SAM_ERR_INVALID_ARGUMENT (an unknown mode). */
 sam_status sam_runtime_set_posed_k(sam_runtime *rt, sam_posed_k mode, sam_error *err);
 
-/* Reads the samples buffer: `index` (vertex_count * n, n =
+/* Testing aid. Reads the samples buffer: `index` (vertex_count * n, n =
  * sam_runtime_samples_per_vertex) the back-side vertex of each sample (or
  * vertex_count + node for a cut map's tree node),
  * SAMFILE_NO_SAMPLE for an empty slot, and `kprime` (vertex_count * n * 3)
  * its K'. For tests and tools. Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_read_samples(sam_runtime *rt, uint32_t *index, float *kprime, sam_error *err);
 
-/* Reads the current positions (model units) or unit normals (3 *
+/* Testing aid. Reads the current positions (model units) or unit normals (3 *
  * vertex_count floats), or the fan areas (vertex_count floats, mm^2).
  * Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_read_positions(sam_runtime *rt, float *xyz, sam_error *err);
 sam_status sam_runtime_read_normals(sam_runtime *rt, float *xyz, sam_error *err);
 sam_status sam_runtime_read_fan_areas(sam_runtime *rt, float *mm2, sam_error *err);
-/* The mean curvature pre-integrated shading reads, 1/mm per vertex
+/* Testing aid. The mean curvature pre-integrated shading reads, 1/mm per vertex
  * (vertex_count floats): sam_mesh_ring_curvature of the .sam's positions and
  * normals at rest, of the pose's (computed on the GPU) once deformed. */
 sam_status sam_runtime_read_curvature(sam_runtime *rt, float *per_mm, sam_error *err);
@@ -432,8 +434,8 @@ typedef enum sam_atlas_map {
     SAM_ATLAS_STRETCH = 1,    /* mm of surface per texel along u (r) and v (g) */
     SAM_ATLAS_DIFFUSED = 2    /* the weighted sum of the levels */
 } sam_atlas_map;
-/* Errors: SAM_ERR_INVALID_ARGUMENT (no texture-space render yet, or an
- * unknown map), SAM_ERR_OUT_OF_MEMORY. */
+/* Testing aid. Errors: SAM_ERR_INVALID_ARGUMENT (no texture-space render
+ * yet, or an unknown map), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_read_atlas(sam_runtime *rt, sam_atlas_map map, sam_image *out, sam_error *err);
 
 /* The object's bounding sphere in model units, around the box of the
@@ -443,7 +445,7 @@ void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius);
 /* Reads L_d or T back (3 * vertex_count floats). */
 sam_status sam_runtime_read_irradiance(sam_runtime *rt, float *rgb, sam_error *err);
 sam_status sam_runtime_read_translucency(sam_runtime *rt, float *rgb, sam_error *err);
-/* The THICKNESS technique's T as its last render left it (3 * vertex_count
+/* Testing aid. The THICKNESS technique's T as its last render left it (3 * vertex_count
  * floats; its own buffer: SAM's T stays as sam_runtime_translucency left
  * it). Errors: SAM_ERR_INVALID_ARGUMENT (no thickness given),
  * SAM_ERR_OUT_OF_MEMORY. */
