@@ -696,6 +696,38 @@ static void test_inside_out_mesh_is_turned(void **state)
     sam_mesh_destroy(&sheet);
 }
 
+/* render_of_source follows the input's vertices: a clean input keeps its
+ * order, a vertex no triangle uses is dropped, and two identical vertices
+ * become one. */
+static void test_render_of_source(void **state)
+{
+    (void)state;
+    /* A quad of 4 corners, an unused vertex 4, and vertex 5 a copy of 2. */
+    static const float pos[6 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 5, 5, 5, 1, 1, 0};
+    static const uint32_t tri[6] = {0, 1, 2, 0, 5, 3};
+    sam_mesh_input in = {.name = "quad", .vertex_count = 6, .positions = pos, .triangle_count = 2,
+                         .triangles = tri};
+    sam_mesh m;
+    sam_error err;
+    assert_int_equal(sam_mesh_create(&in, &m, NULL, &err), SAM_OK);
+    assert_int_equal(m.source_count, 6);
+    assert_int_equal(m.vertex_count, 4);
+    for (uint32_t s = 0; s < 4; ++s)
+        assert_int_equal(m.render_of_source[s], s);
+    assert_int_equal(m.render_of_source[4], SAM_MESH_DROPPED);
+    assert_int_equal(m.render_of_source[5], 2);
+    sam_mesh_destroy(&m);
+    /* A file's vertices: the OBJ's own order, its unused vertex dropped. */
+    char path[512];
+    write_tmp(path, sizeof path, "source_order.obj", "v 0 0 0\nv 9 9 9\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 3 4\nf 1 4 5\n");
+    if (sam_mesh_load(path, &m, NULL, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    static const uint32_t want[5] = {0, SAM_MESH_DROPPED, 1, 2, 3};
+    assert_int_equal(m.source_count, 5);
+    assert_memory_equal(m.render_of_source, want, sizeof want);
+    sam_mesh_destroy(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -711,6 +743,7 @@ int main(void)
         cmocka_unit_test(test_create_rejects_bad_arrays),
         cmocka_unit_test(test_truncated_prefixes),
         cmocka_unit_test(test_body_counts_are_checked),
+        cmocka_unit_test(test_render_of_source),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -28,6 +28,7 @@ typedef struct tetra {
     uint32_t adjv[12];
     uint32_t children[6], levels[3];
     float tau[8];
+    uint32_t srcv[6];
     samfile_data d;
 } tetra;
 
@@ -97,6 +98,16 @@ static void add_tree(tetra *t)
     t->d.level_count = 2;
     t->d.level_offsets = t->levels;
     t->d.sample_tau = t->tau;
+}
+
+/* Gives t the SRCV chunk of a source mesh of 6 vertices: one that no
+ * triangle kept, and two that became the same vertex. */
+static void add_sources(tetra *t)
+{
+    static const uint32_t srcv[6] = {0, 1, PAD, 2, 3, 1};
+    memcpy(t->srcv, srcv, sizeof srcv);
+    t->d.source_vertex_count = 6;
+    t->d.source_to_vertex = t->srcv;
 }
 
 /* ---- an encoder written independently of the module, to build any file ---- */
@@ -177,6 +188,8 @@ static void list_from_data(const samfile_data *d, chunk_list *l)
         add_u32s(l, "NLVL", d->level_offsets, (size_t)d->level_count + 1);
         add_f32s(l, "STAU", d->sample_tau, n * vc);
     }
+    if (d->source_to_vertex)
+        add_u32s(l, "SRCV", d->source_to_vertex, d->source_vertex_count);
 }
 
 static size_t find_chunk(const chunk_list *l, const char *tag)
@@ -298,6 +311,10 @@ static void expect_same_data(const samfile_data *a, const samfile_data *b)
     assert_memory_equal(a->fan_area, b->fan_area, 4 * vc);
     assert_memory_equal(a->adjacency_offsets, b->adjacency_offsets, 4 * (vc + 1));
     assert_memory_equal(a->adjacency, b->adjacency, 4 * (size_t)a->adjacency_count);
+    assert_int_equal(a->source_vertex_count, b->source_vertex_count);
+    assert_int_equal(a->source_to_vertex == NULL, b->source_to_vertex == NULL);
+    if (a->source_to_vertex)
+        assert_memory_equal(a->source_to_vertex, b->source_to_vertex, 4 * (size_t)a->source_vertex_count);
 }
 
 static bytes load(const char *path)
@@ -936,12 +953,14 @@ static void test_read_errors_name_the_file(void **state)
 static void test_fuzz_seeds_match_writer(void **state)
 {
     (void)state;
-    static const char *seeds[3] = {"tetra.sam", "tetra_uv.sam", "tetra_tree.sam"};
-    for (int kind = 0; kind < 3; ++kind) {
+    static const char *seeds[4] = {"tetra.sam", "tetra_uv.sam", "tetra_tree.sam", "tetra_sources.sam"};
+    for (int kind = 0; kind < 4; ++kind) {
         tetra t;
         make_tetra(&t, kind == 1);
-        if (kind == 2)
+        if (kind >= 2)
             add_tree(&t);
+        if (kind == 3)
+            add_sources(&t);
         char seed[512], path[512];
         snprintf(seed, sizeof seed, "%s/fuzz/corpus/samfile/%s", SAM_SOURCE_DIR, seeds[kind]);
         snprintf(path, sizeof path, "%s/samfile_seed_%s", SAM_TEST_TMP_DIR, seeds[kind]);
@@ -952,6 +971,54 @@ static void test_fuzz_seeds_match_writer(void **state)
         free(want.p);
         free(have.p);
     }
+}
+
+/* SRCV, the source mesh's vertex order: a round trip in either version, a
+ * reader's checks, and a file without it still loads. */
+static void test_source_vertices(void **state)
+{
+    (void)state;
+    for (int tree = 0; tree < 2; ++tree) {
+        tetra t;
+        make_tetra(&t, 1);
+        if (tree)
+            add_tree(&t);
+        add_sources(&t);
+        bytes b = encode_data(&t.d);
+        samfile_data d;
+        sam_error err;
+        if (samfile_read_memory(b.p, b.n, "t.sam", &d, &err) != SAM_OK)
+            fail_msg("%s", err.message);
+        expect_same_data(&t.d, &d);
+        assert_int_equal(d.unknown_chunk_count, 0);
+        samfile_free(&d);
+        free(b.p);
+    }
+    tetra t;
+    make_tetra(&t, 0);
+    add_sources(&t);
+    sam_error err;
+    t.srcv[4] = 9;
+    assert_int_equal(samfile_validate(&t.d, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "chunk SRCV: source vertex 4 became vertex 9, out of range (vertex_count 4)"));
+    bytes b = encode_data(&t.d);
+    expect_read_error(&b, SAM_ERR_CORRUPT, "t.sam: chunk SRCV: source vertex 4 became vertex 9");
+    free(b.p);
+    t.srcv[4] = 3;
+    chunk_list l;
+    list_from_data(&t.d, &l);
+    replace_payload(&l, "SRCV", NULL, 0);
+    b = encode(&l, NULL);
+    expect_read_error(&b, SAM_ERR_CORRUPT, "t.sam: chunk SRCV: no source vertices");
+    free(b.p);
+    replace_payload(&l, "SRCV", "abc", 3);
+    b = encode(&l, NULL);
+    expect_read_error(&b, SAM_ERR_FORMAT, "t.sam: chunk SRCV: payload of 3 bytes is not a multiple of 4");
+    free(b.p);
+    free_list(&l);
+    t.d.source_to_vertex = NULL;
+    assert_int_equal(samfile_validate(&t.d, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "chunk SRCV: array is NULL"));
 }
 
 /* A cut map's tree: round trip, and each rule of samfile.h broken once. */
@@ -1049,6 +1116,7 @@ int main(void)
         cmocka_unit_test(test_round_trip_with_uv),
         cmocka_unit_test(test_on_disk_layout),
         cmocka_unit_test(test_tree_rules),
+        cmocka_unit_test(test_source_vertices),
         cmocka_unit_test(test_every_truncated_prefix_fails),
         cmocka_unit_test(test_every_single_byte_flip_fails),
         cmocka_unit_test(test_header_errors),

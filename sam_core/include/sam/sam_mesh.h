@@ -55,7 +55,17 @@ typedef struct sam_mesh {
     float *topo_normals;       /* 3 * topo_count: area-weighted geometric normals, unit */
     uint32_t *ring_offsets;    /* topo_count + 1 offsets into ring */
     uint32_t *ring;            /* topo vertex indices in fan order (see overview) */
+
+    /* The input's vertices (a file's, or sam_mesh_input's): which render
+     * vertex each became (its first kept corner's), or SAM_MESH_DROPPED
+     * when no kept triangle uses it. An engine that loaded the same asset
+     * in the same vertex order finds its vertices here (samfile.h SRCV). */
+    uint32_t source_count;
+    uint32_t *render_of_source; /* source_count */
 } sam_mesh;
+
+/* render_of_source of an input vertex that no kept triangle uses. */
+#define SAM_MESH_DROPPED 0xFFFFFFFFu
 
 typedef struct sam_mesh_report {
     uint32_t file_vertices;              /* vertices in the file */

@@ -21,7 +21,8 @@
  *   zero padding to a multiple of 8, u32 CRC-32 (zlib) of the payload, u32 0.
  * Required tags: INFO (JSON), POS , NRM , TRI , SIDX, SKPR, FANA, ADJO, ADJV,
  * and in version 2 NODE, NLVL and STAU (which version 1 must not have);
- * optional: UV  . Unknown tags are skipped and counted; a duplicated tag is
+ * optional: UV   and SRCV (either version; a reader that predates SRCV
+ * skips it as unknown, and loses only the engine's vertex order). Unknown tags are skipped and counted; a duplicated tag is
  * an error. The writer emits the chunks in the order of samfile_data below,
  * so reading a file and writing it again gives the same bytes (less any
  * unknown chunks, which are not kept).
@@ -99,6 +100,13 @@ typedef struct samfile_data {
     float *sample_tau;            /* STAU: n*vc, per sample: where its light comes from along the node's
                                    * split, in [-1, 1]; the sample reads L_d + tau (L_d(child 1) -
                                    * L_d(child 0)); 0 for a vertex or a pad */
+    /* SRCV, optional: the vertices of the mesh the map was built from, in
+     * that mesh's order (a file's or an engine's vertex arrays), and which
+     * vertex of this file each became (sam_mesh.render_of_source), or
+     * SAMFILE_NO_SAMPLE for one no triangle kept. It lets an engine with its
+     * own vertex buffers feed and read the runtime (sam_runtime_set_engine_pose). */
+    uint32_t source_vertex_count; /* >= 1 when the array is present, 0 when it is NULL */
+    uint32_t *source_to_vertex;   /* SRCV: source_vertex_count, each < vc or SAMFILE_NO_SAMPLE; or NULL */
     uint32_t unknown_chunk_count; /* set by read: chunks with unknown tags skipped; ignored by write */
 } samfile_data;
 

@@ -257,6 +257,7 @@ sam_status samfile_check_data(const samfile_data *d, const char *name, sam_statu
                           : (!d->node_children && d->node_count)  ? "NODE"
                           : (!d->level_offsets && d->node_count)  ? "NLVL"
                           : (!d->sample_tau && d->node_count)     ? "STAU"
+                          : (!d->source_to_vertex && d->source_vertex_count) ? "SRCV"
                                                                   : NULL;
     if (missing)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: chunk %s: array is NULL", name, missing);
@@ -311,6 +312,12 @@ sam_status samfile_check_data(const samfile_data *d, const char *name, sam_statu
             return sam_fail(err, bad,
                             "%s: chunk FANA: fan area of vertex %zu is %g (must be finite and >= 0)", name, v,
                             (double)d->fan_area[v]);
+    if (d->source_to_vertex && d->source_vertex_count == 0)
+        return sam_fail(err, bad, "%s: chunk SRCV: present but lists no source vertex", name);
+    for (uint32_t s = 0; s < d->source_vertex_count; ++s)
+        if (d->source_to_vertex[s] >= vc && d->source_to_vertex[s] != SAMFILE_NO_SAMPLE)
+            return sam_fail(err, bad, "%s: chunk SRCV: source vertex %u became vertex %u, out of range (vertex_count %u)",
+                            name, (unsigned)s, (unsigned)d->source_to_vertex[s], (unsigned)vc);
     return check_adjacency(d, name, bad, err);
 }
 
@@ -336,5 +343,6 @@ void samfile_free(samfile_data *data)
     free(data->node_children);
     free(data->level_offsets);
     free(data->sample_tau);
+    free(data->source_to_vertex);
     memset(data, 0, sizeof *data);
 }

@@ -26,12 +26,14 @@ enum {
     TAG_NODE,
     TAG_NLVL,
     TAG_STAU,
+    TAG_SRCV,
     TAG_COUNT
 };
 
 /* Also the order in which the writer emits chunks. */
 static const char k_tags[TAG_COUNT][5] = {"INFO", "POS ", "NRM ", "UV  ", "TRI ",
-                                          "SIDX", "SKPR", "FANA", "ADJO", "ADJV", "NODE", "NLVL", "STAU"};
+                                          "SIDX", "SKPR", "FANA", "ADJO", "ADJV", "NODE", "NLVL", "STAU",
+                                          "SRCV"};
 
 /* ---- little-endian encoding, independent of the host's byte order ---- */
 

@@ -196,7 +196,7 @@ static sam_status parse_frame(const uint8_t *b, size_t size, const char *name, c
         return st;
     for (int t = 0; t < TAG_COUNT; ++t) {
         const int tree = t == TAG_NODE || t == TAG_NLVL || t == TAG_STAU;
-        if (t != TAG_UV && !known[t].payload && (!tree || version >= 2))
+        if (t != TAG_UV && t != TAG_SRCV && !known[t].payload && (!tree || version >= 2))
             return sam_fail(err, SAM_ERR_FORMAT, "%s: chunk %s is missing (required%s)", name, k_tags[t],
                             tree ? " in version 2" : "");
         if (tree && known[t].payload && version < 2)
@@ -300,6 +300,13 @@ static sam_status check_sizes(const chunk_ref *k, const char *name, samfile_data
         if ((st = expect_length(&k[TAG_STAU], TAG_STAU, (uint64_t)vc * n * 4u, why, name, err)) != SAM_OK)
             return st;
     }
+    if (k[TAG_SRCV].payload) {
+        if ((st = record_count(&k[TAG_SRCV], TAG_SRCV, 4, "u32 vertex per source vertex", &d->source_vertex_count,
+                               name, err)) != SAM_OK)
+            return st;
+        if (d->source_vertex_count == 0)
+            return sam_fail(err, SAM_ERR_CORRUPT, "%s: chunk SRCV: no source vertices (payload of 0 bytes)", name);
+    }
     const chunk_ref *info = &k[TAG_INFO];
     const void *nul = memchr(info->payload, 0, info->length);
     if (nul)
@@ -363,6 +370,10 @@ static sam_status decode_arrays(const chunk_ref *k, const char *name, samfile_da
         d->level_offsets = decode_u32(&k[TAG_NLVL]);
         d->sample_tau = decode_f32(&k[TAG_STAU]);
         failed |= !d->node_children || !d->level_offsets || !d->sample_tau;
+    }
+    if (d->source_vertex_count) {
+        d->source_to_vertex = decode_u32(&k[TAG_SRCV]);
+        failed |= !d->source_to_vertex;
     }
     if (failed)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory decoding %u vertices", name,

@@ -108,7 +108,7 @@ sam_status samfile_write(const char *path, const samfile_data *data, sam_error *
     /* A flat map stays version 1, readable by version-1 readers. */
     const int tree = data->node_count > 0;
     put_u32(header + 4, tree ? SAMFILE_VERSION : 1u);
-    put_u32(header + 8, TAG_COUNT - (data->uvs ? 0 : 1) - (tree ? 0 : 3));
+    put_u32(header + 8, TAG_COUNT - (data->uvs ? 0 : 1) - (tree ? 0 : 3) - (data->source_to_vertex ? 0 : 1));
     put_u32(header + 12, 0);
     write_raw(w, header, sizeof header);
 
@@ -132,6 +132,8 @@ sam_status samfile_write(const char *path, const samfile_data *data, sam_error *
         write_u32_chunk(w, TAG_NLVL, data->level_offsets, (size_t)data->level_count + 1);
         write_f32_chunk(w, TAG_STAU, data->sample_tau, n * vc);
     }
+    if (data->source_to_vertex)
+        write_u32_chunk(w, TAG_SRCV, data->source_to_vertex, data->source_vertex_count);
 
     int e = w->error;
     free(w);
