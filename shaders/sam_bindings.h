@@ -41,6 +41,17 @@
 #define SAM_B_KEY_POSITIONS SAM_B_NORMALS
 #define SAM_B_DEFORM_REST SAM_B_SAMPLES
 
+/* The engine passes (sam_runtime_set_engine_pose) likewise: they write
+ * positions, normals or the engine-order T at the target, and the next
+ * pass binds the usual buffers again. */
+#define SAM_B_ENGINE_TARGET SAM_B_POSITIONS
+#define SAM_B_ENGINE_SOURCE SAM_B_SAMPLES
+#define SAM_B_ENGINE_MAP SAM_B_FAN_AREAS
+
+/* The posed translucency pass reads the tree's nodes at rest where the
+ * normals pass keeps its bounds. */
+#define SAM_B_REST_NODES SAM_B_BOUNDS
+
 /* Image units of the compute passes over view-sized and atlas images
  * (each program numbers its own). */
 #define SAM_IMAGE_SOURCE 0   /* blurs: the input; accumulate: the level */

@@ -9,9 +9,17 @@
 // when it can). A cut map's sample may be a tree node (index >=
 // u_vertex_count), read from the node pass's output as a vertex would be:
 // its centroid, area and L_d (moved by the sample's tau along the node's
-// split, towards where its light comes from); posed, its K follows eq. 15 at the posed
-// centroid and it is skipped when its centroid and mean normal fail eq.
-// 13-14.
+// split, towards where its light comes from); posed, its K is the rest K times
+// eq. 15's change from the rest centroid to the posed one, that change
+// held within [1/4, 4]. Eq. 15 alone multiplies K' by R_d at the posed
+// centroid; a node's K' is large when its centroid lies far out in R_d's
+// tail while its near members carry the light, and there a small move of
+// the centroid multiplied T a billionfold (a bent ear, tests/test_gl_walk.c).
+// A node is not dropped when its centroid fails eq. 13-14 at the pose, as
+// a vertex is: most nodes of a cut straddle the back side's edge (their
+// members on the back side carry the K) and fail the test at rest already,
+// so dropping them made T fall by up to its whole value as soon as a
+// pose began.
 #include "sam_bindings.h"
 #include "profile.glsl"
 
@@ -33,10 +41,13 @@ struct Node {
 };
 layout(std430, binding = SAM_B_NODES) readonly buffer Nodes { Node nodes[]; };
 layout(std430, binding = SAM_B_SAMPLE_TAU) readonly buffer SampleTau { float sample_tau[]; };
+#ifdef SAM_POSED
+layout(std430, binding = SAM_B_REST_POSITIONS) readonly buffer RestPositions { vec4 rest_positions[]; };
+layout(std430, binding = SAM_B_REST_NODES) readonly buffer RestNodes { Node rest_nodes[]; };
+#endif
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
 layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
-layout(std430, binding = SAM_B_REST_POSITIONS) readonly buffer RestPositions { vec4 rest_positions[]; };
 #endif
 
 uniform uint u_vertex_count;
@@ -83,14 +94,23 @@ void main()
             m = normals[s.index].xyz;
         }
 #ifdef SAM_POSED
-        if (!(dot(q - p, n) < 0.0 && dot(m, n) < 0.0))
+        if (!node && !(dot(q - p, n) < 0.0 && dot(m, n) < 0.0))
             continue;
 #endif
-#if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
-        if (!node) {
-            sum += L * posed_form_factor(v, s.index, vec3(s.kr, s.kg, s.kb));
+#ifdef SAM_POSED
+        vec3 kprime = vec3(s.kr, s.kg, s.kb);
+        if (node) {
+            vec4 rest = rest_nodes[s.index - u_vertex_count].centroid_area;
+            vec3 k_rest = kprime * rest.w * profile_rd(u_mm_per_unit * distance(rest.xyz, rest_positions[v].xyz));
+            vec3 k_pose = kprime * area * profile_rd(u_mm_per_unit * distance(q, p));
+            vec3 change = clamp(k_pose / max(k_rest, vec3(1e-30)), vec3(0.25), vec3(4.0));
+            sum += L * k_rest * change;
             continue;
         }
+#endif
+#if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
+        sum += L * posed_form_factor(v, s.index, kprime);
+        continue;
 #endif
         sum += L * (vec3(s.kr, s.kg, s.kb) * area * profile_rd(u_mm_per_unit * distance(q, p)));
     }

@@ -36,11 +36,12 @@ typedef struct fixture {
     float *pos, *nrm, *ld, *t, *t_ref;
 } fixture;
 
-/* A skin shape built with 4 samples per vertex and enough Monte Carlo
- * pairs that two builds differ by less than a pose does, on the GPU, lit by
- * one directional light; 0 on success. */
+/* A skin shape's map of kind `map` (a flat one with 4 samples per vertex,
+ * a cut one with its default budget) and enough Monte Carlo pairs that two
+ * builds differ by less than a pose does, on the GPU, lit by one
+ * directional light; 0 on success. */
 static int fixture_init(fixture *f, const char *shape, int resolution, double size, double thickness,
-                        float mm_per_unit)
+                        float mm_per_unit, sam_build_map map)
 {
     sam_error err;
     memset(f, 0, sizeof *f);
@@ -49,9 +50,8 @@ static int fixture_init(fixture *f, const char *shape, int resolution, double si
     if (sam_profile_preset("skin", &f->profile, &err) != SAM_OK)
         return -1;
     sam_build_default_settings(&f->settings);
-    /* The walk moves the flat map's vertex samples. */
-    f->settings.map = SAM_BUILD_MAP_FLAT;
-    f->settings.samples_per_vertex = 4;
+    f->settings.map = map;
+    f->settings.samples_per_vertex = map == SAM_BUILD_MAP_FLAT ? 4 : 0;
     f->settings.mc_samples = 4096;
     if (sam_build_samfile(&f->mesh, &f->profile, mm_per_unit, &f->settings, NULL, NULL, NULL, &f->sam, NULL,
                           &err) != SAM_OK ||
@@ -89,7 +89,7 @@ static int fixture_setup(void **state)
     if (sam_test_gl_setup(state) != 0)
         return -1;
     static fixture f;
-    if (fixture_init(&f, "slab", 20, 1.0, 0.04, MM_PER_UNIT) != 0)
+    if (fixture_init(&f, "slab", 20, 1.0, 0.04, MM_PER_UNIT, SAM_BUILD_MAP_FLAT) != 0)
         return -1;
     *state = &f;
     return 0;
@@ -234,7 +234,7 @@ static void test_twisting_ear_and_waving_sheet(void **state)
     (void)state;
     fixture f;
     double stale, posed, walked;
-    assert_int_equal(fixture_init(&f, "ear", 48, 1.0, 0.0333, 60.0f), 0);
+    assert_int_equal(fixture_init(&f, "ear", 48, 1.0, 0.0333, 60.0f, SAM_BUILD_MAP_FLAT), 0);
     sam_deformer twist = {.type = SAM_DEFORM_TWIST, .axis = {0, 1, 0}, .length = 1.0f, .angle_deg = 90.0f};
     update_errors(&f, twist, &stale, &posed, &walked);
     printf("ear twisted 90 deg: T relative RMSE against a fresh build: stale %.4f, updated K %.4f, walked %.4f\n",
@@ -242,7 +242,7 @@ static void test_twisting_ear_and_waving_sheet(void **state)
     /* Measured 0.2216 stale, 0.1530 updated, 0.0933 walked. */
     assert_true(walked < 0.75 * stale);
     fixture_free(&f);
-    assert_int_equal(fixture_init(&f, "slab", 24, 1.0, 0.04, MM_PER_UNIT), 0);
+    assert_int_equal(fixture_init(&f, "slab", 24, 1.0, 0.04, MM_PER_UNIT, SAM_BUILD_MAP_FLAT), 0);
     sam_deformer wave = {.type = SAM_DEFORM_WAVE, .axis = {1, 0, 0}, .direction = {0, 1, 0}, .amplitude = 0.04f,
                          .wavelength = 0.8f};
     update_errors(&f, wave, &stale, &posed, &walked);
@@ -257,7 +257,7 @@ static void test_twisting_ear_and_waving_sheet(void **state)
     fixture_free(&f);
     /* The paper's eq. 15 on the same pose, still selectable. */
     double eq15_stale, eq15_posed, eq15_walked;
-    assert_int_equal(fixture_init(&f, "slab", 24, 1.0, 0.04, MM_PER_UNIT), 0);
+    assert_int_equal(fixture_init(&f, "slab", 24, 1.0, 0.04, MM_PER_UNIT, SAM_BUILD_MAP_FLAT), 0);
     sam_error err;
     assert_int_equal(sam_runtime_set_posed_k(f.rt, SAM_POSED_K_EQ15, &err), SAM_OK);
     assert_int_equal(sam_runtime_set_posed_k(f.rt, (sam_posed_k)7, &err), SAM_ERR_INVALID_ARGUMENT);
@@ -266,6 +266,33 @@ static void test_twisting_ear_and_waving_sheet(void **state)
            eq15_walked);
     assert_true(eq15_stale == stale);
     assert_true(eq15_posed > posed && eq15_walked > walked);
+    fixture_free(&f);
+}
+
+/* A cut map (the default) under the same twist: its nodes' K follows the
+ * pose without blowing up, and the update beats the stale map. */
+static void test_cut_map_follows_a_twist(void **state)
+{
+    (void)state;
+    fixture f;
+    double stale, posed, walked;
+    assert_int_equal(fixture_init(&f, "ear", 48, 1.0, 0.0333, 60.0f, SAM_BUILD_MAP_CUT), 0);
+    sam_deformer twist = {.type = SAM_DEFORM_TWIST, .axis = {0, 1, 0}, .length = 1.0f, .angle_deg = 90.0f};
+    update_errors(&f, twist, &stale, &posed, &walked);
+    printf("cut map, ear twisted 90 deg: T relative RMSE against a fresh cut build: stale %.4f, updated K %.4f, "
+           "walked %.4f\n",
+           stale, posed, walked);
+    assert_true(posed < stale);
+    assert_true(walked < stale);
+    fixture_free(&f);
+    /* Eq. 15's K takes the same bounded change for the nodes. */
+    assert_int_equal(fixture_init(&f, "ear", 48, 1.0, 0.0333, 60.0f, SAM_BUILD_MAP_CUT), 0);
+    sam_error err;
+    assert_int_equal(sam_runtime_set_posed_k(f.rt, SAM_POSED_K_EQ15, &err), SAM_OK);
+    double eq15_stale, eq15_posed, eq15_walked;
+    update_errors(&f, twist, &eq15_stale, &eq15_posed, &eq15_walked);
+    printf("the same with eq. 15's K: stale %.4f, updated K %.4f, walked %.4f\n", eq15_stale, eq15_posed, eq15_walked);
+    assert_true(eq15_walked < eq15_stale);
     fixture_free(&f);
 }
 
@@ -504,6 +531,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_walk_against_a_fresh_build),
         cmocka_unit_test(test_twisting_ear_and_waving_sheet),
+        cmocka_unit_test(test_cut_map_follows_a_twist),
         cmocka_unit_test(test_rest_walk_changes_nothing),
         cmocka_unit_test(test_periodic_animation_does_not_drift),
         cmocka_unit_test(test_no_sample_adds_light_through_the_front),

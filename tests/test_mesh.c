@@ -696,9 +696,9 @@ static void test_inside_out_mesh_is_turned(void **state)
     sam_mesh_destroy(&sheet);
 }
 
-/* render_of_source follows the input's vertices: a clean input keeps its
- * order, a vertex no triangle uses is dropped, and two identical vertices
- * become one. */
+/* The input's vertices against the render vertices: a clean input keeps
+ * its order, a vertex no triangle uses is dropped, and two identical
+ * vertices become one that came from the first. */
 static void test_render_of_source(void **state)
 {
     (void)state;
@@ -716,6 +716,8 @@ static void test_render_of_source(void **state)
         assert_int_equal(m.render_of_source[s], s);
     assert_int_equal(m.render_of_source[4], SAM_MESH_DROPPED);
     assert_int_equal(m.render_of_source[5], 2);
+    for (uint32_t r = 0; r < 4; ++r)
+        assert_int_equal(m.source_of_render[r], r);
     sam_mesh_destroy(&m);
     /* A file's vertices: the OBJ's own order, its unused vertex dropped. */
     char path[512];
@@ -725,6 +727,8 @@ static void test_render_of_source(void **state)
     static const uint32_t want[5] = {0, SAM_MESH_DROPPED, 1, 2, 3};
     assert_int_equal(m.source_count, 5);
     assert_memory_equal(m.render_of_source, want, sizeof want);
+    static const uint32_t from[4] = {0, 2, 3, 4};
+    assert_memory_equal(m.source_of_render, from, sizeof from);
     sam_mesh_destroy(&m);
 }
 

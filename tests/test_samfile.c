@@ -28,7 +28,7 @@ typedef struct tetra {
     uint32_t adjv[12];
     uint32_t children[6], levels[3];
     float tau[8];
-    uint32_t srcv[6];
+    uint32_t vsrc[4], srcv[6];
     samfile_data d;
 } tetra;
 
@@ -104,10 +104,12 @@ static void add_tree(tetra *t)
  * triangle kept, and two that became the same vertex. */
 static void add_sources(tetra *t)
 {
-    static const uint32_t srcv[6] = {0, 1, PAD, 2, 3, 1};
+    static const uint32_t vsrc[4] = {0, 1, 3, 4}, srcv[6] = {0, 1, PAD, 2, 3, 1};
+    memcpy(t->vsrc, vsrc, sizeof vsrc);
     memcpy(t->srcv, srcv, sizeof srcv);
     t->d.source_vertex_count = 6;
-    t->d.source_to_vertex = t->srcv;
+    t->d.vertex_source = t->vsrc;
+    t->d.source_vertex = t->srcv;
 }
 
 /* ---- an encoder written independently of the module, to build any file ---- */
@@ -188,8 +190,15 @@ static void list_from_data(const samfile_data *d, chunk_list *l)
         add_u32s(l, "NLVL", d->level_offsets, (size_t)d->level_count + 1);
         add_f32s(l, "STAU", d->sample_tau, n * vc);
     }
-    if (d->source_to_vertex)
-        add_u32s(l, "SRCV", d->source_to_vertex, d->source_vertex_count);
+    if (d->vertex_source) {
+        uint32_t *all = malloc((1 + vc + d->source_vertex_count) * sizeof *all);
+        assert_non_null(all);
+        all[0] = d->source_vertex_count;
+        memcpy(all + 1, d->vertex_source, vc * sizeof *all);
+        memcpy(all + 1 + vc, d->source_vertex, d->source_vertex_count * sizeof *all);
+        add_u32s(l, "SRCV", all, 1 + vc + d->source_vertex_count);
+        free(all);
+    }
 }
 
 static size_t find_chunk(const chunk_list *l, const char *tag)
@@ -312,9 +321,11 @@ static void expect_same_data(const samfile_data *a, const samfile_data *b)
     assert_memory_equal(a->adjacency_offsets, b->adjacency_offsets, 4 * (vc + 1));
     assert_memory_equal(a->adjacency, b->adjacency, 4 * (size_t)a->adjacency_count);
     assert_int_equal(a->source_vertex_count, b->source_vertex_count);
-    assert_int_equal(a->source_to_vertex == NULL, b->source_to_vertex == NULL);
-    if (a->source_to_vertex)
-        assert_memory_equal(a->source_to_vertex, b->source_to_vertex, 4 * (size_t)a->source_vertex_count);
+    assert_int_equal(a->vertex_source == NULL, b->vertex_source == NULL);
+    if (a->vertex_source) {
+        assert_memory_equal(a->vertex_source, b->vertex_source, 4 * vc);
+        assert_memory_equal(a->source_vertex, b->source_vertex, 4 * (size_t)a->source_vertex_count);
+    }
 }
 
 static bytes load(const char *path)
@@ -1005,18 +1016,27 @@ static void test_source_vertices(void **state)
     expect_read_error(&b, SAM_ERR_CORRUPT, "t.sam: chunk SRCV: source vertex 4 became vertex 9");
     free(b.p);
     t.srcv[4] = 3;
+    t.vsrc[2] = 6;
+    assert_int_equal(samfile_validate(&t.d, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "chunk SRCV: vertex 2 comes from source vertex 6, out of range (6 source"));
+    t.vsrc[2] = 3;
     chunk_list l;
     list_from_data(&t.d, &l);
-    replace_payload(&l, "SRCV", NULL, 0);
+    replace_payload(&l, "SRCV", "ab", 2);
     b = encode(&l, NULL);
-    expect_read_error(&b, SAM_ERR_CORRUPT, "t.sam: chunk SRCV: no source vertices");
+    expect_read_error(&b, SAM_ERR_FORMAT, "t.sam: chunk SRCV: payload of 2 bytes has no source vertex count");
     free(b.p);
-    replace_payload(&l, "SRCV", "abc", 3);
+    static const uint32_t none[1] = {0}, short_one[3] = {6, 0, 1};
+    replace_payload(&l, "SRCV", none, sizeof none);
     b = encode(&l, NULL);
-    expect_read_error(&b, SAM_ERR_FORMAT, "t.sam: chunk SRCV: payload of 3 bytes is not a multiple of 4");
+    expect_read_error(&b, SAM_ERR_CORRUPT, "t.sam: chunk SRCV: a source mesh of 0 vertices");
+    free(b.p);
+    replace_payload(&l, "SRCV", short_one, sizeof short_one);
+    b = encode(&l, NULL);
+    expect_read_error(&b, SAM_ERR_CORRUPT, "t.sam: chunk SRCV: payload is 12 bytes, expected 44");
     free(b.p);
     free_list(&l);
-    t.d.source_to_vertex = NULL;
+    t.d.source_vertex = NULL;
     assert_int_equal(samfile_validate(&t.d, &err), SAM_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(err.message, "chunk SRCV: array is NULL"));
 }

@@ -157,9 +157,10 @@ static sam_status fill_mesh_part(const sam_build_context *ctx, const sam_build_r
         out->node_children = malloc((size_t)r->node_count * 2 * sizeof(uint32_t));
         out->level_offsets = malloc(((size_t)r->level_count + 1) * sizeof(uint32_t));
     }
-    if (m->render_of_source && m->source_count) {
+    if (m->source_of_render && m->source_count) {
         out->source_vertex_count = m->source_count;
-        out->source_to_vertex = malloc((size_t)m->source_count * sizeof *out->source_to_vertex);
+        out->vertex_source = malloc((nv ? nv : 1) * sizeof *out->vertex_source);
+        out->source_vertex = malloc((size_t)m->source_count * sizeof *out->source_vertex);
     }
     cJSON *info = info_json(ctx, r, source);
     out->info_json = info ? cJSON_PrintUnformatted(info) : NULL;
@@ -167,7 +168,7 @@ static sam_status fill_mesh_part(const sam_build_context *ctx, const sam_build_r
     if (!out->positions || !out->normals || (m->uvs && !out->uvs) || !out->triangles || !out->fan_area ||
         !out->adjacency_offsets || !out->adjacency || !out->info_json ||
         (r->node_count && (!out->node_children || !out->level_offsets)) ||
-        (out->source_vertex_count && !out->source_to_vertex))
+        (out->source_vertex_count && (!out->vertex_source || !out->source_vertex)))
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory assembling the .sam of %zu vertices", nv);
     memcpy(out->positions, m->positions, nv * 3 * sizeof(float));
     memcpy(out->normals, m->normals, nv * 3 * sizeof(float));
@@ -175,8 +176,10 @@ static sam_status fill_mesh_part(const sam_build_context *ctx, const sam_build_r
         memcpy(out->uvs, m->uvs, nv * 2 * sizeof(float));
     memcpy(out->triangles, m->triangles, nt * 3 * sizeof(uint32_t));
     _Static_assert(SAM_MESH_DROPPED == SAMFILE_NO_SAMPLE, "a dropped source vertex is written as it is");
-    if (out->source_vertex_count)
-        memcpy(out->source_to_vertex, m->render_of_source, (size_t)m->source_count * sizeof *out->source_to_vertex);
+    if (out->source_vertex_count) {
+        memcpy(out->vertex_source, m->source_of_render, nv * sizeof *out->vertex_source);
+        memcpy(out->source_vertex, m->render_of_source, (size_t)m->source_count * sizeof *out->source_vertex);
+    }
     size_t a = 0;
     for (size_t v = 0; v < nv; ++v) {
         uint32_t t = m->topo_of[v];

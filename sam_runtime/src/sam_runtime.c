@@ -8,6 +8,7 @@
 #include "sam/sam_mesh.h"
 #include "sam_runtime_deform.h"
 #include "sam_runtime_diffusion.h"
+#include "sam_runtime_engine.h"
 #include "sam_runtime_gpu.h"
 #include "sam_runtime_irradiance.h"
 #include "sam_runtime_lights.h"
@@ -143,6 +144,7 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
         /* Each pass's own programs and state, in the header's step order. */
         if ((st = sam_runtime_lights_create(rt, err)) == SAM_OK && (st = sam_runtime_surface_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_shadows_create(rt, err)) == SAM_OK && (st = sam_runtime_deform_create(rt, err)) == SAM_OK &&
+            (st = sam_runtime_engine_create(rt, sam, err)) == SAM_OK &&
             (st = sam_runtime_irradiance_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_nodes_create(rt, sam, err)) == SAM_OK &&
             (st = sam_runtime_translucency_create(rt, err)) == SAM_OK &&
@@ -172,6 +174,7 @@ void sam_runtime_destroy(sam_runtime *rt)
     sam_runtime_translucency_destroy(rt);
     sam_runtime_nodes_destroy(rt);
     sam_runtime_irradiance_destroy(rt);
+    sam_runtime_engine_destroy(rt);
     sam_runtime_deform_destroy(rt);
     sam_runtime_shadows_destroy(rt);
     sam_runtime_surface_destroy(rt);

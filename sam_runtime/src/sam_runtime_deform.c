@@ -5,6 +5,7 @@
 
 #include "sam_runtime_deform.h"
 #include "sam_runtime_gpu.h"
+#include "sam_runtime_nodes.h"
 
 sam_status sam_runtime_deform_create(sam_runtime *rt, sam_error *err)
 {
@@ -45,12 +46,13 @@ static void rest_sizes(const sam_runtime *rt, GLsizeiptr bytes[REST_COUNT])
 static const int rest_binding[REST_COUNT] = {SAM_B_POSITIONS, SAM_B_NORMALS, SAM_B_FAN_AREAS, SAM_B_SAMPLES,
                                              SAM_B_CURVATURE};
 
-/* Keeps the current positions, normals, fan areas and samples as the rest
- * pose, once: every pose is computed from it. */
-static sam_status keep_rest_pose(sam_runtime *rt, sam_error *err)
+sam_status sam_runtime_deform_keep_rest(sam_runtime *rt, sam_error *err)
 {
     if (rt->deform.rest_buffer[0])
         return SAM_OK;
+    sam_status st = sam_runtime_nodes_keep_rest(rt, err);
+    if (st != SAM_OK)
+        return st;
     GLsizeiptr bytes[REST_COUNT];
     rest_sizes(rt, bytes);
     glGenBuffers(REST_COUNT, rt->deform.rest_buffer);
@@ -76,7 +78,7 @@ sam_status sam_runtime_set_deformers(sam_runtime *rt, const sam_deformer *deform
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: %zu deformers%s (at most %d)", count,
                         count && !deformers ? " but none given" : "", SAM_DEFORM_MAX);
     sam_status st;
-    if (count && (st = keep_rest_pose(rt, err)) != SAM_OK)
+    if (count && (st = sam_runtime_deform_keep_rest(rt, err)) != SAM_OK)
         return st;
     if (count)
         memcpy(rt->deform.deformers, deformers, count * sizeof *deformers);
@@ -108,7 +110,7 @@ sam_status sam_runtime_set_keyframes(sam_runtime *rt, const float *const *positi
                         nv);
     }
     sam_status st;
-    if (count && (st = keep_rest_pose(rt, err)) != SAM_OK) {
+    if (count && (st = sam_runtime_deform_keep_rest(rt, err)) != SAM_OK) {
         free(times_copy);
         free(vec4s);
         return st;
@@ -224,39 +226,53 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
                          rt->deform.keyframe_buffer ? rt->deform.keyframe_buffer : rt->deform.rest_buffer[REST_POSITIONS]);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_DEFORM_REST, rt->deform.rest_buffer[REST_POSITIONS]);
         glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_NORMALS, rt->buffer[SAM_B_NORMALS]);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_SAMPLES, rt->buffer[SAM_B_SAMPLES]);
-        p = rt->deform.normals_program;
-        glUseProgram(p);
-        glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
-        glUniform1f(glGetUniformLocation(p, "u_mm2_per_unit2"), rt->mm_per_unit * rt->mm_per_unit);
-        glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
-        glUniform1i(glGetUniformLocation(p, "u_stage"), 0);
-        sam_runtime_bind_buffers(rt);
-        static const GLuint empty_box[6] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu, 0, 0, 0};
-        if (!rt->deform.bounds_buffer) {
-            glGenBuffers(1, &rt->deform.bounds_buffer);
-            glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->deform.bounds_buffer);
-            glBufferData(GL_SHADER_STORAGE_BUFFER, sizeof empty_box, NULL, GL_DYNAMIC_READ);
-        }
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->deform.bounds_buffer);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof empty_box, empty_box);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_BOUNDS, rt->deform.bounds_buffer);
-        glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
-        /* Boundary vertices take their curvature from interior neighbours. */
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        glUniform1i(glGetUniformLocation(p, "u_stage"), 1);
-        glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+        sam_runtime_deform_finish(rt);
     }
     sam_runtime_end_timer(rt, SAM_PASS_DEFORM);
+    if (rt->deform.posed) {
+        sam_runtime_deform_read_box(rt);
+    } else {
+        /* Positions and normals are vertex attributes of the draws as well. */
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+                        GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+        sam_runtime_set_box(rt, rt->rest_box_lo, rt->rest_box_hi);
+    }
+    return SAM_OK;
+}
+
+void sam_runtime_deform_finish(sam_runtime *rt)
+{
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_NORMALS, rt->buffer[SAM_B_NORMALS]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_SAMPLES, rt->buffer[SAM_B_SAMPLES]);
+    GLuint p = rt->deform.normals_program;
+    glUseProgram(p);
+    glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
+    glUniform1f(glGetUniformLocation(p, "u_mm2_per_unit2"), rt->mm_per_unit * rt->mm_per_unit);
+    glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+    glUniform1i(glGetUniformLocation(p, "u_stage"), 0);
+    sam_runtime_bind_buffers(rt);
+    static const GLuint empty_box[6] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu, 0, 0, 0};
+    if (!rt->deform.bounds_buffer) {
+        glGenBuffers(1, &rt->deform.bounds_buffer);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->deform.bounds_buffer);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, sizeof empty_box, NULL, GL_DYNAMIC_READ);
+    }
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->deform.bounds_buffer);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof empty_box, empty_box);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_BOUNDS, rt->deform.bounds_buffer);
+    glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+    /* Boundary vertices take their curvature from interior neighbours. */
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glUniform1i(glGetUniformLocation(p, "u_stage"), 1);
+    glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+}
+
+void sam_runtime_deform_read_box(sam_runtime *rt)
+{
     /* Positions and normals are vertex attributes of the draws as well. */
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                     GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
-    if (!rt->deform.posed) {
-        sam_runtime_set_box(rt, rt->rest_box_lo, rt->rest_box_hi);
-        return SAM_OK;
-    }
     /* The shadow maps' and the camera's ranges need the pose's bounds on the
      * CPU this frame: the one read-back of the update (24 bytes; it waits
      * for the deform passes). */
@@ -271,7 +287,6 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
         memcpy(&hi[c], &b, sizeof b);
     }
     sam_runtime_set_box(rt, lo, hi);
-    return SAM_OK;
 }
 
 sam_status sam_runtime_walk(sam_runtime *rt, sam_error *err)

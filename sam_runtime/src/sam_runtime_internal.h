@@ -118,6 +118,17 @@ typedef struct sam_rt_deform {
     GLuint bounds_buffer;   /* 6 order-preserving uint keys: min xyz, max xyz */
 } sam_rt_deform;
 
+/* sam_runtime_engine.c: an engine's own vertex buffers in, T in its order out. */
+typedef struct sam_rt_engine {
+    GLuint pose_program, order_program;
+    uint32_t engine_count;    /* vertices in the engine's order: the .sam's SRCV count, else vertex_count */
+    int identity;             /* 1: engine vertex e is SAM vertex e */
+    GLuint engine_of;         /* uint per SAM vertex: the engine vertex it reads (0 when identity) */
+    GLuint vertex_of;         /* uint per engine vertex: its SAM vertex or 0xFFFFFFFF (0 when identity) */
+    GLuint translucency;      /* vec4 per engine vertex (0 when identity) */
+    sam_engine_pose pose;     /* pose.positions 0 until sam_runtime_set_engine_pose */
+} sam_rt_engine;
+
 /* sam_runtime_irradiance.c */
 typedef struct sam_rt_irradiance {
     GLuint program;
@@ -132,6 +143,7 @@ typedef struct sam_rt_translucency {
 /* sam_runtime_nodes.c */
 typedef struct sam_rt_nodes {
     GLuint program;
+    GLuint rest_nodes;       /* the node buffer of the rest pose, once a pose was set; else 0 */
     uint32_t node_count, level_count;
     uint32_t *level_offsets; /* level_count + 1, host copy for the dispatches */
 } sam_rt_nodes;
@@ -208,6 +220,7 @@ struct sam_runtime {
     sam_rt_surface surface;
     sam_rt_shadows shadows;
     sam_rt_deform deform;
+    sam_rt_engine engine;
     sam_rt_irradiance irradiance;
     sam_rt_nodes nodes;
     sam_rt_translucency translucency;

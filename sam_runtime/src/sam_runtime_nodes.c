@@ -44,6 +44,9 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
 void sam_runtime_nodes_destroy(sam_runtime *rt)
 {
     sam_runtime_delete_program(&rt->nodes.program);
+    if (rt->nodes.rest_nodes)
+        glDeleteBuffers(1, &rt->nodes.rest_nodes);
+    rt->nodes.rest_nodes = 0;
     free(rt->nodes.level_offsets);
     rt->nodes.level_offsets = NULL;
 }
@@ -72,4 +75,25 @@ void sam_runtime_nodes_update(sam_runtime *rt)
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
     sam_runtime_end_timer(rt, SAM_PASS_NODES);
+}
+
+sam_status sam_runtime_nodes_keep_rest(sam_runtime *rt, sam_error *err)
+{
+    sam_rt_nodes *t = &rt->nodes;
+    if (!t->node_count || t->rest_nodes)
+        return SAM_OK;
+    sam_runtime_nodes_update(rt);
+    const GLsizeiptr bytes = (GLsizeiptr)t->node_count * 16 * sizeof(float);
+    glGenBuffers(1, &t->rest_nodes);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, t->rest_nodes);
+    glBufferData(GL_COPY_WRITE_BUFFER, bytes, NULL, GL_STATIC_DRAW);
+    glBindBuffer(GL_COPY_READ_BUFFER, rt->buffer[SAM_B_NODES]);
+    glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, bytes);
+    if (glGetError() != GL_NO_ERROR) {
+        glDeleteBuffers(1, &t->rest_nodes);
+        t->rest_nodes = 0;
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not keep the rest pose of %u tree nodes",
+                        t->node_count);
+    }
+    return SAM_OK;
 }

@@ -19,4 +19,9 @@ void sam_runtime_nodes_destroy(sam_runtime *rt);
  * translucency pass calls it first. */
 void sam_runtime_nodes_update(sam_runtime *rt);
 
+/* While the buffers hold the rest pose: the nodes' rest centroids and
+ * areas, kept for the posed K (sam_runtime_deform_keep_rest calls it once).
+ * Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_nodes_keep_rest(sam_runtime *rt, sam_error *err);
+
 #endif

@@ -58,9 +58,14 @@ sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt,
     glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
     glUniform1f(glGetUniformLocation(p, "u_alpha"), reset ? 1.0f : sam_runtime_smoothing_alpha(dt));
     sam_runtime_bind_buffers(rt);
-    /* A posed K is carried from the rest pose (shaders/fan_form_factor.glsl). */
-    if (carried)
+    /* A posed K is carried from the rest pose (shaders/fan_form_factor.glsl;
+     * a node's from its rest centroid). */
+    if (rt->deform.posed) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_REST_POSITIONS, rt->deform.rest_buffer[REST_POSITIONS]);
+        /* A flat map has no nodes to read; its zeroed one keeps the block bound. */
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_REST_NODES,
+                         rt->nodes.rest_nodes ? rt->nodes.rest_nodes : rt->buffer[SAM_B_NODES]);
+    }
     sam_runtime_dispatch_per_vertex(rt, SAM_PASS_TRANSLUCENCY);
     return SAM_OK;
 }

@@ -56,15 +56,19 @@ typedef struct sam_mesh {
     uint32_t *ring_offsets;    /* topo_count + 1 offsets into ring */
     uint32_t *ring;            /* topo vertex indices in fan order (see overview) */
 
-    /* The input's vertices (a file's, or sam_mesh_input's): which render
-     * vertex each became (its first kept corner's), or SAM_MESH_DROPPED
+    /* The input's vertices (a file's, or sam_mesh_input's) against the
+     * render vertices, both ways: which input vertex each render vertex
+     * came from (its first corner's in triangle order: seam and
+     * non-manifold copies share one, merged duplicates take the first), and which render vertex each
+     * input vertex became (its first kept corner's), or SAM_MESH_DROPPED
      * when no kept triangle uses it. An engine that loaded the same asset
-     * in the same vertex order finds its vertices here (samfile.h SRCV). */
+     * in the same vertex order finds SAM's vertices through them
+     * (samfile.h SRCV). */
     uint32_t source_count;
-    uint32_t *render_of_source; /* source_count */
+    uint32_t *source_of_render; /* vertex_count, each < source_count */
+    uint32_t *render_of_source; /* source_count, each < vertex_count or SAM_MESH_DROPPED */
 } sam_mesh;
 
-/* render_of_source of an input vertex that no kept triangle uses. */
 #define SAM_MESH_DROPPED 0xFFFFFFFFu
 
 typedef struct sam_mesh_report {

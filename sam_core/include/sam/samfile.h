@@ -100,13 +100,16 @@ typedef struct samfile_data {
     float *sample_tau;            /* STAU: n*vc, per sample: where its light comes from along the node's
                                    * split, in [-1, 1]; the sample reads L_d + tau (L_d(child 1) -
                                    * L_d(child 0)); 0 for a vertex or a pad */
-    /* SRCV, optional: the vertices of the mesh the map was built from, in
-     * that mesh's order (a file's or an engine's vertex arrays), and which
-     * vertex of this file each became (sam_mesh.render_of_source), or
-     * SAMFILE_NO_SAMPLE for one no triangle kept. It lets an engine with its
-     * own vertex buffers feed and read the runtime (sam_runtime_set_engine_pose). */
-    uint32_t source_vertex_count; /* >= 1 when the array is present, 0 when it is NULL */
-    uint32_t *source_to_vertex;   /* SRCV: source_vertex_count, each < vc or SAMFILE_NO_SAMPLE; or NULL */
+    /* SRCV, optional: the vertices of the mesh the map was built from (a
+     * file's or an engine's vertex arrays, in their order) against this
+     * file's, both ways (sam_mesh.source_of_render and render_of_source).
+     * It lets an engine with its own vertex buffers pose the runtime and
+     * read T in its order (sam_runtime_set_engine_pose). On disk: u32
+     * source_vertex_count, vertex_source, source_vertex. Both arrays are
+     * present or neither. */
+    uint32_t source_vertex_count; /* >= 1 with the arrays, 0 without */
+    uint32_t *vertex_source;      /* vc: the source vertex each vertex came from, < source_vertex_count */
+    uint32_t *source_vertex;      /* source_vertex_count: the vertex each became, < vc or SAMFILE_NO_SAMPLE */
     uint32_t unknown_chunk_count; /* set by read: chunks with unknown tags skipped; ignored by write */
 } samfile_data;
 

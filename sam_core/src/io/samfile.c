@@ -257,7 +257,8 @@ sam_status samfile_check_data(const samfile_data *d, const char *name, sam_statu
                           : (!d->node_children && d->node_count)  ? "NODE"
                           : (!d->level_offsets && d->node_count)  ? "NLVL"
                           : (!d->sample_tau && d->node_count)     ? "STAU"
-                          : (!d->source_to_vertex && d->source_vertex_count) ? "SRCV"
+                          : (!d->vertex_source != !d->source_vertex) ? "SRCV"
+                          : (!d->vertex_source && d->source_vertex_count) ? "SRCV"
                                                                   : NULL;
     if (missing)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: chunk %s: array is NULL", name, missing);
@@ -312,12 +313,17 @@ sam_status samfile_check_data(const samfile_data *d, const char *name, sam_statu
             return sam_fail(err, bad,
                             "%s: chunk FANA: fan area of vertex %zu is %g (must be finite and >= 0)", name, v,
                             (double)d->fan_area[v]);
-    if (d->source_to_vertex && d->source_vertex_count == 0)
-        return sam_fail(err, bad, "%s: chunk SRCV: present but lists no source vertex", name);
-    for (uint32_t s = 0; s < d->source_vertex_count; ++s)
-        if (d->source_to_vertex[s] >= vc && d->source_to_vertex[s] != SAMFILE_NO_SAMPLE)
+    if (d->vertex_source && d->source_vertex_count == 0)
+        return sam_fail(err, bad, "%s: chunk SRCV: a source mesh of 0 vertices", name);
+    for (size_t v = 0; d->vertex_source && v < vc; ++v)
+        if (d->vertex_source[v] >= d->source_vertex_count)
+            return sam_fail(err, bad,
+                            "%s: chunk SRCV: vertex %zu comes from source vertex %u, out of range (%u source vertices)",
+                            name, v, (unsigned)d->vertex_source[v], (unsigned)d->source_vertex_count);
+    for (uint32_t s = 0; d->source_vertex && s < d->source_vertex_count; ++s)
+        if (d->source_vertex[s] >= vc && d->source_vertex[s] != SAMFILE_NO_SAMPLE)
             return sam_fail(err, bad, "%s: chunk SRCV: source vertex %u became vertex %u, out of range (vertex_count %u)",
-                            name, (unsigned)s, (unsigned)d->source_to_vertex[s], (unsigned)vc);
+                            name, (unsigned)s, (unsigned)d->source_vertex[s], (unsigned)vc);
     return check_adjacency(d, name, bad, err);
 }
 
@@ -343,6 +349,7 @@ void samfile_free(samfile_data *data)
     free(data->node_children);
     free(data->level_offsets);
     free(data->sample_tau);
-    free(data->source_to_vertex);
+    free(data->vertex_source);
+    free(data->source_vertex);
     memset(data, 0, sizeof *data);
 }

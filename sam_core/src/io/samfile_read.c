@@ -301,11 +301,18 @@ static sam_status check_sizes(const chunk_ref *k, const char *name, samfile_data
             return st;
     }
     if (k[TAG_SRCV].payload) {
-        if ((st = record_count(&k[TAG_SRCV], TAG_SRCV, 4, "u32 vertex per source vertex", &d->source_vertex_count,
-                               name, err)) != SAM_OK)
-            return st;
+        const chunk_ref *c = &k[TAG_SRCV];
+        if (c->length < 4)
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: chunk SRCV: payload of %zu bytes has no source vertex count",
+                            name, c->length);
+        d->source_vertex_count = get_u32(c->payload);
         if (d->source_vertex_count == 0)
-            return sam_fail(err, SAM_ERR_CORRUPT, "%s: chunk SRCV: no source vertices (payload of 0 bytes)", name);
+            return sam_fail(err, SAM_ERR_CORRUPT, "%s: chunk SRCV: a source mesh of 0 vertices", name);
+        snprintf(why, sizeof why, "a u32 count, then 4 for each of the %u vertices of chunk POS  and the %u source "
+                 "vertices", (unsigned)vc, (unsigned)d->source_vertex_count);
+        if ((st = expect_length(c, TAG_SRCV, 4u + ((uint64_t)vc + d->source_vertex_count) * 4u, why, name, err)) !=
+            SAM_OK)
+            return st;
     }
     const chunk_ref *info = &k[TAG_INFO];
     const void *nul = memchr(info->payload, 0, info->length);
@@ -372,8 +379,14 @@ static sam_status decode_arrays(const chunk_ref *k, const char *name, samfile_da
         failed |= !d->node_children || !d->level_offsets || !d->sample_tau;
     }
     if (d->source_vertex_count) {
-        d->source_to_vertex = decode_u32(&k[TAG_SRCV]);
-        failed |= !d->source_to_vertex;
+        chunk_ref part = k[TAG_SRCV];
+        part.payload += 4;
+        part.length = 4 * (size_t)d->vertex_count;
+        d->vertex_source = decode_u32(&part);
+        part.payload += part.length;
+        part.length = 4 * (size_t)d->source_vertex_count;
+        d->source_vertex = decode_u32(&part);
+        failed |= !d->vertex_source || !d->source_vertex;
     }
     if (failed)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory decoding %u vertices", name,

@@ -108,7 +108,7 @@ sam_status samfile_write(const char *path, const samfile_data *data, sam_error *
     /* A flat map stays version 1, readable by version-1 readers. */
     const int tree = data->node_count > 0;
     put_u32(header + 4, tree ? SAMFILE_VERSION : 1u);
-    put_u32(header + 8, TAG_COUNT - (data->uvs ? 0 : 1) - (tree ? 0 : 3) - (data->source_to_vertex ? 0 : 1));
+    put_u32(header + 8, TAG_COUNT - (data->uvs ? 0 : 1) - (tree ? 0 : 3) - (data->vertex_source ? 0 : 1));
     put_u32(header + 12, 0);
     write_raw(w, header, sizeof header);
 
@@ -132,8 +132,15 @@ sam_status samfile_write(const char *path, const samfile_data *data, sam_error *
         write_u32_chunk(w, TAG_NLVL, data->level_offsets, (size_t)data->level_count + 1);
         write_f32_chunk(w, TAG_STAU, data->sample_tau, n * vc);
     }
-    if (data->source_to_vertex)
-        write_u32_chunk(w, TAG_SRCV, data->source_to_vertex, data->source_vertex_count);
+    if (data->vertex_source) {
+        begin_chunk(w, TAG_SRCV, 4u + 4u * ((uint64_t)vc + data->source_vertex_count));
+        payload_u32(w, data->source_vertex_count);
+        for (size_t v = 0; v < vc; ++v)
+            payload_u32(w, data->vertex_source[v]);
+        for (uint32_t s = 0; s < data->source_vertex_count; ++s)
+            payload_u32(w, data->source_vertex[s]);
+        end_chunk(w);
+    }
 
     int e = w->error;
     free(w);

@@ -472,18 +472,23 @@ static sam_status fill_render_vertices(build_state *b)
     mesh->topo_rep = malloc((size_t)topo_count * sizeof *mesh->topo_rep);
     mesh->topo_normals = calloc((size_t)topo_count * 3, sizeof *mesh->topo_normals);
     mesh->source_count = in->vertex_count;
+    mesh->source_of_render = malloc((size_t)nr * sizeof *mesh->source_of_render);
     mesh->render_of_source = malloc(((size_t)in->vertex_count + 1) * sizeof *mesh->render_of_source);
     if (!mesh->positions || !mesh->normals || (has_uvs && !mesh->uvs) || !mesh->triangles || !mesh->topo_of ||
-        !mesh->topo_rep || !mesh->topo_normals || !mesh->render_of_source)
+        !mesh->topo_rep || !mesh->topo_normals || !mesh->source_of_render || !mesh->render_of_source)
         return sam_mesh_oom(b->err, b->name);
     for (uint32_t t = 0; t < topo_count; ++t)
         mesh->topo_rep[t] = NONE;
+    for (uint32_t r = 0; r < nr; ++r)
+        mesh->source_of_render[r] = NONE;
     for (uint32_t v = 0; v < in->vertex_count; ++v)
         mesh->render_of_source[v] = SAM_MESH_DROPPED;
     for (uint32_t c = 0; c < nc; ++c) {
         uint32_t r = b->render_of[c], ic = b->kept_corner[c], v = in->corners[ic];
         mesh->triangles[c] = r;
         mesh->topo_of[r] = b->corner_topo[c];
+        if (mesh->source_of_render[r] == NONE)
+            mesh->source_of_render[r] = v;
         if (mesh->render_of_source[v] == SAM_MESH_DROPPED)
             mesh->render_of_source[v] = r;
         if (b->corner_topo[c] < topo_count && r < mesh->topo_rep[b->corner_topo[c]])

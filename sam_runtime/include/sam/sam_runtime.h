@@ -30,6 +30,25 @@
  *   At the end
  *     sam_runtime_destroy, then the context.
  *
+ *   Inside an engine (docs/embedding.md): the engine draws with its own
+ *   mesh and shaders and poses its vertices itself (skinning, morphs).
+ *     Once: the .sam built from the same asset (its SRCV chunk maps the
+ *     asset's vertex order to SAM's), steps 1-3 above with the engine's
+ *     context current (sam_gl_check_current), then
+ *     sam_runtime_set_engine_pose with the engine's posed buffers.
+ *     Every frame, after the engine posed its vertices:
+ *       sam_runtime_pose_from_engine   ~ the deform pass (+ a gather)
+ *       sam_runtime_walk               the samples follow the pose
+ *       sam_runtime_irradiance         shadow maps + L_d
+ *       sam_runtime_translucency       T at every vertex
+ *       sam_runtime_engine_translucency  a vec4 buffer in the engine's
+ *                                      vertex order (a copy pass, or none
+ *                                      when the orders agree)
+ *     then the engine binds that buffer and adds T x albedo in its own
+ *     shader. The runtime changes GL state (programs, buffer bindings,
+ *     framebuffer for the shadow maps, viewport): the engine sets its own
+ *     again before it draws.
+ *
  * Results stay on the GPU between the steps; the read-back functions
  * (sam_runtime_read_*) exist for tests and tools and wait for the GPU.
  * Calls whose contract starts "Testing aid" are for tests, tools and
@@ -454,6 +473,61 @@ sam_status sam_runtime_read_thickness_translucency(sam_runtime *rt, float *rgb, 
 /* GPU time of the last run of `pass` in milliseconds (GL timer queries),
  * or a negative value when it has not run. Waits for the result. */
 double sam_runtime_pass_ms(sam_runtime *rt, sam_pass pass);
+
+/* ---- Embedding: an engine's own buffers in, a translucency buffer out.
+ * The engine keeps its mesh, shaders and frame; see "Inside an engine" at
+ * the top of this header. */
+
+/* Where an engine keeps its posed vertices: GL buffer objects of floats in
+ * its own layout (interleaved or not). Vertex e's x is at byte offset +
+ * e * stride, then y and z. */
+typedef struct sam_engine_pose {
+    GLuint positions;         /* posed positions, model units (the .sam's); required */
+    uint32_t position_offset; /* bytes, a multiple of 4 */
+    uint32_t position_stride; /* bytes, a multiple of 4 and >= 12; 0 means 12 (packed) */
+    GLuint normals;           /* posed normals (need not be unit), or 0: SAM computes them */
+    uint32_t normal_offset;   /* as for positions */
+    uint32_t normal_stride;
+    uint32_t vertex_count;    /* vertices in the engine's buffers: sam_runtime_engine_vertex_count */
+} sam_engine_pose;
+
+/* Vertices in the engine's order: the source mesh's vertex count when the
+ * .sam records it (chunk SRCV, which sam_build writes), else the .sam's own
+ * vertex count (the engine must then draw the .sam's vertices as they are). */
+uint32_t sam_runtime_engine_vertex_count(const sam_runtime *rt);
+
+/* Takes the engine's posed buffers as the pose, in place of deformers and
+ * keyframes (which this call removes): every sam_runtime_pose_from_engine
+ * reads them. The first call keeps the current pose as the rest pose, as
+ * sam_runtime_set_deformers does, so call it while the runtime is still
+ * at rest. NULL stops reading the engine (the rest pose comes back at the
+ * next sam_runtime_deform). The buffers stay the engine's: it keeps them
+ * alive and must not shrink them while they are set.
+ * Errors: SAM_ERR_INVALID_ARGUMENT naming the field and value: no
+ * positions buffer, not a buffer object, an offset or stride not a
+ * multiple of 4 or a stride below 12, a vertex count other than
+ * sam_runtime_engine_vertex_count, a buffer too small for its vertices;
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_set_engine_pose(sam_runtime *rt, const sam_engine_pose *pose, sam_error *err);
+
+/* Per frame, in place of sam_runtime_deform: reads the engine's posed
+ * positions (and normals) into the runtime, then the pose's normals (when
+ * the engine gives none), fan areas, curvature and bounds, as the deform
+ * pass does; sam_runtime_walk and the carried K then follow the pose.
+ * Timed as SAM_PASS_DEFORM; one 24-byte read-back (the bounds).
+ * Errors: SAM_ERR_INVALID_ARGUMENT (no engine pose set). */
+sam_status sam_runtime_pose_from_engine(sam_runtime *rt, sam_error *err);
+
+/* The translucency for the engine's shaders: a GL buffer of one vec4 per
+ * engine vertex (RGB T of eq. 12, smoothed; w unspecified), in the
+ * engine's vertex order (0 for a vertex no triangle uses; a vertex SAM
+ * split at a seam shows its first copy's T). Bind it as a
+ * vertex attribute (4 floats, stride 16) or as a shader storage buffer
+ * (vec4 t[]). When the orders agree it is the runtime's own T buffer;
+ * otherwise a small pass writes it. Call it after sam_runtime_translucency
+ * each frame; the buffer stays the runtime's (valid until it is
+ * destroyed). Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_engine_translucency(sam_runtime *rt, GLuint *buffer, sam_error *err);
 
 /* The smoothing weight of eq. 18 for a frame time dt (seconds). */
 float sam_runtime_smoothing_alpha(float dt);
