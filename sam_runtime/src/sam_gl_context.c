@@ -36,8 +36,9 @@ static sam_status fail_egl(sam_gl_context *c, sam_error *err, const char *what)
     return st;
 }
 
-sam_status sam_gl_check_current(int debug, sam_gl_info *i, sam_error *err)
+sam_status sam_gl_check_current(int debug, sam_gl_info *info, sam_error *err)
 {
+    sam_gl_info unused, *i = info ? info : &unused;
     memset(i, 0, sizeof *i);
     snprintf(i->renderer, sizeof i->renderer, "%s", (const char *)glGetString(GL_RENDERER));
     snprintf(i->version, sizeof i->version, "%s", (const char *)glGetString(GL_VERSION));

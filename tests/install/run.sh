@@ -22,7 +22,8 @@ echo "== pkg-config sam"
 PKG_CONFIG_PATH="$work/prefix/lib/pkgconfig" pkg-config --modversion sam
 flags=$(PKG_CONFIG_PATH="$work/prefix/lib/pkgconfig" pkg-config --static --cflags --libs sam)
 cc -std=c11 -Wall -Wextra -Werror -o "$work/consumer_pc" "$here/consumer.c" $flags
-"$work/consumer_pc"
+# A shared build's libraries are found at run time as any library is.
+LD_LIBRARY_PATH="$work/prefix/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" "$work/consumer_pc"
 
 echo "== without the tests, cmocka hidden"
 cmake -S "$source" -B "$work/notest" -DSAM_BUILD_TESTING=OFF -DCMAKE_DISABLE_FIND_PACKAGE_cmocka=ON \

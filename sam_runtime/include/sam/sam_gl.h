@@ -49,7 +49,7 @@ sam_status sam_gl_context_create_headless(sam_gl_context **ctx, sam_error *err);
 
 /* Checks the context current on this thread, made by anyone (a window
  * toolkit's, say), as sam_gl_context_create_headless checks its own: GL 4.3
- * core and the limits the runtime needs; fills `info` and, with `debug`,
+ * core and the limits the runtime needs; fills `info` (may be NULL) and, with `debug`,
  * turns GL debug output on (messages to stderr).
  * Errors: SAM_ERR_UNSUPPORTED naming the renderer and what it lacks. */
 sam_status sam_gl_check_current(int debug, sam_gl_info *info, sam_error *err);

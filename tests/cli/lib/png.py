@@ -70,6 +70,13 @@ def main():
             return
         v = psnr(a, b)
         print("inf" if v == math.inf else f"{v:.2f}")
+    elif cmd == "glow":
+        # Object pixels (not the top-left corner's backdrop in both) whose
+        # luminance is at least LEVEL higher in A than in B: "glow OBJECT".
+        a, b, level = pixels(sys.argv[2]), pixels(sys.argv[3]), float(sys.argv[4])
+        lum = lambda p: 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+        obj = [i for i, p in enumerate(b) if p != b[0] or a[i] != b[0]]
+        print(sum(1 for i in obj if lum(a[i]) >= lum(b[i]) + level), len(obj))
     elif cmd == "count":
         want, tol = [int(v) for v in sys.argv[3:6]], int(sys.argv[6])
         print(sum(all(abs(x - w) <= tol for x, w in zip(p, want)) for p in pixels(sys.argv[2])))
