@@ -13,9 +13,11 @@ foreach(lib sam_core sam_builder sam_runtime)
   set_target_properties(${lib} PROPERTIES VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR})
 endforeach()
 if(NOT BUILD_SHARED_LIBS)
-  # libsam_core.a holds C++ (the OpenMesh loader): a C program linking it
-  # statically needs the C++ runtime too.
-  target_link_libraries(sam_core PRIVATE stdc++)
+  # libsam_core.a holds C++ (the OpenMesh loader): a C program linking the
+  # installed library needs the C++ runtime too. Only there: linking it
+  # ahead of the sanitizer runtimes in this build's own programs broke
+  # LeakSanitizer's exit scan (a bogus thread-local block) in sam_compare.
+  target_link_libraries(sam_core INTERFACE "$<INSTALL_INTERFACE:stdc++>")
 endif()
 
 install(TARGETS sam_core sam_builder sam_runtime EXPORT SAMTargets

@@ -46,7 +46,7 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
     }
     if (scene->albedo_map) {
         sam_image map;
-        if ((st = sam_image_read_png(scene->albedo_map, &map, SAM_PNG_SRGB, err)) != SAM_OK)
+        if ((st = sam_image_read_picture(scene->albedo_map, &map, SAM_PNG_SRGB, err)) != SAM_OK)
             return st;
         st = sam_runtime_set_albedo_map(rt, &map, err);
         sam_image_destroy(&map);

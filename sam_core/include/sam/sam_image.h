@@ -113,6 +113,15 @@ sam_status sam_image_write_png(const char *path, const sam_image *image,
 sam_status sam_image_read_png(const char *path, sam_image *image, sam_png_encoding encoding,
                               sam_error *err);
 
+/* Reads a picture by its extension, as sam_image_read_png does a PNG:
+ * .png through libpng, .jpg and .jpeg (baseline and progressive) and .tga
+ * (uncompressed and RLE; grey, RGB, RGBA) through stb_image, 8 bits per
+ * channel. Grey becomes RGB, grey with alpha RGBA. Same encoding, result
+ * and errors as sam_image_read_png; SAM_ERR_UNSUPPORTED names the formats
+ * for another extension. */
+sam_status sam_image_read_picture(const char *path, sam_image *image, sam_png_encoding encoding,
+                                  sam_error *err);
+
 /* sRGB transfer functions (IEC 61966-2-1) on one value; inputs outside
  * [0, 1] follow the same formulas (negative inputs of the linear segment). */
 float sam_srgb_to_linear(float encoded);

@@ -18,7 +18,7 @@
  *        exactly one key, value > 0. Required with "mesh"; optional with
  *        "sam" (absent: the scale the .sam records applies).
  *   "albedo": [r, g, b]            each in [0, 1]; default [0.8, 0.8, 0.8]
- *   "albedo_map": "skin.png"       optional sRGB PNG at the mesh's UVs; the
+ *   "albedo_map": "skin.png"       optional sRGB PNG, JPEG or TGA at the mesh's UVs; the
  *        albedo multiplies it (d'Eon Sec. 5.3: sqrt before and after scattering)
  *   "lights": [light, ...]         default none; at most SAM_SCENE_MAX_LIGHTS
  *   "environment": {"map": "sky.exr", "intensity": 1.0, "rotation_deg": 0.0}
@@ -172,7 +172,7 @@ typedef struct sam_scene {
     float scale_value; /* > 0 unless scale_kind == SAM_SCALE_FROM_SAM */
 
     float albedo[3]; /* each in [0, 1] */
-    char *albedo_map; /* absolute path of an sRGB PNG read at the mesh's UVs (times albedo), or NULL */
+    char *albedo_map; /* absolute path of an sRGB PNG, JPEG or TGA read at the mesh's UVs (times albedo), or NULL */
 
     sam_light *lights; /* light_count entries */
     size_t light_count;

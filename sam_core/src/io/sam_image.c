@@ -117,3 +117,18 @@ float sam_linear_to_srgb(float linear)
         return linear * 12.92f;
     return 1.055f * powf(linear, 1.0f / 2.4f) - 0.055f;
 }
+
+sam_status sam_image_from_bytes(sam_image *image, const uint8_t *raw, uint32_t w, uint32_t h, uint32_t c,
+                                sam_png_encoding encoding, sam_error *err)
+{
+    sam_status st = sam_image_create(image, w, h, c, err);
+    if (st != SAM_OK)
+        return st;
+    float table[256];
+    for (int v = 0; v < 256; ++v)
+        table[v] = encoding == SAM_PNG_SRGB ? sam_srgb_to_linear(v / 255.0f) : v / 255.0f;
+    const size_t count = (size_t)w * h * c;
+    for (size_t i = 0; i < count; ++i)
+        image->pixels[i] = i % c == 3 ? raw[i] / 255.0f : table[raw[i]];
+    return SAM_OK;
+}

@@ -3,6 +3,7 @@
  *   sam_image.c          memory, size checks, sRGB
  *   sam_image_exr.c      OpenEXR reading and writing
  *   sam_image_png.c      PNG reading and writing
+ *   sam_image_stb.c      JPEG and TGA reading (stb_image), and the reader by extension
  *   sam_image_display.c  tonemapping, the tools' pictures, 8-bit comparison
  */
 #ifndef SAM_IMAGE_INTERNAL_H
@@ -21,6 +22,12 @@ sam_status sam_image_check(const char *what, const sam_image *image, sam_error *
 
 /* Checks a writer's output path and image. */
 sam_status sam_image_check_output(const char *path, const sam_image *image, sam_error *err);
+
+/* A new image from 8-bit samples (w * h * c of them, c 3 or 4, rows top
+ * first): colour decoded from sRGB with SAM_PNG_SRGB, alpha as it is.
+ * Errors: those of sam_image_create. */
+sam_status sam_image_from_bytes(sam_image *image, const uint8_t *raw, uint32_t w, uint32_t h, uint32_t c,
+                                sam_png_encoding encoding, sam_error *err);
 
 /* One value as an 8-bit PNG sample: sRGB-encoded when `srgb`, clamped to
  * [0, 1], rounded to nearest. The PNG writer and the 8-bit comparison share

@@ -218,22 +218,19 @@ sam_status sam_image_read_png(const char *path, sam_image *image, sam_png_encodi
     free(data);
     if (st != SAM_OK)
         return st;
+    if (bits == 8) {
+        st = sam_image_from_bytes(image, raw, w, h, c, encoding, err);
+        free(raw);
+        return st != SAM_OK ? sam_fail(err, st, "%s: out of memory for %u x %u pixels", path, w, h) : SAM_OK;
+    }
     if ((st = sam_image_create(image, w, h, c, err)) != SAM_OK) {
         free(raw);
         return sam_fail(err, st, "%s: out of memory for %u x %u pixels", path, w, h);
     }
-    size_t count = (size_t)w * h * c;
-    if (bits == 8) {
-        float table[256];
-        for (int v = 0; v < 256; ++v)
-            table[v] = encoding == SAM_PNG_SRGB ? sam_srgb_to_linear(v / 255.0f) : v / 255.0f;
-        for (size_t i = 0; i < count; ++i)
-            image->pixels[i] = i % c == 3 ? raw[i] / 255.0f : table[raw[i]];
-    } else {
-        for (size_t i = 0; i < count; ++i) {
-            float v = (float)((raw[2 * i] << 8) | raw[2 * i + 1]) / 65535.0f;
-            image->pixels[i] = encoding == SAM_PNG_SRGB && i % c != 3 ? sam_srgb_to_linear(v) : v;
-        }
+    const size_t count = (size_t)w * h * c;
+    for (size_t i = 0; i < count; ++i) {
+        float v = (float)((raw[2 * i] << 8) | raw[2 * i + 1]) / 65535.0f;
+        image->pixels[i] = encoding == SAM_PNG_SRGB && i % c != 3 ? sam_srgb_to_linear(v) : v;
     }
     free(raw);
     return SAM_OK;
