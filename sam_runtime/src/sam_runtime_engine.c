@@ -47,12 +47,20 @@ sam_status sam_runtime_engine_create(sam_runtime *rt, const samfile_data *sam, s
         for (uint32_t v = 0; v < rt->vertex_count && e->identity; ++v)
             e->identity = sam->vertex_source[v] == v;
     }
-    sam_status st;
-    if (!e->identity && (st = upload_maps(rt, sam, err)) != SAM_OK)
-        return st;
-    if ((st = sam_gl_compute_program("engine_pose.comp", NULL, &e->pose_program, err)) != SAM_OK)
-        return st;
-    return sam_gl_compute_program("engine_translucency.comp", NULL, &e->order_program, err);
+    return e->identity ? SAM_OK : upload_maps(rt, sam, err);
+}
+
+/* The engine passes' programs, compiled when an engine first asks: a
+ * runtime that renders by itself never needs them. */
+static sam_status engine_programs(sam_runtime *rt, sam_error *err)
+{
+    sam_rt_engine *e = &rt->engine;
+    sam_status st = SAM_OK;
+    if (!e->pose_program)
+        st = sam_gl_compute_program("engine_pose.comp", NULL, &e->pose_program, err);
+    if (st == SAM_OK && !e->order_program)
+        st = sam_gl_compute_program("engine_translucency.comp", NULL, &e->order_program, err);
+    return st;
 }
 
 void sam_runtime_engine_destroy(sam_runtime *rt)
@@ -119,6 +127,8 @@ sam_status sam_runtime_set_engine_pose(sam_runtime *rt, const sam_engine_pose *p
     if (st == SAM_OK && p.normals)
         st = check_source(p.normals, p.normal_offset, p.normal_stride, p.vertex_count, "normals", err);
     if (st == SAM_OK)
+        st = engine_programs(rt, err);
+    if (st == SAM_OK)
         st = sam_runtime_deform_keep_rest(rt, err);
     if (st != SAM_OK)
         return st;
@@ -172,8 +182,10 @@ sam_status sam_runtime_pose_from_engine(sam_runtime *rt, sam_error *err)
 
 sam_status sam_runtime_engine_translucency(sam_runtime *rt, GLuint *buffer, sam_error *err)
 {
-    (void)err;
     const sam_rt_engine *e = &rt->engine;
+    sam_status st;
+    if (!e->identity && (st = engine_programs(rt, err)) != SAM_OK)
+        return st;
     if (e->identity) {
         *buffer = rt->buffer[SAM_B_TRANSLUCENCY];
     } else {

@@ -6,8 +6,8 @@
 #include "sam_runtime_internal.h"
 
 /* Part of sam_runtime_create: the engine's vertex order from the .sam's
- * SRCV chunk (identity without one) and the two programs.
- * Errors: SAM_ERR_FORMAT (shader errors), SAM_ERR_OUT_OF_MEMORY. */
+ * SRCV chunk (identity without one); the programs wait for the first
+ * engine call. Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_engine_create(sam_runtime *rt, const samfile_data *sam, sam_error *err);
 void sam_runtime_engine_destroy(sam_runtime *rt);
 

@@ -507,6 +507,7 @@ uint32_t sam_runtime_engine_vertex_count(const sam_runtime *rt);
  * positions buffer, not a buffer object, an offset or stride not a
  * multiple of 4 or a stride below 12, a vertex count other than
  * sam_runtime_engine_vertex_count, a buffer too small for its vertices;
+ * SAM_ERR_FORMAT (the engine passes' shaders, compiled at the first call);
  * SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_set_engine_pose(sam_runtime *rt, const sam_engine_pose *pose, sam_error *err);
 
@@ -526,7 +527,8 @@ sam_status sam_runtime_pose_from_engine(sam_runtime *rt, sam_error *err);
  * (vec4 t[]). When the orders agree it is the runtime's own T buffer;
  * otherwise a small pass writes it. Call it after sam_runtime_translucency
  * each frame; the buffer stays the runtime's (valid until it is
- * destroyed). Errors: SAM_ERR_OUT_OF_MEMORY. */
+ * destroyed). Errors: SAM_ERR_FORMAT (shaders, at the first call),
+ * SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_engine_translucency(sam_runtime *rt, GLuint *buffer, sam_error *err);
 
 /* The smoothing weight of eq. 18 for a frame time dt (seconds). */
