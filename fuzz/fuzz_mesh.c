@@ -1,7 +1,8 @@
 /*
- * libFuzzer target for the mesh loader. OpenMesh reads only from files, so
- * each input is written to a private temporary file; its first byte picks
- * the extension (and so the OpenMesh reader) and the rest is the content.
+ * libFuzzer target for the mesh loader. OpenMesh and TinyGLTF read from
+ * files, so each input is written to a private temporary file; its first
+ * byte picks the extension (and so the reader: 0 OBJ, 1 PLY, 2 OFF, 3 STL,
+ * 4 glTF, 5 GLB, modulo 6) and the rest is the content.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -12,11 +13,11 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static const char *const ext[] = {"obj", "ply", "off", "stl"};
+    static const char *const ext[] = {"obj", "ply", "off", "stl", "gltf", "glb"};
     if (size < 1)
         return 0;
     char path[256];
-    snprintf(path, sizeof path, "/tmp/sam_fuzz_mesh_%ld.%s", (long)getpid(), ext[data[0] % 4]);
+    snprintf(path, sizeof path, "/tmp/sam_fuzz_mesh_%ld.%s", (long)getpid(), ext[data[0] % 6]);
     FILE *fp = fopen(path, "wb");
     if (!fp)
         abort();

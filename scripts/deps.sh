@@ -8,7 +8,9 @@ packages=(
   libopenmesh-dev libembree-dev libopenexr-dev libcjson-dev libcmocka-dev
   libepoxy-dev libglfw3-dev libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
   libpng-dev zlib1g-dev
-  libstb-dev                                   # sam_view's on-screen text (stb_easy_font)
+  libstb-dev                                   # JPEG and TGA albedo maps (stb_image), sam_view's text
+  libtinygltf-dev                              # glTF 2.0 meshes
+  gltfpack                                     # tests: a glTF written by a real exporter
   xvfb xauth                                   # window tests
   gnuplot-nox                                  # sam_compare's RMSE-against-N plot
 )

@@ -44,19 +44,30 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
         if (has_environment)
             *has_environment = 1;
     }
-    if (scene->albedo_map) {
-        sam_image map;
-        if ((st = sam_image_read_picture(scene->albedo_map, &map, SAM_PNG_SRGB, err)) != SAM_OK)
+    /* The scene's albedo map, else the one the mesh file brings (an OBJ's
+     * map_Kd, a glTF's base colour). */
+    sam_image map;
+    memset(&map, 0, sizeof map);
+    const char *source = scene->albedo_map;
+    if (source) {
+        if ((st = sam_image_read_picture(source, &map, SAM_PNG_SRGB, err)) != SAM_OK)
             return st;
-        st = sam_runtime_set_albedo_map(rt, &map, err);
-        sam_image_destroy(&map);
-        if (st == SAM_ERR_UNSUPPORTED && warning && n) {
-            snprintf(warning, n, "albedo map %s ignored: the mesh has no UVs", scene->albedo_map);
-            st = SAM_OK;
-        } else if (st == SAM_ERR_UNSUPPORTED) {
-            st = SAM_OK;
-        }
+    } else if (scene->mesh_path) {
+        char note[600];
+        if ((st = sam_mesh_load_albedo(scene->mesh_path, &map, note, sizeof note, err)) != SAM_OK)
+            return st;
+        if (note[0])
+            set_warning(warning, n, note);
+        source = scene->mesh_path;
     }
+    if (map.pixels) {
+        st = sam_runtime_set_albedo_map(rt, &map, err);
+        if (st == SAM_ERR_UNSUPPORTED && warning && n)
+            snprintf(warning, n, "albedo map of %s ignored: the mesh has no UVs", source);
+        if (st == SAM_ERR_UNSUPPORTED)
+            st = SAM_OK;
+    }
+    sam_image_destroy(&map);
     return st;
 }
 

@@ -34,6 +34,7 @@
 #define SAM_MESH_H
 
 #include "sam/sam_common.h"
+#include "sam/sam_image.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -99,8 +100,10 @@ typedef struct sam_mesh_input {
     const uint32_t *triangles; /* 3 * triangle_count indices < vertex_count */
 } sam_mesh_input;
 
-/* Loads OBJ, PLY (ASCII and binary), OFF or STL through OpenMesh, then
- * welds, repairs and builds the topology as described above.
+/* Loads OBJ, PLY (ASCII and binary), OFF or STL through OpenMesh, or glTF
+ * 2.0 (.gltf, .glb: every triangle primitive of the default scene with its
+ * node transforms, TEXCOORD_0) through TinyGLTF, then welds, repairs and
+ * builds the topology as described above.
  * `report` may be NULL. On failure `mesh` is zeroed (nothing to free).
  * Errors: SAM_ERR_IO (missing/unreadable), SAM_ERR_UNSUPPORTED (extension),
  * SAM_ERR_FORMAT (unparseable, non-finite coordinate, index out of range:
@@ -112,6 +115,16 @@ sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *repo
  * report and errors as sam_mesh_load. */
 sam_status sam_mesh_create(const sam_mesh_input *input, sam_mesh *mesh, sam_mesh_report *report,
                            sam_error *err);
+
+/* The albedo texture a mesh file brings along: an OBJ's first used
+ * material's map_Kd (through its mtllib; PNG, JPEG or TGA), or a glTF's
+ * first base-colour texture times its baseColorFactor. A linear image in
+ * `image` (caller destroys; zeroed when the file brings none). A texture
+ * the file names but that cannot be used is no error: `note` (note_size
+ * bytes, > 0) then says why, for a warning, and is "" otherwise.
+ * Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_IO (the mesh file cannot be
+ * read), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, size_t note_size, sam_error *err);
 
 /* Frees everything a mesh owns and zeroes it. Safe on a zeroed mesh. */
 void sam_mesh_destroy(sam_mesh *mesh);

@@ -11,6 +11,10 @@
 
 #include "sam/sam_image.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Checks an image size; `what` prefixes the message (a file name or
  * "image"). A size read from a file is a format problem when empty and
  * unsupported when too big; a size from a caller is an invalid argument. */
@@ -39,5 +43,9 @@ static inline uint8_t sam_image_to_byte(float v, int srgb)
     v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; /* NaN fails v > 0 and becomes 0 */
     return (uint8_t)(v * 255.0f + 0.5f);
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

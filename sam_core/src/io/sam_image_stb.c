@@ -1,19 +1,14 @@
-/* JPEG and TGA pictures through stb_image, and the reader that picks a
- * picture's decoder by its extension (sam_image_read_picture in
- * sam_image.h). Only those two of stb_image's decoders are compiled in:
- * PNG stays with libpng (sam_image_png.c). stb_image keeps its failure
- * reason in a thread-local variable and nothing else between calls. */
+/* JPEG and TGA pictures through stb_image (Debian's libstb), and the
+ * reader that picks a picture's decoder by its extension
+ * (sam_image_read_picture in sam_image.h). PNG stays with libpng
+ * (sam_image_png.c). stb_image keeps its failure reason in a thread-local
+ * variable and nothing else between calls; this file sets none of its
+ * process-wide options. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_ONLY_JPEG
-#define STBI_ONLY_TGA
-#define STBI_NO_STDIO
-#define STBI_NO_LINEAR
-#define STBI_NO_HDR
-#include <stb/stb_image.h>
+#include <stb_image.h>
 
 #include "sam_image_internal.h"
 

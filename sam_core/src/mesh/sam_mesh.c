@@ -25,8 +25,9 @@ sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *repo
     memset(mesh, 0, sizeof *mesh);
     sam_mesh_soup soup;
     memset(&soup, 0, sizeof soup);
-    sam_status st = sam_mesh_preflight(path, err);
-    if (st == SAM_OK)
+    const int gltf = sam_path_has_extension(path, ".gltf") || sam_path_has_extension(path, ".glb");
+    sam_status st = gltf ? sam_mesh_gltf_read(path, &soup, err) : sam_mesh_preflight(path, err);
+    if (st == SAM_OK && !gltf)
         st = sam_mesh_soup_read(path, &soup, err);
     if (st == SAM_OK && soup.face_count == 0)
         st = sam_fail(err, SAM_ERR_EMPTY, "%s: the file has %u vertices but no faces", path,

@@ -1,12 +1,14 @@
 /*
  * Internal: the raw polygon soup a mesh file holds, before any welding,
  * triangulation or repair. Produced by the OpenMesh reader
- * (sam_mesh_openmesh.cpp, the project's only C++), consumed by sam_mesh_build.c.
+ * (sam_mesh_openmesh.cpp) and the glTF reader (sam_mesh_gltf.cpp), the
+ * project's C++, consumed by sam_mesh_build.c.
  */
 #ifndef SAM_MESH_SOUP_H
 #define SAM_MESH_SOUP_H
 
 #include "sam/sam_common.h"
+#include "sam/sam_image.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -33,6 +35,27 @@ typedef struct sam_mesh_soup {
 sam_status sam_mesh_soup_read(const char *path, sam_mesh_soup *soup, sam_error *err);
 
 void sam_mesh_soup_free(sam_mesh_soup *soup);
+
+/* Reads a glTF 2.0 file (.gltf with its buffers, or .glb) through TinyGLTF
+ * into a soup: the triangles (and strips and fans) of every mesh
+ * primitive reached from the default scene (every mesh once when the file
+ * has no scene), node transforms applied (a mirroring one turns the
+ * winding back), NORMAL when every primitive has it, TEXCOORD_0 with v
+ * flipped to the project's (OBJ's) convention when every primitive has it.
+ * Points and lines are skipped. Every accessor, buffer view, index and
+ * node reference is checked against what the file holds before it is
+ * read. Every exception is caught.
+ * Errors: SAM_ERR_FORMAT (TinyGLTF's message, or the first bad reference,
+ * naming it and the values found), SAM_ERR_EMPTY (no triangles),
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_gltf_read(const char *path, sam_mesh_soup *soup, sam_error *err);
+
+/* The first material's base-colour texture of a glTF file as a linear
+ * image (sRGB decoded; `image` zeroed when no material has one), and its
+ * baseColorFactor in factor[4] (1s without). Errors: SAM_ERR_FORMAT (an
+ * unreadable file), SAM_ERR_UNSUPPORTED (an image that is not 8-bit RGB or
+ * RGBA), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_gltf_base_color(const char *path, sam_image *image, float factor[4], sam_error *err);
 
 /* Checks the structure of a PLY, OFF, OBJ or binary STL file before OpenMesh
  * reads it (sam_mesh_preflight.c): OpenMesh's readers trust the counts they

@@ -24,8 +24,11 @@ extern "C" {
  * the object alike. `warning` (size n, may be NULL) gets one line when
  * something of the scene is left out but the render can go on (an albedo
  * map on a mesh without UVs), else "".
- * Errors: those of sam_image_read_exr / sam_image_read_png (naming the
- * file), sam_light_sh9_from_latlong, sam_runtime_set_lights,
+ * Without an "albedo_map" the mesh file's own texture is used, if it
+ * brings one (sam_mesh_load_albedo); one it names but that cannot be read
+ * is a warning.
+ * Errors: those of sam_image_read_exr / sam_image_read_picture (naming the
+ * file), sam_mesh_load_albedo, sam_light_sh9_from_latlong, sam_runtime_set_lights,
  * sam_runtime_set_deformers and sam_runtime_set_albedo_map. */
 sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, float sh[9][3], int *has_environment,
                                    char *warning, size_t n, sam_error *err);

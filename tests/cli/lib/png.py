@@ -1,8 +1,9 @@
 """Reads 8-bit PNGs (the files the tools write) with the standard library,
 for the command-line tests (there is no numpy or PIL): `python3 png.py psnr
 A B`, `python3 png.py differ A B` (pixels that differ), `python3 png.py
-count A R G B TOL` (pixels within TOL of a colour); or import pixels() and
-psnr()."""
+count A R G B TOL` (pixels within TOL of a colour), `python3 png.py glow A B
+LEVEL`, `python3 png.py checker OUT SIZE` (writes a red and cream
+checkerboard, 8-pixel squares); or import pixels() and psnr()."""
 import math
 import struct
 import sys
@@ -77,6 +78,14 @@ def main():
         lum = lambda p: 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
         obj = [i for i, p in enumerate(b) if p != b[0] or a[i] != b[0]]
         print(sum(1 for i in obj if lum(a[i]) >= lum(b[i]) + level), len(obj))
+    elif cmd == "checker":
+        size = int(sys.argv[3])
+        rows = b"".join(b"\x00" + b"".join(bytes((230, 60, 40) if (x // 8 + y // 8) % 2 else (240, 230, 200))
+                                             for x in range(size)) for y in range(size))
+        chunk = lambda kind, d: struct.pack(">I", len(d)) + kind + d + struct.pack(">I", zlib.crc32(kind + d))
+        with open(sys.argv[2], "wb") as f:
+            f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 2, 0, 0, 0)) +
+                    chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
     elif cmd == "count":
         want, tol = [int(v) for v in sys.argv[3:6]], int(sys.argv[6])
         print(sum(all(abs(x - w) <= tol for x, w in zip(p, want)) for p in pixels(sys.argv[2])))

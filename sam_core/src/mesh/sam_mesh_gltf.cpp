@@ -1,0 +1,448 @@
+// glTF 2.0 (.gltf, .glb) through TinyGLTF behind C functions
+// (sam_mesh_soup.h): the triangles of every mesh primitive in the default
+// scene with their node transforms applied, TEXCOORD_0, and the
+// base-colour texture. No exception crosses into C.
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "../io/sam_image_internal.h"
+#include "sam_mesh_soup.h"
+
+namespace {
+
+// What the file holds, checked while it is read: the first problem ends
+// the read with its message.
+struct Reader {
+    const tinygltf::Model &model;
+    const char *path;
+    std::vector<float> positions, normals, uvs;
+    std::vector<uint32_t> corners;
+    bool all_normals = true, all_uvs = true;
+    uint32_t skipped_primitives = 0; // points and lines
+};
+
+struct Problem {
+    std::string what;
+};
+
+[[noreturn]] void fail(const std::string &what)
+{
+    throw Problem{what};
+}
+
+std::string name_of(const char *kind, int index)
+{
+    return std::string(kind) + " " + std::to_string(index);
+}
+
+// Accessor `index` as `want` floats per element (a normalised integer type
+// scaled as the specification says; KHR_mesh_quantization's plain integers
+// as they are), every byte range checked against its buffer.
+std::vector<float> read_floats(const Reader &r, int index, int want, const char *what)
+{
+    const tinygltf::Model &m = r.model;
+    if (index < 0 || size_t(index) >= m.accessors.size())
+        fail(std::string(what) + ": accessor " + std::to_string(index) + " does not exist (" +
+             std::to_string(m.accessors.size()) + " accessors)");
+    const tinygltf::Accessor &a = m.accessors[size_t(index)];
+    const std::string where = name_of("accessor", index) + " (" + what + ")";
+    if (tinygltf::GetNumComponentsInType(uint32_t(a.type)) != want)
+        fail(where + ": expected " + std::to_string(want) + " components per element");
+    if (a.sparse.isSparse || a.bufferView < 0)
+        fail(where + ": sparse accessors and accessors without a buffer view are not supported");
+    if (size_t(a.bufferView) >= m.bufferViews.size())
+        fail(where + ": buffer view " + std::to_string(a.bufferView) + " does not exist");
+    const tinygltf::BufferView &v = m.bufferViews[size_t(a.bufferView)];
+    if (v.buffer < 0 || size_t(v.buffer) >= m.buffers.size())
+        fail(where + ": buffer " + std::to_string(v.buffer) + " does not exist");
+    const std::vector<unsigned char> &data = m.buffers[size_t(v.buffer)].data;
+    const int size = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
+    const int stride = a.ByteStride(v);
+    if (size <= 0 || stride <= 0)
+        fail(where + ": component type " + std::to_string(a.componentType) + " or stride " +
+             std::to_string(v.byteStride) + " is not valid");
+    // Counts and offsets come from the file: bounded by the buffer before
+    // any product of them is formed or anything is allocated.
+    if (a.count > v.byteLength || a.byteOffset > v.byteLength || v.byteLength > data.size() ||
+        v.byteOffset > data.size() - v.byteLength)
+        fail(where + ": " + std::to_string(a.count) + " elements at offset " + std::to_string(a.byteOffset) +
+             " do not fit buffer view " + std::to_string(a.bufferView) + " (" + std::to_string(v.byteLength) +
+             " bytes at " + std::to_string(v.byteOffset) + " of a " + std::to_string(data.size()) + "-byte buffer)");
+    const uint64_t start = uint64_t(v.byteOffset) + a.byteOffset;
+    const uint64_t need = a.count ? uint64_t(stride) * (a.count - 1) + uint64_t(size) * want : 0;
+    if (a.byteOffset + need > v.byteLength)
+        fail(where + ": " + std::to_string(a.count) + " elements need " + std::to_string(need) +
+             " bytes past offset " + std::to_string(a.byteOffset) + " of buffer view " +
+             std::to_string(a.bufferView) + ", which has " + std::to_string(v.byteLength));
+    std::vector<float> out(a.count * size_t(want), 0.0f);
+    for (size_t e = 0; e < a.count; ++e)
+        for (int c = 0; c < want; ++c) {
+            const unsigned char *p = data.data() + start + uint64_t(stride) * e + uint64_t(size) * c;
+            float x;
+            switch (a.componentType) {
+            case TINYGLTF_COMPONENT_TYPE_FLOAT:
+                std::memcpy(&x, p, 4);
+                break;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                x = a.normalized ? *p / 255.0f : *p;
+                break;
+            case TINYGLTF_COMPONENT_TYPE_BYTE:
+                x = a.normalized ? std::fmax(int8_t(*p) / 127.0f, -1.0f) : int8_t(*p);
+                break;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                uint16_t u;
+                std::memcpy(&u, p, 2);
+                x = a.normalized ? u / 65535.0f : u;
+                break;
+            }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                int16_t s;
+                std::memcpy(&s, p, 2);
+                x = a.normalized ? std::fmax(s / 32767.0f, -1.0f) : s;
+                break;
+            }
+            default:
+                fail(where + ": component type " + std::to_string(a.componentType) + " is not a vertex attribute's");
+            }
+            if (!std::isfinite(x))
+                fail(where + ": component " + std::to_string(c) + " of element " + std::to_string(e) +
+                     " is not finite");
+            out[e * size_t(want) + size_t(c)] = x;
+        }
+    return out;
+}
+
+// The index accessor of a primitive, or 0..vertices-1 without one.
+std::vector<uint32_t> read_indices(const Reader &r, int index, size_t vertices)
+{
+    std::vector<uint32_t> out;
+    if (index < 0) {
+        out.resize(vertices);
+        for (size_t i = 0; i < vertices; ++i)
+            out[i] = uint32_t(i);
+        return out;
+    }
+    const tinygltf::Model &m = r.model;
+    if (size_t(index) >= m.accessors.size())
+        fail("indices: accessor " + std::to_string(index) + " does not exist");
+    const tinygltf::Accessor &a = m.accessors[size_t(index)];
+    const std::string where = name_of("accessor", index) + " (indices)";
+    const int t = a.componentType;
+    if (a.type != TINYGLTF_TYPE_SCALAR ||
+        (t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+         t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+        fail(where + ": indices must be unsigned byte, short or int scalars");
+    if (a.sparse.isSparse || a.bufferView < 0 || size_t(a.bufferView) >= m.bufferViews.size())
+        fail(where + ": no buffer view to read");
+    const tinygltf::BufferView &v = m.bufferViews[size_t(a.bufferView)];
+    if (v.buffer < 0 || size_t(v.buffer) >= m.buffers.size())
+        fail(where + ": buffer " + std::to_string(v.buffer) + " does not exist");
+    const std::vector<unsigned char> &data = m.buffers[size_t(v.buffer)].data;
+    const int size = tinygltf::GetComponentSizeInBytes(uint32_t(t));
+    if (a.count > v.byteLength || a.byteOffset > v.byteLength || v.byteLength > data.size() ||
+        v.byteOffset > data.size() - v.byteLength)
+        fail(where + ": " + std::to_string(a.count) + " indices do not fit buffer view " +
+             std::to_string(a.bufferView));
+    const uint64_t start = uint64_t(v.byteOffset) + a.byteOffset, need = uint64_t(size) * a.count;
+    if (a.byteOffset + need > v.byteLength)
+        fail(where + ": " + std::to_string(a.count) + " indices run past the " + std::to_string(data.size()) +
+             "-byte buffer");
+    out.resize(a.count);
+    for (size_t i = 0; i < a.count; ++i) {
+        const unsigned char *p = data.data() + start + uint64_t(size) * i;
+        uint32_t x = *p;
+        if (size == 2) {
+            uint16_t u;
+            std::memcpy(&u, p, 2);
+            x = u;
+        } else if (size == 4) {
+            std::memcpy(&x, p, 4);
+        }
+        if (x >= vertices)
+            fail(where + ": index " + std::to_string(x) + " at " + std::to_string(i) + " is out of range (" +
+                 std::to_string(vertices) + " vertices)");
+        out[i] = x;
+    }
+    return out;
+}
+
+// Column-major 4x4 products and the node's own transform.
+using Mat4 = std::vector<double>;
+
+Mat4 multiply(const Mat4 &a, const Mat4 &b)
+{
+    Mat4 m(16, 0.0);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            for (int k = 0; k < 4; ++k)
+                m[size_t(4 * c + r)] += a[size_t(4 * k + r)] * b[size_t(4 * c + k)];
+    return m;
+}
+
+Mat4 local_transform(const tinygltf::Node &n, int index)
+{
+    if (n.matrix.size() == 16)
+        return n.matrix;
+    if (!n.matrix.empty())
+        fail(name_of("node", index) + ": matrix of " + std::to_string(n.matrix.size()) + " numbers (expected 16)");
+    const std::vector<double> &t = n.translation, &q = n.rotation, &s = n.scale;
+    if ((!t.empty() && t.size() != 3) || (!q.empty() && q.size() != 4) || (!s.empty() && s.size() != 3))
+        fail(name_of("node", index) + ": translation, rotation or scale of the wrong length");
+    const double x = q.empty() ? 0 : q[0], y = q.empty() ? 0 : q[1], z = q.empty() ? 0 : q[2],
+                 w = q.empty() ? 1 : q[3];
+    const double sx = s.empty() ? 1 : s[0], sy = s.empty() ? 1 : s[1], sz = s.empty() ? 1 : s[2];
+    Mat4 m = {(1 - 2 * (y * y + z * z)) * sx, 2 * (x * y + z * w) * sx,       2 * (x * z - y * w) * sx,       0,
+              2 * (x * y - z * w) * sy,       (1 - 2 * (x * x + z * z)) * sy, 2 * (y * z + x * w) * sy,       0,
+              2 * (x * z + y * w) * sz,       2 * (y * z - x * w) * sz,       (1 - 2 * (x * x + y * y)) * sz, 0,
+              t.empty() ? 0 : t[0],           t.empty() ? 0 : t[1],           t.empty() ? 0 : t[2],           1};
+    return m;
+}
+
+// One primitive's triangles into the soup, transformed by `world`.
+void add_primitive(Reader &r, const tinygltf::Primitive &p, const Mat4 &world, const std::string &where)
+{
+    if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        p.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        r.skipped_primitives++;
+        return;
+    }
+    auto attribute = [&](const char *name) {
+        auto it = p.attributes.find(name);
+        return it == p.attributes.end() ? -1 : it->second;
+    };
+    if (attribute("POSITION") < 0)
+        fail(where + ": no POSITION attribute");
+    std::vector<float> pos = read_floats(r, attribute("POSITION"), 3, "POSITION");
+    const size_t n = pos.size() / 3, base = r.positions.size() / 3;
+    if (base + n > UINT32_MAX / 4)
+        fail(where + ": more vertices than 32-bit indices reach");
+    std::vector<float> nrm, uv;
+    if (attribute("NORMAL") >= 0)
+        nrm = read_floats(r, attribute("NORMAL"), 3, "NORMAL");
+    if (attribute("TEXCOORD_0") >= 0)
+        uv = read_floats(r, attribute("TEXCOORD_0"), 2, "TEXCOORD_0");
+    if ((!nrm.empty() && nrm.size() != pos.size()) || (!uv.empty() && uv.size() / 2 != n))
+        fail(where + ": NORMAL or TEXCOORD_0 has another count than POSITION's " + std::to_string(n));
+    r.all_normals = r.all_normals && !nrm.empty();
+    r.all_uvs = r.all_uvs && !uv.empty();
+    // Normals go through the inverse transpose of the upper 3 x 3.
+    const Mat4 &M = world;
+    const double a = M[0], b = M[4], c = M[8], d = M[1], e = M[5], f = M[9], g = M[2], h = M[6], i = M[10];
+    const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+    const double inv_t[9] = {(e * i - f * h), -(d * i - f * g), (d * h - e * g), -(b * i - c * h), (a * i - c * g),
+                             -(a * h - b * g), (b * f - c * e), -(a * f - c * d), (a * e - b * d)};
+    for (size_t v = 0; v < n; ++v) {
+        const double x = pos[3 * v], y = pos[3 * v + 1], z = pos[3 * v + 2];
+        for (int k = 0; k < 3; ++k)
+            r.positions.push_back(float(M[size_t(k)] * x + M[size_t(4 + k)] * y + M[size_t(8 + k)] * z + M[size_t(12 + k)]));
+        for (int k = 0; k < 3; ++k)
+            r.normals.push_back(nrm.empty() ? 0.0f
+                                            : float(inv_t[3 * k] * nrm[3 * v] + inv_t[3 * k + 1] * nrm[3 * v + 1] +
+                                                    inv_t[3 * k + 2] * nrm[3 * v + 2]));
+        // glTF's v runs down the image, the project's (OBJ's) up.
+        r.uvs.push_back(uv.empty() ? 0.0f : uv[2 * v]);
+        r.uvs.push_back(uv.empty() ? 0.0f : 1.0f - uv[2 * v + 1]);
+    }
+    std::vector<uint32_t> idx = read_indices(r, p.indices, n);
+    // A mirroring transform turns the winding; the triangles are turned back.
+    const bool flip = det < 0;
+    auto triangle = [&](uint32_t i0, uint32_t i1, uint32_t i2) {
+        r.corners.insert(r.corners.end(), {uint32_t(base) + i0, uint32_t(base) + (flip ? i2 : i1),
+                                           uint32_t(base) + (flip ? i1 : i2)});
+    };
+    if (p.mode == TINYGLTF_MODE_TRIANGLES) {
+        if (idx.size() % 3)
+            fail(where + ": " + std::to_string(idx.size()) + " indices is not a whole number of triangles");
+        for (size_t t = 0; t + 2 < idx.size(); t += 3)
+            triangle(idx[t], idx[t + 1], idx[t + 2]);
+    } else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        for (size_t t = 0; t + 2 < idx.size(); ++t)
+            t % 2 ? triangle(idx[t + 1], idx[t], idx[t + 2]) : triangle(idx[t], idx[t + 1], idx[t + 2]);
+    } else {
+        for (size_t t = 1; t + 1 < idx.size(); ++t)
+            triangle(idx[0], idx[t], idx[t + 1]);
+    }
+    if (r.corners.size() / 3 > UINT32_MAX / 4)
+        fail(where + ": more triangles than 32-bit indices reach");
+}
+
+void add_node(Reader &r, int index, const Mat4 &parent, int depth)
+{
+    const tinygltf::Model &m = r.model;
+    if (index < 0 || size_t(index) >= m.nodes.size())
+        fail(name_of("node", index) + " does not exist (" + std::to_string(m.nodes.size()) + " nodes)");
+    // A tree can be no deeper than it has nodes: deeper is a cycle.
+    if (size_t(depth) > m.nodes.size())
+        fail(name_of("node", index) + ": the node hierarchy has a cycle");
+    const tinygltf::Node &n = m.nodes[size_t(index)];
+    const Mat4 world = multiply(parent, local_transform(n, index));
+    if (n.mesh >= 0) {
+        if (size_t(n.mesh) >= m.meshes.size())
+            fail(name_of("node", index) + ": mesh " + std::to_string(n.mesh) + " does not exist");
+        const tinygltf::Mesh &mesh = m.meshes[size_t(n.mesh)];
+        for (size_t p = 0; p < mesh.primitives.size(); ++p)
+            add_primitive(r, mesh.primitives[p], world,
+                          name_of("mesh", n.mesh) + " primitive " + std::to_string(p));
+    }
+    for (int child : n.children)
+        add_node(r, child, world, depth + 1);
+}
+
+// An image loader that decodes nothing: geometry loads whatever format its
+// textures are in (KTX2, WebP...), which TinyGLTF's own loader would refuse
+// the whole file for.
+bool skip_image(tinygltf::Image *, const int, std::string *, std::string *, int, int, const unsigned char *, int,
+                void *)
+{
+    return true;
+}
+
+// Parses the file; with `images` its pictures are decoded too (for the
+// base colour).
+bool load(const char *path, bool images, tinygltf::Model &model, std::string &message)
+{
+    tinygltf::TinyGLTF loader;
+    if (!images)
+        loader.SetImageLoader(skip_image, nullptr);
+    std::string err, warn;
+    const bool binary = sam_path_has_extension(path, ".glb");
+    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    message = err.empty() ? warn : err;
+    for (char &c : message)
+        if (c == '\n' || c == '\r')
+            c = ' ';
+    while (!message.empty() && message.back() == ' ')
+        message.pop_back();
+    return ok;
+}
+
+template <class T> T *copy_out(const std::vector<T> &v)
+{
+    T *p = static_cast<T *>(std::malloc(v.empty() ? 1 : v.size() * sizeof(T)));
+    if (!p)
+        throw std::bad_alloc();
+    if (!v.empty())
+        std::memcpy(p, v.data(), v.size() * sizeof(T));
+    return p;
+}
+
+sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
+{
+    tinygltf::Model model;
+    std::string message;
+    if (!load(path, false, model, message))
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: not a readable glTF file: %s", path,
+                        message.empty() ? "TinyGLTF gave no reason" : message.c_str());
+    Reader r{model, path, {}, {}, {}, {}};
+    try {
+        const Mat4 identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        if (!model.scenes.empty()) {
+            const int s = model.defaultScene >= 0 ? model.defaultScene : 0;
+            if (size_t(s) >= model.scenes.size())
+                fail("the default scene " + std::to_string(s) + " does not exist");
+            for (int node : model.scenes[size_t(s)].nodes)
+                add_node(r, node, identity, 0);
+        } else {
+            // No scene: every mesh once, as it stands.
+            for (size_t m = 0; m < model.meshes.size(); ++m)
+                for (size_t p = 0; p < model.meshes[m].primitives.size(); ++p)
+                    add_primitive(r, model.meshes[m].primitives[p], identity,
+                                  name_of("mesh", int(m)) + " primitive " + std::to_string(p));
+        }
+    } catch (const Problem &p) {
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: %s", path, p.what.c_str());
+    }
+    if (r.corners.empty())
+        return sam_fail(err, SAM_ERR_EMPTY, "%s: the default scene has no triangles%s", path,
+                        r.skipped_primitives ? " (only points or lines)" : "");
+    const uint32_t faces = uint32_t(r.corners.size() / 3);
+    std::vector<uint32_t> offsets(size_t(faces) + 1);
+    for (uint32_t f = 0; f <= faces; ++f)
+        offsets[f] = 3 * f;
+    soup->vertex_count = uint32_t(r.positions.size() / 3);
+    soup->face_count = faces;
+    soup->corner_count = uint32_t(r.corners.size());
+    soup->positions = copy_out(r.positions);
+    soup->normals = r.all_normals ? copy_out(r.normals) : nullptr;
+    soup->uvs = r.all_uvs ? copy_out(r.uvs) : nullptr;
+    soup->face_offsets = copy_out(offsets);
+    soup->corners = copy_out(r.corners);
+    return SAM_OK;
+}
+
+// The first base-colour texture among the default scene's materials.
+sam_status read_base_color(const char *path, sam_image *image, float factor[4], sam_error *err)
+{
+    tinygltf::Model model;
+    std::string message;
+    if (!load(path, true, model, message))
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: its textures cannot be read: %s", path,
+                        message.empty() ? "TinyGLTF gave no reason" : message.c_str());
+    for (const tinygltf::Material &mat : model.materials) {
+        const tinygltf::PbrMetallicRoughness &pbr = mat.pbrMetallicRoughness;
+        const int t = pbr.baseColorTexture.index;
+        if (t < 0 || size_t(t) >= model.textures.size())
+            continue;
+        const int source = model.textures[size_t(t)].source;
+        if (source < 0 || size_t(source) >= model.images.size())
+            continue;
+        const tinygltf::Image &img = model.images[size_t(source)];
+        if (img.bits != 8 || (img.component != 3 && img.component != 4) || img.width <= 0 || img.height <= 0 ||
+            img.image.size() != size_t(img.width) * size_t(img.height) * size_t(img.component))
+            return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                            "%s: base-colour image %d is %d x %d with %d channels of %d bits (8-bit RGB or RGBA "
+                            "expected)",
+                            path, source, img.width, img.height, img.component, img.bits);
+        for (int c = 0; c < 4; ++c)
+            factor[c] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[size_t(c)]) : 1.0f;
+        return sam_image_from_bytes(image, img.image.data(), uint32_t(img.width), uint32_t(img.height),
+                                    uint32_t(img.component), SAM_PNG_SRGB, err);
+    }
+    return SAM_OK;
+}
+
+} // namespace
+
+extern "C" sam_status sam_mesh_gltf_read(const char *path, sam_mesh_soup *soup, sam_error *err)
+{
+    std::memset(soup, 0, sizeof *soup);
+    sam_status st;
+    try {
+        st = read_soup(path, soup, err);
+    } catch (const std::bad_alloc &) {
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory while reading", path);
+    } catch (const std::exception &e) {
+        st = sam_fail(err, SAM_ERR_FORMAT, "%s: TinyGLTF failed: %s", path, e.what());
+    } catch (...) {
+        st = sam_fail(err, SAM_ERR_FORMAT, "%s: TinyGLTF failed with an unknown exception", path);
+    }
+    if (st != SAM_OK)
+        sam_mesh_soup_free(soup);
+    return st;
+}
+
+extern "C" sam_status sam_mesh_gltf_base_color(const char *path, sam_image *image, float factor[4], sam_error *err)
+{
+    if (!path || !image || !factor)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "glTF base colour: NULL argument");
+    std::memset(image, 0, sizeof *image);
+    for (int c = 0; c < 4; ++c)
+        factor[c] = 1.0f;
+    try {
+        return read_base_color(path, image, factor, err);
+    } catch (const std::bad_alloc &) {
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory while reading", path);
+    } catch (const std::exception &e) {
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: TinyGLTF failed: %s", path, e.what());
+    } catch (...) {
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: TinyGLTF failed with an unknown exception", path);
+    }
+}

@@ -1,0 +1,249 @@
+/*
+ * glTF 2.0 meshes (sam_mesh_load on .gltf and .glb): files written here by
+ * hand, each with one embedded buffer. Node transforms apply (a mirroring
+ * one keeps the triangles facing out), strips and fans become triangles,
+ * TEXCOORD_0 turns to the OBJ convention, and each malformed reference
+ * gives one line naming it.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sam/sam_mesh.h"
+#include "sam_test.h"
+
+/* A unit right tetrahedron: 4 positions, UVs, and its 4 faces as 12 u8
+ * indices, counter-clockwise from outside. */
+typedef struct tetra_buffer {
+    float positions[12];
+    float uvs[8];
+    uint8_t indices[12];
+} tetra_buffer;
+
+static const tetra_buffer k_tetra = {
+    {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1},
+    {0, 0, 1, 0, 0, 1, 0.25f, 0.75f},
+    {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3},
+};
+
+static void base64(const uint8_t *in, size_t n, char *out)
+{
+    static const char *abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    size_t o = 0;
+    for (size_t i = 0; i < n; i += 3) {
+        uint32_t v = (uint32_t)in[i] << 16 | (i + 1 < n ? (uint32_t)in[i + 1] << 8 : 0) | (i + 2 < n ? in[i + 2] : 0);
+        out[o++] = abc[v >> 18 & 63];
+        out[o++] = abc[v >> 12 & 63];
+        out[o++] = i + 1 < n ? abc[v >> 6 & 63] : '=';
+        out[o++] = i + 2 < n ? abc[v & 63] : '=';
+    }
+    out[o] = '\0';
+}
+
+/* Writes NAME.gltf: the tetrahedron's buffer, and `nodes`, `primitive`
+ * (its mode and indices) and `scene` spliced into the JSON. Returns the
+ * path in `path`. */
+static void write_gltf(char *path, size_t n, const char *name, const char *nodes, const char *primitive,
+                       const char *accessors_extra, const char *scene)
+{
+    char data[256];
+    base64((const uint8_t *)&k_tetra, sizeof k_tetra, data);
+    char json[4096];
+    snprintf(json, sizeof json,
+             "{\"asset\": {\"version\": \"2.0\"}, %s"
+             "\"nodes\": [%s], \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1}%s}]}],"
+             "\"buffers\": [{\"byteLength\": %zu, \"uri\": \"data:application/octet-stream;base64,%s\"}],"
+             "\"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},"
+             " {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 32},"
+             " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12}],"
+             "\"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\","
+             " \"min\": [0, 0, 0], \"max\": [1, 1, 1]},"
+             " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
+             " {\"bufferView\": 2, \"componentType\": 5121, \"count\": 12, \"type\": \"SCALAR\"}%s]}",
+             scene, nodes, primitive, sizeof k_tetra, data, accessors_extra);
+    char file[128];
+    snprintf(file, sizeof file, "%s.gltf", name);
+    sam_test_tmp_path(path, n, file);
+    sam_test_write_text(path, json);
+}
+
+static const char *k_scene = "\"scene\": 0, \"scenes\": [{\"nodes\": [0]}],";
+static const char *k_triangles = ", \"indices\": 2";
+
+/* Signed volume (model units^3) of a closed mesh: positive when its
+ * triangles face out. */
+static double volume(const sam_mesh *m)
+{
+    double v = 0;
+    for (uint32_t t = 0; t < m->triangle_count; ++t) {
+        const float *a = m->positions + 3 * (size_t)m->triangles[3 * t], *b = m->positions + 3 * (size_t)m->triangles[3 * t + 1],
+                    *c = m->positions + 3 * (size_t)m->triangles[3 * t + 2];
+        v += (a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) - a[1] * ((double)b[0] * c[2] - (double)b[2] * c[0]) +
+              a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0])) / 6.0;
+    }
+    return v;
+}
+
+static void load_ok(const char *path, sam_mesh *m)
+{
+    sam_error err;
+    if (sam_mesh_load(path, m, NULL, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+}
+
+static void test_node_transforms(void **state)
+{
+    (void)state;
+    char path[512];
+    /* Node 0 moves by (10, 0, 0) and holds node 1, which scales by 2. */
+    write_gltf(path, sizeof path, "nodes",
+               "{\"translation\": [10, 0, 0], \"children\": [1]}, {\"scale\": [2, 2, 2], \"mesh\": 0}", k_triangles,
+               "", k_scene);
+    sam_mesh m;
+    load_ok(path, &m);
+    assert_int_equal(m.vertex_count, 4);
+    assert_int_equal(m.triangle_count, 4);
+    assert_int_equal(m.source_count, 4);
+    float lo[3], hi[3];
+    sam_mesh_bounds(&m, lo, hi);
+    assert_float_equal(lo[0], 10.0f, 1e-6f);
+    assert_float_equal(hi[0], 12.0f, 1e-6f);
+    assert_float_equal(hi[1], 2.0f, 1e-6f);
+    assert_float_equal(volume(&m), 8.0 / 6.0, 1e-6);
+    /* v runs up, as in OBJ: the file's (0.25, 0.75) reads (0.25, 0.25). */
+    assert_non_null(m.uvs);
+    const uint32_t last = m.render_of_source[3];
+    assert_float_equal(m.uvs[2 * last], 0.25f, 1e-6f);
+    assert_float_equal(m.uvs[2 * last + 1], 0.25f, 1e-6f);
+    sam_mesh_destroy(&m);
+    /* A mirror (scale -1 in x) turns the winding; the loader turns it back. */
+    write_gltf(path, sizeof path, "mirror", "{\"scale\": [-1, 1, 1], \"mesh\": 0}", k_triangles, "", k_scene);
+    load_ok(path, &m);
+    assert_true(volume(&m) > 0);
+    sam_mesh_destroy(&m);
+    /* A node matrix (column-major) instead of TRS, and no scene at all. */
+    write_gltf(path, sizeof path, "matrix",
+               "{\"matrix\": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 5, 1], \"mesh\": 0}", k_triangles, "", k_scene);
+    load_ok(path, &m);
+    sam_mesh_bounds(&m, lo, hi);
+    assert_float_equal(lo[2], 5.0f, 1e-6f);
+    sam_mesh_destroy(&m);
+    write_gltf(path, sizeof path, "no_scene", "{\"mesh\": 0}", k_triangles, "", "");
+    load_ok(path, &m);
+    assert_int_equal(m.triangle_count, 4);
+    sam_mesh_destroy(&m);
+}
+
+/* A strip of the first 4 indices (0 2 1 0) and a fan of 4 give two
+ * triangles each, before repairs. */
+static void test_strips_and_fans(void **state)
+{
+    (void)state;
+    char path[512];
+    sam_mesh m;
+    sam_mesh_report rep;
+    sam_error err;
+    /* Indices 0 2 1 3 as a strip: (0 2 1), (2 3 1) after the odd flip. */
+    write_gltf(path, sizeof path, "strip", "{\"mesh\": 0}", ", \"mode\": 5, \"indices\": 3",
+               ", {\"bufferView\": 2, \"byteOffset\": 0, \"componentType\": 5121, \"count\": 3, \"type\": \"SCALAR\"}",
+               k_scene);
+    assert_int_equal(sam_mesh_load(path, &m, &rep, &err), SAM_OK);
+    assert_int_equal(m.triangle_count, 1);
+    sam_mesh_destroy(&m);
+    write_gltf(path, sizeof path, "fan", "{\"mesh\": 0}", ", \"mode\": 6, \"indices\": 3",
+               ", {\"bufferView\": 2, \"byteOffset\": 6, \"componentType\": 5121, \"count\": 4, \"type\": \"SCALAR\"}",
+               k_scene);
+    assert_int_equal(sam_mesh_load(path, &m, &rep, &err), SAM_OK);
+    assert_int_equal(m.triangle_count, 2);
+    sam_mesh_destroy(&m);
+}
+
+static void expect_error(const char *name, const char *nodes, const char *primitive, const char *extra,
+                         const char *scene, sam_status status, const char *needle)
+{
+    char path[512];
+    write_gltf(path, sizeof path, name, nodes, primitive, extra, scene);
+    sam_mesh m;
+    sam_error err;
+    sam_status st = sam_mesh_load(path, &m, NULL, &err);
+    if (st != status || !strstr(err.message, needle) || !strstr(err.message, name))
+        fail_msg("%s: expected %s with \"%s\", got %s: \"%s\"", name, sam_status_name(status), needle,
+                 sam_status_name(st), err.message);
+    assert_null(m.positions);
+}
+
+static void test_bad_references(void **state)
+{
+    (void)state;
+    const char *node = "{\"mesh\": 0}";
+    /* The positions' float bytes read as u8 indices: 1.0f is 00 00 80 3f. */
+    expect_error("index_range", node, ", \"indices\": 3",
+                 ", {\"bufferView\": 0, \"byteOffset\": 4, \"componentType\": 5121, \"count\": 12, \"type\": "
+                 "\"SCALAR\"}",
+                 k_scene, SAM_ERR_FORMAT, "accessor 3 (indices): index 128 at 10 is out of range (4 vertices)");
+    expect_error("past_buffer", node, ", \"indices\": 3",
+                 ", {\"bufferView\": 2, \"componentType\": 5121, \"count\": 40, \"type\": \"SCALAR\"}", k_scene,
+                 SAM_ERR_FORMAT, "accessor 3 (indices): 40 indices do not fit buffer view 2");
+    expect_error("no_accessor", node, ", \"indices\": 9", "", k_scene, SAM_ERR_FORMAT,
+                 "not a readable glTF file: primitive indices accessor out of bounds");
+    expect_error("cycle", "{\"children\": [1]}, {\"children\": [0], \"mesh\": 0}", k_triangles, "", k_scene,
+                 SAM_ERR_FORMAT, "node 1: the node hierarchy has a cycle");
+    expect_error("no_node", node, k_triangles, "", "\"scene\": 0, \"scenes\": [{\"nodes\": [7]}],", SAM_ERR_FORMAT,
+                 "node 7 does not exist (1 nodes)");
+    expect_error("points", node, ", \"mode\": 0", "", k_scene, SAM_ERR_EMPTY, "only points or lines");
+    expect_error("three_floats", node, ", \"indices\": 3",
+                 ", {\"bufferView\": 2, \"componentType\": 5126, \"count\": 3, \"type\": \"SCALAR\"}", k_scene,
+                 SAM_ERR_FORMAT, "indices must be unsigned");
+}
+
+/* A GLB of the same tetrahedron, and every truncated prefix of it. */
+static void test_glb_and_truncation(void **state)
+{
+    (void)state;
+    char gltf[512], glb[512];
+    write_gltf(gltf, sizeof gltf, "for_glb", "{\"mesh\": 0}", k_triangles, "", k_scene);
+    uint8_t *text;
+    size_t size;
+    sam_error err;
+    assert_int_equal(sam_read_file(gltf, &text, &size, &err), SAM_OK);
+    /* The JSON chunk is padded with spaces to 4 bytes. */
+    const size_t padded = (size + 3) / 4 * 4;
+    uint8_t *file = malloc(12 + 8 + padded);
+    assert_non_null(file);
+    const uint32_t header[5] = {0x46546C67u, 2, (uint32_t)(20 + padded), (uint32_t)padded, 0x4E4F534Au};
+    memcpy(file, header, sizeof header);
+    memcpy(file + 20, text, size);
+    memset(file + 20 + size, ' ', padded - size);
+    sam_test_tmp_path(glb, sizeof glb, "tetra.glb");
+    sam_test_write_file(glb, file, 20 + padded);
+    sam_mesh m;
+    load_ok(glb, &m);
+    assert_int_equal(m.triangle_count, 4);
+    sam_mesh_destroy(&m);
+    for (size_t n = 0; n < 20 + padded; n += 7) {
+        sam_test_write_file(glb, file, n);
+        sam_status st = sam_mesh_load(glb, &m, NULL, &err);
+        assert_true(st != SAM_OK);
+        assert_non_null(strstr(err.message, "tetra.glb"));
+    }
+    free(file);
+    free(text);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_node_transforms),
+        cmocka_unit_test(test_strips_and_fans),
+        cmocka_unit_test(test_bad_references),
+        cmocka_unit_test(test_glb_and_truncation),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
