@@ -35,7 +35,7 @@ static void usage(FILE *out)
             "through a tree of surface clusters, fine where the profile changes fast, coarse\n"
             "where it does not, with Monte Carlo form factors.\n"
             "\n"
-            "  MESH                .obj, .ply, .off or .stl\n"
+            "  MESH                .obj, .ply, .off, .stl, .gltf or .glb\n"
             "  -o OUT.sam          output, written atomically; an existing file needs --force\n"
             "  --material M        a preset (skin, marble, apple, chicken1, chicken2, cream, ketchup,\n"
             "                      potato, skimmilk, skin1, skin2, wholemilk) or a profile file\n"

@@ -24,7 +24,7 @@ static void usage(FILE *out)
             "usage: sam_view SCENE.json | FILE.sam | MESH [options]\n"
             "\n"
             "Shows the object in a window with real-time SAM translucency. A bare mesh (.obj, .ply,\n"
-            ".off, .stl) or a scene naming only a mesh has its map built first, with a progress bar,\n"
+            ".off, .stl, .gltf, .glb) or a scene naming only a mesh has its map built first, with a progress bar,\n"
             "and cached (a cached map is used again while the mesh's SHA-256, the material, the scale\n"
             "and N match; sam_render and sam_compare share the cache). A bare mesh gets sam_render's\n"
             "staging: framed, a key light in front and a back light where the most light comes\n"

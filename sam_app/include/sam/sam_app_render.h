@@ -24,7 +24,7 @@ extern "C" {
 /* What to render and how; sam_app_render_defaults fills the defaults. A
  * field at its "from the scene" value leaves the scene's setting alone. */
 typedef struct sam_app_render_job {
-    const char *scene_path;  /* the scene file, or a bare mesh (.obj, .ply, .off, .stl) to stage (required) */
+    const char *scene_path;  /* the scene file, or a bare mesh (.obj, .ply, .off, .stl, .gltf, .glb) to stage (required) */
     const char *out;         /* the picture (required): .png (tonemapped sRGB) or .exr (linear HDR); with
                               * animate or turntable, OUT_0000.png, ... */
     const char *png;         /* a tonemapped PNG beside an EXR, or NULL */

@@ -1,6 +1,6 @@
 /*
  * sam_app_stage: the scene a bare mesh gets when the user writes none, so
- * that their own OBJ/PLY/OFF/STL gives a picture where back-lit thin parts
+ * that their own OBJ/PLY/OFF/STL/glTF gives a picture where back-lit thin parts
  * glow: the object's size when it is not given, a camera that frames it, a
  * key light in front and a back light (placed on the runtime where the
  * camera sees the most light come through), and, once rendered, an
