@@ -15,13 +15,8 @@ calls=$(( $(awk '/SAM: a map/,/end of SAM setup/' "$example" | grep -c 'sam_') +
           $(grep -c 'sam_runtime_destroy' "$example") ))
 echo "embed_glfw.c: $calls lines with SAM calls"
 [ "$calls" -gt 0 ] && [ "$calls" -le 30 ] || fail "$calls lines of SAM calls (at most 30)"
-# The example's own exit status (xvfb-run may report its own).
-run() {
-  rm -f "$tmp/rc"
-  xvfb-run -a -s "-screen 0 1024x768x24" sh -c '"$0" "$@"; echo $? > "'"$tmp"'/rc"' "$bin/embed_glfw" "$@"
-  [ -s "$tmp/rc" ] || return 99
-  return "$(cat "$tmp/rc")"
-}
+. "$src/tests/cli/lib/xvfb.sh"
+run() { xvfb_run "$tmp" "$bin/embed_glfw" "$@"; }
 run --frames 12 --size 320x240 --screenshot "$tmp/sam.png" > "$tmp/sam.txt" 2>&1 || fail "with SAM: $(cat "$tmp/sam.txt")"
 run --frames 12 --size 320x240 --screenshot "$tmp/none.png" --no-sam > "$tmp/none.txt" 2>&1 \
   || fail "without SAM: $(cat "$tmp/none.txt")"

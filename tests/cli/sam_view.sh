@@ -10,14 +10,8 @@ rm -rf "$tmp" && mkdir -p "$tmp"
 fail() { echo "FAIL: $*"; exit 1; }
 png() { python3 "$src/tests/cli/lib/png.py" "$@"; }
 command -v xvfb-run > /dev/null || fail "xvfb-run is missing (scripts/deps.sh installs xvfb)"
-# sam_view's own exit status: xvfb-run's can be its own (5 when it cannot
-# clean up its temporary folder, seen under ASan's slower exits).
-view() {
-  rm -f "$tmp/rc"
-  xvfb-run -a -s "-screen 0 1024x768x24" sh -c '"$0" "$@"; echo $? > "'"$tmp"'/rc"' "$bin/sam_view" "$@"
-  [ -s "$tmp/rc" ] || return 99
-  return "$(cat "$tmp/rc")"
-}
+. "$src/tests/cli/lib/xvfb.sh"
+view() { xvfb_run "$tmp" "$bin/sam_view" "$@"; }
 "$bin/sam_meshgen" ear -o "$tmp/ear.obj" --resolution 24 2>/dev/null || fail "meshgen"
 cat > "$tmp/run.txt" <<SCRIPT
 # orbit, zoom, then: final, technique none, samples view, resized

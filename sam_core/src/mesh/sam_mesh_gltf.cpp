@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "../io/sam_image_internal.h"
-#include "sam_mesh_soup.h"
+#include "sam_mesh_cpp.hpp"
 
 namespace {
 
@@ -324,16 +324,6 @@ bool load(const char *path, bool images, tinygltf::Model &model, std::string &me
     return ok;
 }
 
-template <class T> T *copy_out(const std::vector<T> &v)
-{
-    T *p = static_cast<T *>(std::malloc(v.empty() ? 1 : v.size() * sizeof(T)));
-    if (!p)
-        throw std::bad_alloc();
-    if (!v.empty())
-        std::memcpy(p, v.data(), v.size() * sizeof(T));
-    return p;
-}
-
 sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
 {
     tinygltf::Model model;
@@ -370,11 +360,11 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
     soup->vertex_count = uint32_t(r.positions.size() / 3);
     soup->face_count = faces;
     soup->corner_count = uint32_t(r.corners.size());
-    soup->positions = copy_out(r.positions);
-    soup->normals = r.all_normals ? copy_out(r.normals) : nullptr;
-    soup->uvs = r.all_uvs ? copy_out(r.uvs) : nullptr;
-    soup->face_offsets = copy_out(offsets);
-    soup->corners = copy_out(r.corners);
+    soup->positions = sam_mesh_copy_out(r.positions);
+    soup->normals = r.all_normals ? sam_mesh_copy_out(r.normals) : nullptr;
+    soup->uvs = r.all_uvs ? sam_mesh_copy_out(r.uvs) : nullptr;
+    soup->face_offsets = sam_mesh_copy_out(offsets);
+    soup->corners = sam_mesh_copy_out(r.corners);
     return SAM_OK;
 }
 
@@ -414,16 +404,7 @@ sam_status read_base_color(const char *path, sam_image *image, float factor[4], 
 extern "C" sam_status sam_mesh_gltf_read(const char *path, sam_mesh_soup *soup, sam_error *err)
 {
     std::memset(soup, 0, sizeof *soup);
-    sam_status st;
-    try {
-        st = read_soup(path, soup, err);
-    } catch (const std::bad_alloc &) {
-        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory while reading", path);
-    } catch (const std::exception &e) {
-        st = sam_fail(err, SAM_ERR_FORMAT, "%s: TinyGLTF failed: %s", path, e.what());
-    } catch (...) {
-        st = sam_fail(err, SAM_ERR_FORMAT, "%s: TinyGLTF failed with an unknown exception", path);
-    }
+    sam_status st = sam_mesh_guarded(path, "TinyGLTF", err, [&] { return read_soup(path, soup, err); });
     if (st != SAM_OK)
         sam_mesh_soup_free(soup);
     return st;
@@ -436,13 +417,5 @@ extern "C" sam_status sam_mesh_gltf_base_color(const char *path, sam_image *imag
     std::memset(image, 0, sizeof *image);
     for (int c = 0; c < 4; ++c)
         factor[c] = 1.0f;
-    try {
-        return read_base_color(path, image, factor, err);
-    } catch (const std::bad_alloc &) {
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory while reading", path);
-    } catch (const std::exception &e) {
-        return sam_fail(err, SAM_ERR_FORMAT, "%s: TinyGLTF failed: %s", path, e.what());
-    } catch (...) {
-        return sam_fail(err, SAM_ERR_FORMAT, "%s: TinyGLTF failed with an unknown exception", path);
-    }
+    return sam_mesh_guarded(path, "TinyGLTF", err, [&] { return read_base_color(path, image, factor, err); });
 }

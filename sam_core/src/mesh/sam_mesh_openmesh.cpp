@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "sam_mesh_soup.h"
+#include "sam_mesh_cpp.hpp"
 
 namespace {
 
@@ -158,16 +158,6 @@ private:
     }
 };
 
-template <class T> T *copy_out(const std::vector<T> &v)
-{
-    T *p = static_cast<T *>(std::malloc(v.empty() ? 1 : v.size() * sizeof(T)));
-    if (!p)
-        throw std::bad_alloc();
-    if (!v.empty())
-        std::memcpy(p, v.data(), v.size() * sizeof(T));
-    return p;
-}
-
 // Captures OpenMesh's diagnostics for the duration of one read, so they end
 // up in our error message instead of on stderr. OpenMesh's omerr() is a
 // process-wide multiplexer feeding std::cerr; reconnecting its targets leaks
@@ -264,12 +254,12 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
     soup->vertex_count = uint32_t(importer.n_vertices());
     soup->face_count = uint32_t(importer.n_faces());
     soup->corner_count = uint32_t(importer.corners.size());
-    soup->positions = copy_out(importer.positions);
-    soup->normals = vertex_normals ? copy_out(importer.normals) : nullptr;
-    soup->uvs = vertex_uvs ? copy_out(importer.uvs) : nullptr;
-    soup->face_offsets = copy_out(importer.face_offsets);
-    soup->corners = copy_out(importer.corners);
-    soup->corner_uvs = corner_uvs ? copy_out(importer.corner_uvs) : nullptr;
+    soup->positions = sam_mesh_copy_out(importer.positions);
+    soup->normals = vertex_normals ? sam_mesh_copy_out(importer.normals) : nullptr;
+    soup->uvs = vertex_uvs ? sam_mesh_copy_out(importer.uvs) : nullptr;
+    soup->face_offsets = sam_mesh_copy_out(importer.face_offsets);
+    soup->corners = sam_mesh_copy_out(importer.corners);
+    soup->corner_uvs = corner_uvs ? sam_mesh_copy_out(importer.corner_uvs) : nullptr;
     return SAM_OK;
 }
 
@@ -280,16 +270,7 @@ extern "C" sam_status sam_mesh_soup_read(const char *path, sam_mesh_soup *soup, 
     if (!path || !soup)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "mesh read: NULL argument");
     std::memset(soup, 0, sizeof *soup);
-    sam_status st;
-    try {
-        st = read_soup(path, soup, err);
-    } catch (const std::bad_alloc &) {
-        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory while reading", path);
-    } catch (const std::exception &e) {
-        st = sam_fail(err, SAM_ERR_FORMAT, "%s: OpenMesh failed: %s", path, e.what());
-    } catch (...) {
-        st = sam_fail(err, SAM_ERR_FORMAT, "%s: OpenMesh failed with an unknown exception", path);
-    }
+    sam_status st = sam_mesh_guarded(path, "OpenMesh", err, [&] { return read_soup(path, soup, err); });
     if (st != SAM_OK)
         sam_mesh_soup_free(soup);
     return st;

@@ -1,0 +1,12 @@
+# Sourced by the window tests. xvfb_run DIR PROGRAM ARGS... runs PROGRAM
+# under Xvfb and returns PROGRAM's own exit status: xvfb-run's can be its
+# own (5 when it cannot clean up its temporary folder, seen under ASan's
+# slower exits). DIR keeps the status file.
+xvfb_run() {
+  local dir=$1
+  shift
+  rm -f "$dir/rc"
+  xvfb-run -a -s "-screen 0 1024x768x24" sh -c '"$0" "$@"; echo $? > "'"$dir"'/rc"' "$@"
+  [ -s "$dir/rc" ] || return 99
+  return "$(cat "$dir/rc")"
+}
