@@ -8,7 +8,6 @@ bin=$1 src=$2 tmp=$3
 rm -rf "$tmp" && mkdir -p "$tmp"
 fail() { echo "FAIL: $*"; exit 1; }
 png() { python3 "$src/tests/cli/lib/png.py" "$@"; }
-command -v xvfb-run > /dev/null || fail "xvfb-run is missing (scripts/deps.sh installs xvfb)"
 example=$src/examples/embed_glfw.c
 calls=$(( $(awk '/SAM: a map/,/end of SAM setup/' "$example" | grep -c 'sam_') + \
           $(awk '/SAM: follow the pose/,/end of SAM per frame/' "$example" | grep -c 'sam_') + \

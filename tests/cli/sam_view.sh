@@ -9,7 +9,6 @@ bin=$1 src=$2 tmp=$3
 rm -rf "$tmp" && mkdir -p "$tmp"
 fail() { echo "FAIL: $*"; exit 1; }
 png() { python3 "$src/tests/cli/lib/png.py" "$@"; }
-command -v xvfb-run > /dev/null || fail "xvfb-run is missing (scripts/deps.sh installs xvfb)"
 . "$src/tests/cli/lib/xvfb.sh"
 view() { xvfb_run "$tmp" "$bin/sam_view" "$@"; }
 "$bin/sam_meshgen" ear -o "$tmp/ear.obj" --resolution 24 2>/dev/null || fail "meshgen"

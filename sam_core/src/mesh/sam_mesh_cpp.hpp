@@ -8,6 +8,7 @@
 #include <cstring>
 #include <exception>
 #include <new>
+#include <string>
 #include <vector>
 
 #include "sam_mesh_soup.h"
@@ -21,6 +22,18 @@ template <class T> T *sam_mesh_copy_out(const std::vector<T> &v)
     if (!v.empty())
         std::memcpy(p, v.data(), v.size() * sizeof(T));
     return p;
+}
+
+// A library's message as one line: line ends become spaces, trailing
+// spaces go.
+inline std::string sam_mesh_one_line(std::string s)
+{
+    for (char &c : s)
+        if (c == '\n' || c == '\r')
+            c = ' ';
+    while (!s.empty() && s.back() == ' ')
+        s.pop_back();
+    return s;
 }
 
 // read(), which returns a sam_status; an exception becomes

@@ -315,12 +315,7 @@ bool load(const char *path, bool images, tinygltf::Model &model, std::string &me
     const bool binary = sam_path_has_extension(path, ".glb");
     const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                            : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    message = err.empty() ? warn : err;
-    for (char &c : message)
-        if (c == '\n' || c == '\r')
-            c = ' ';
-    while (!message.empty() && message.back() == ' ')
-        message.pop_back();
+    message = sam_mesh_one_line(err.empty() ? warn : err);
     return ok;
 }
 

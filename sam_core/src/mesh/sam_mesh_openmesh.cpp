@@ -186,13 +186,7 @@ public:
     std::string text()
     {
         omerr().flush();
-        std::string s = captured_.str();
-        for (char &c : s)
-            if (c == '\n' || c == '\r')
-                c = ' ';
-        while (!s.empty() && s.back() == ' ')
-            s.pop_back();
-        return s;
+        return sam_mesh_one_line(captured_.str());
     }
 
 private:

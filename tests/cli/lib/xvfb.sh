@@ -1,4 +1,7 @@
-# Sourced by the window tests. xvfb_run DIR PROGRAM ARGS... runs PROGRAM
+# Sourced by the window tests, which stop here when Xvfb is missing.
+command -v xvfb-run > /dev/null || { echo "FAIL: xvfb-run is missing (scripts/deps.sh installs xvfb)"; exit 1; }
+
+# xvfb_run DIR PROGRAM ARGS... runs PROGRAM
 # under Xvfb and returns PROGRAM's own exit status: xvfb-run's can be its
 # own (5 when it cannot clean up its temporary folder, seen under ASan's
 # slower exits). DIR keeps the status file.
