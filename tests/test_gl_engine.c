@@ -159,8 +159,10 @@ static void check_engine_order(const fixture *f, const float *t)
     uint32_t lit = 0;
     for (uint32_t e = 0; e < f->engine_count; ++e) {
         const uint32_t v = f->sam.source_vertex[e];
-        for (int c = 0; c < 3; ++c)
-            assert_float_equal(got[4 * e + c], v == SAMFILE_NO_SAMPLE ? 0.0f : t[3 * (size_t)v + c], 0.0f);
+        for (int c = 0; c < 3; ++c) {
+            const float want = v == SAMFILE_NO_SAMPLE ? 0.0f : t[3 * (size_t)v + c];
+            assert_float_equal(got[4 * e + c], want, 0.0f);
+        }
         lit += got[4 * e] > 0;
     }
     assert_true(lit > f->engine_count / 4);
