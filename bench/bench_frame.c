@@ -164,7 +164,7 @@ static const struct {
 static void technique_matrix(sam_runtime *rt, sam_render_view view, const char *label, int runs, FILE *json)
 {
     char uv_reason[256];
-    int uv_ok = sam_runtime_uv_status(rt, uv_reason, sizeof uv_reason);
+    int uv_ok = sam_runtime_uv_status(rt, uv_reason, sizeof uv_reason, NULL);
     /* It goes into a JSON string as it is. */
     for (char *c = uv_reason; *c; ++c)
         if (*c == '"' || *c == '\\')

@@ -13,6 +13,7 @@
 #include "technique.glsl"
 #include "surface.glsl"
 #include "albedo.glsl"
+#include "uv_atlas.glsl"
 
 in vec3 v_position;
 in vec3 v_normal;
@@ -166,13 +167,14 @@ void main()
         // interpolated coverage, so taps on empty texels beside a chart's edge
         // (or culled, clipped ones) do not darken it: at a small depth-sized
         // atlas those seams would cover much of the surface.
+        vec2 auv = atlas_uv(v_uv);
         if (u_read_atlas != 0) {
-            vec4 s = texture(u_atlas, clamp(v_uv * u_atlas_scale, vec2(0.5 * u_atlas_texel),
+            vec4 s = texture(u_atlas, clamp(auv * u_atlas_scale, vec2(0.5 * u_atlas_texel),
                                             vec2(u_atlas_scale - 0.5 * u_atlas_texel)));
             entering = s.a > 0.0 ? s.rgb / s.a : s.rgb;
         }
         if (u_tsm != 0)
-            entering += tsm_translucency(v_position, n, v_uv, u_total_reflectance);
+            entering += tsm_translucency(v_position, n, auv, u_total_reflectance);
     } else {
         entering = technique_translucency(v_translucency, v_position, n);
         if (u_front != 0)

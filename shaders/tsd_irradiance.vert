@@ -1,6 +1,7 @@
 #version 430 core
 // Texture-space diffusion, step 1: the mesh unwrapped into its UV atlas.
 #include "sam_bindings.h"
+#include "uv_atlas.glsl"
 layout(location = 0) in vec4 a_position;
 layout(location = 1) in vec4 a_normal;
 layout(location = 2) in vec2 a_uv;
@@ -50,5 +51,5 @@ void main()
     gl_ClipDistance[1] = off ? 1.0 : clip.w - clip.x + u_clip_margin.x;
     gl_ClipDistance[2] = off ? 1.0 : clip.w + clip.y + u_clip_margin.y;
     gl_ClipDistance[3] = off ? 1.0 : clip.w - clip.y + u_clip_margin.y;
-    gl_Position = vec4(a_uv * 2.0 - 1.0, 0.0, 1.0);
+    gl_Position = vec4(atlas_uv(a_uv) * 2.0 - 1.0, 0.0, 1.0);
 }

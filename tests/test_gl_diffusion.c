@@ -39,11 +39,18 @@ static void build(const char *name, uint32_t vertex_count, const float *position
     sam_mesh_destroy(&mesh);
 }
 
+/* plane()'s UV layouts. */
+enum {
+    UV_UNIT,     /* (s, t) = ((x, z) + size/2) / size */
+    UV_MIRRORED, /* the half x > 0 takes the UVs of its mirror image, so the halves overlap */
+    UV_PAST,     /* (1.2 s - 0.1, 0.6 t): past [0,1] in u, in the atlas (s, t / 2) */
+    UV_TILED,    /* (2 s, t): a map repeats twice across the plane */
+};
+
 /* An n x n vertex grid over [-size/2, size/2]^2 in the xz plane, facing +y,
- * with uv = ((x, z) + size/2) / size. Quad (i, j) is split along its
- * (i, j)-(i+1, j+1) diagonal. `mirror`: the half x > 0 takes the UVs of
- * its mirror image, so the two halves overlap in the atlas. */
-static void plane(int n, float size, int mirror, const char *material, sam_profile *profile, samfile_data *out)
+ * with UVs of `layout`. Quad (i, j) is split along its (i, j)-(i+1, j+1)
+ * diagonal. */
+static void plane(int n, float size, int layout, const char *material, sam_profile *profile, samfile_data *out)
 {
     float *pos = malloc((size_t)n * n * 3 * sizeof *pos), *uv = malloc((size_t)n * n * 2 * sizeof *uv);
     uint32_t *tri = malloc((size_t)(n - 1) * (n - 1) * 6 * sizeof *tri);
@@ -57,8 +64,11 @@ static void plane(int n, float size, int mirror, const char *material, sam_profi
             pos[3 * v] = (s - 0.5f) * size;
             pos[3 * v + 1] = 0.0f;
             pos[3 * v + 2] = (t - 0.5f) * size;
-            uv[2 * v] = mirror && s > 0.5f ? 1.0f - s : s;
-            uv[2 * v + 1] = t;
+            uv[2 * v] = layout == UV_MIRRORED && s > 0.5f ? 1.0f - s
+                        : layout == UV_PAST                ? 1.2f * s - 0.1f
+                        : layout == UV_TILED               ? 2.0f * s
+                                                           : s;
+            uv[2 * v + 1] = layout == UV_PAST ? 0.6f * t : t;
         }
     size_t k = 0;
     for (int j = 0; j + 1 < n; ++j)
@@ -75,9 +85,9 @@ static void plane(int n, float size, int mirror, const char *material, sam_profi
 }
 
 /* plane()'s skin plane on the GPU; the caller frees `d` and the runtime. */
-static sam_runtime *skin_plane_runtime(int n, float size, int mirror, sam_profile *profile, samfile_data *d)
+static sam_runtime *skin_plane_runtime(int n, float size, int layout, sam_profile *profile, samfile_data *d)
 {
-    plane(n, size, mirror, "skin", profile, d);
+    plane(n, size, layout, "skin", profile, d);
     sam_runtime *rt;
     sam_error err;
     if (sam_runtime_create(d, profile, 1.0f, &rt, &err) != SAM_OK)
@@ -161,7 +171,7 @@ static void test_stretch_matches_sphere(void **state)
     sam_error err;
     assert_int_equal(sam_runtime_create(&d, &profile, (float)mm, &rt, &err), SAM_OK);
     char reason[160];
-    if (!sam_runtime_uv_status(rt, reason, sizeof reason))
+    if (!sam_runtime_uv_status(rt, reason, sizeof reason, NULL))
         fail_msg("%s", reason);
     sam_render_view view;
     look(&view, 64, 40.0f, (float[3]){0, 0, 4}, (float[3]){0, 0, 0}, (float[3]){0, 1, 0});
@@ -226,7 +236,7 @@ static void test_spot_matches_profile(void **state)
     const float size = 20.0f;
     sam_profile profile;
     samfile_data d;
-    sam_runtime *rt = skin_plane_runtime(n, size, 0, &profile, &d);
+    sam_runtime *rt = skin_plane_runtime(n, size, UV_UNIT, &profile, &d);
     sam_error err;
     sam_light l;
     memset(&l, 0, sizeof l);
@@ -403,7 +413,7 @@ static void test_albedo_map(void **state)
     (void)state;
     sam_profile profile;
     samfile_data d;
-    sam_runtime *rt = skin_plane_runtime(33, 40.0f, 0, &profile, &d);
+    sam_runtime *rt = skin_plane_runtime(33, 40.0f, UV_UNIT, &profile, &d);
     sam_error err;
     sam_light l = directional(0, -1, 0, 1.0f);
     assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
@@ -467,10 +477,10 @@ static void test_overlapping_uvs_refused(void **state)
     (void)state;
     sam_profile profile;
     samfile_data d;
-    sam_runtime *rt = skin_plane_runtime(17, 20.0f, 1, &profile, &d);
+    sam_runtime *rt = skin_plane_runtime(17, 20.0f, UV_MIRRORED, &profile, &d);
     sam_error err;
     char reason[160];
-    assert_int_equal(sam_runtime_uv_status(rt, reason, sizeof reason), 0);
+    assert_int_equal(sam_runtime_uv_status(rt, reason, sizeof reason, NULL), 0);
     printf("mirrored plane: %s\n", reason);
     assert_non_null(strstr(reason, "more than one"));
     sam_render_view view;
@@ -485,6 +495,99 @@ static void test_overlapping_uvs_refused(void **state)
     samfile_free(&d);
 }
 
+/* A spot-lit plane whose UVs reach past [0,1]^2 gets texture-space
+ * diffusion (its layout moved into the atlas), and the picture of the same
+ * plane with UVs in the unit square. */
+static void test_uvs_past_the_square(void **state)
+{
+    (void)state;
+    sam_light l;
+    memset(&l, 0, sizeof l);
+    l.type = SAM_LIGHT_SPOT;
+    l.color[0] = l.color[1] = l.color[2] = 1.0f;
+    l.intensity = 25.0f;
+    memcpy(l.position, (float[3]){0, 5, 0}, 3 * sizeof(float));
+    memcpy(l.direction, (float[3]){0, -1, 0}, 3 * sizeof(float));
+    l.inner_angle_deg = l.outer_angle_deg = 20.0f; /* a disk of radius 1.8 mm */
+    sam_render_view view;
+    look(&view, 96, 40.0f, (float[3]){0, 20, 0.01f}, (float[3]){0, 0, 0}, (float[3]){0, 0, -1});
+    sam_image img[2];
+    for (int k = 0; k < 2; ++k) {
+        sam_profile profile;
+        samfile_data d;
+        sam_runtime *rt = skin_plane_runtime(49, 16.0f, k ? UV_PAST : UV_UNIT, &profile, &d);
+        sam_error err;
+        char reason[160];
+        sam_uv_atlas atlas;
+        assert_int_equal(sam_runtime_uv_status(rt, reason, sizeof reason, &atlas), 1);
+        assert_int_equal(atlas.moved, k);
+        if (k) {
+            printf("UVs u %g..%g, v %g..%g: scale %g, offset (%g, %g)\n", (double)atlas.lo[0], (double)atlas.hi[0],
+                   (double)atlas.lo[1], (double)atlas.hi[1], (double)atlas.scale, (double)atlas.offset[0],
+                   (double)atlas.offset[1]);
+            assert_float_equal(atlas.scale, 1.0 / 1.2, 1e-5);
+        }
+        assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+        assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+        render(rt, &view, &img[k]);
+        sam_runtime_destroy(rt);
+        samfile_free(&d);
+    }
+    /* The moved atlas packs v into half the texels, so the two differ by
+     * resampling only. */
+    const double db = psnr(&img[0], &img[1]);
+    printf("spot-lit plane, UVs in the unit square vs past it: PSNR %.2f dB\n", db);
+    assert_true(db > 40.0);
+    sam_image_destroy(&img[0]);
+    sam_image_destroy(&img[1]);
+}
+
+/* A tiled layout (u from 0 to 2) repeats the albedo map across the plane
+ * instead of stretching its edge texels over the second tile. */
+static void test_tiled_albedo_repeats(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = skin_plane_runtime(33, 40.0f, UV_TILED, &profile, &d);
+    sam_error err;
+    sam_light l = directional(0, -1, 0, 1.0f);
+    assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+    assert_int_equal(sam_runtime_set_surface(rt, 0.3f, 0.0f, &err), SAM_OK);
+    assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+    sam_image map;
+    assert_int_equal(sam_image_create(&map, 8, 8, 3, &err), SAM_OK);
+    for (int i = 0; i < 64; ++i)
+        for (int c = 0; c < 3; ++c)
+            map.pixels[3 * i + c] = i % 8 < 4 ? 0.25f : 0.9f; /* dark for u < 0.5 */
+    assert_int_equal(sam_runtime_set_albedo_map(rt, &map, &err), SAM_OK);
+    sam_image_destroy(&map);
+    sam_render_view view;
+    look(&view, 96, 40.0f, (float[3]){0, 40, 0.01f}, (float[3]){0, 0, 0}, (float[3]){0, 0, -1});
+    for (int mode = 0; mode <= 3; mode += 3) {
+        view.diffusion = mode;
+        sam_image img;
+        render(rt, &view, &img);
+        /* The view spans x = +-14.6 mm over 96 columns; columns 6, 23, 72
+         * and 88 lie at x = -12.5, -7.5, 7.5, 12.5 mm, u = 0.375 (dark),
+         * 0.625, 1.375 (dark when the map repeats, bright when clamped)
+         * and 1.625, each 2.5 mm from a change of tone. */
+        double q[4];
+        const int col[4] = {6, 23, 72, 88};
+        for (int i = 0; i < 4; ++i)
+            q[i] = img.pixels[4 * (48 * 96 + col[i])];
+        printf("diffusion %d: tiled map across the plane %.4f %.4f %.4f %.4f\n", mode, q[0], q[1], q[2], q[3]);
+        /* Diffusion carries some light across the 2.5 mm to a change. */
+        const double tolerance = mode ? 0.15 : 0.01;
+        assert_true(fabs(q[2] / q[3] - 0.25 / 0.9) < tolerance * 0.25 / 0.9);
+        assert_true(fabs(q[2] / q[0] - 1.0) < tolerance);
+        assert_true(fabs(q[3] / q[1] - 1.0) < tolerance);
+        sam_image_destroy(&img);
+    }
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -493,6 +596,8 @@ int main(void)
         cmocka_unit_test(test_optimizations_match),
         cmocka_unit_test(test_albedo_map),
         cmocka_unit_test(test_overlapping_uvs_refused),
+        cmocka_unit_test(test_uvs_past_the_square),
+        cmocka_unit_test(test_tiled_albedo_repeats),
     };
     return cmocka_run_group_tests(tests, sam_test_gl_setup, sam_test_gl_teardown);
 }

@@ -476,7 +476,7 @@ static void test_diffusion_energy_and_blur(void **state)
     sam_runtime *rt;
     sam_error err;
     assert_int_equal(sam_runtime_create(&d, &profile, 10.0f, &rt, &err), SAM_OK);
-    assert_true(sam_runtime_uv_status(rt, NULL, 0));
+    assert_true(sam_runtime_uv_status(rt, NULL, 0, NULL));
     sam_render_view view;
     memset(&view, 0, sizeof view);
     view.width = view.height = 128;

@@ -381,6 +381,92 @@ static void test_uv_outside_the_unit_square(void **state)
     uv_mesh_free(&m);
 }
 
+/* The fitted atlas: a layout in the unit square stays as it is; one past
+ * it (slightly, tiled, or wrapping around a seam) moves in whole, with one
+ * scale, and charts that did not overlap still do not. */
+static void test_fit_atlas_moves_layouts_past_the_square(void **state)
+{
+    (void)state;
+    uv_mesh m;
+    uv_mesh_alloc(&m, 9, 4);
+    uint32_t v = 0, t = 0;
+    const float a[4][2] = { { 0.0f, 0.0f }, { 0.5f, 0.0f }, { 0.5f, 0.5f }, { 0.0f, 0.5f } };
+    const float b[4][2] = { { 0.5f, 0.5f }, { 1.0f, 0.5f }, { 1.0f, 1.0f }, { 0.5f, 1.0f } };
+    add_quad(&m, &v, &t, a);
+    add_quad(&m, &v, &t, b);
+    m.uvs[2 * 8] = 7.0f; /* vertex 8: no triangle uses it */
+    float out[18];
+    sam_uv_atlas atlas;
+    sam_error err;
+    assert_int_equal(sam_uv_fit_atlas(m.uvs, m.vertex_count, m.triangles, m.triangle_count, &atlas, out, &err),
+                     SAM_OK);
+    assert_int_equal(atlas.moved, 0);
+    assert_true(atlas.scale == 1.0f && atlas.offset[0] == 0.0f && atlas.offset[1] == 0.0f);
+    assert_memory_equal(out, m.uvs, sizeof out);
+
+    /* u from -0.05 to 0.99 (a real scan's): moved by 0.05, scaled 1 / 1.04. */
+    for (uint32_t k = 0; k < 8; ++k)
+        m.uvs[2 * k] = m.uvs[2 * k] * 1.04f - 0.05f;
+    assert_int_equal(sam_uv_fit_atlas(m.uvs, m.vertex_count, m.triangles, m.triangle_count, &atlas, out, &err),
+                     SAM_OK);
+    assert_int_equal(atlas.moved, 1);
+    assert_relative(atlas.scale, 1.0 / 1.04, 1e-6, "scale");
+    assert_relative(atlas.lo[0], -0.05, 1e-6, "lowest u");
+    for (uint32_t k = 0; k < 8; ++k) {
+        assert_true(fabs(out[2 * k] - (m.uvs[2 * k] + 0.05) / 1.04) < 1e-6);
+        assert_true(fabs(out[2 * k + 1] - m.uvs[2 * k + 1] / 1.04) < 1e-6);
+    }
+    assert_true(out[16] == 1.0f); /* the unused vertex, clamped */
+    sam_uv_report rep = check_ok(&m, 100);
+    assert_int_equal(sam_uv_usable(&rep, NULL, 0), 0);
+    uv_mesh tmp = m;
+    tmp.uvs = out;
+    rep = check_ok(&tmp, 100);
+    assert_int_equal(sam_uv_usable(&rep, NULL, 0), 1);
+
+    /* Tiled four times (u, v from 0 to 4): scaled by a quarter. */
+    for (uint32_t k = 0; k < 8; ++k) {
+        const float *q = k < 4 ? a[k] : b[k - 4];
+        m.uvs[2 * k] = 4.0f * q[0];
+        m.uvs[2 * k + 1] = 4.0f * q[1];
+    }
+    assert_int_equal(sam_uv_fit_atlas(m.uvs, m.vertex_count, m.triangles, m.triangle_count, &atlas, out, &err),
+                     SAM_OK);
+    assert_true(atlas.moved && atlas.scale == 0.25f);
+    for (uint32_t k = 0; k < 8; ++k)
+        assert_true(out[2 * k] == (k < 4 ? a[k] : b[k - 4])[0]);
+
+    /* Wrapping around a seam: chart b at u = 0.9..1.4 would land on chart a
+     * (u = 0..0.5) if wrapped; moved whole, the two stay apart. */
+    for (uint32_t k = 0; k < 8; ++k) {
+        const float *q = k < 4 ? a[k] : b[k - 4];
+        m.uvs[2 * k] = k < 4 ? q[0] : q[0] + 0.4f;
+        m.uvs[2 * k + 1] = q[1];
+    }
+    assert_int_equal(sam_uv_fit_atlas(m.uvs, m.vertex_count, m.triangles, m.triangle_count, &atlas, out, &err),
+                     SAM_OK);
+    tmp.uvs = out;
+    rep = check_ok(&tmp, 100);
+    assert_int_equal(rep.overlap_texels, 0);
+    assert_int_equal(sam_uv_usable(&rep, NULL, 0), 1);
+
+    /* Errors, named as sam_uv_check names them. */
+    m.uvs[2] = NAN;
+    assert_int_equal(sam_uv_fit_atlas(m.uvs, m.vertex_count, m.triangles, m.triangle_count, &atlas, out, &err),
+                     SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "sam_uv_fit_atlas: vertex 1 has a non-finite UV"));
+    m.uvs[2] = 0.0f;
+    m.triangles[4] = 9;
+    assert_int_equal(sam_uv_fit_atlas(m.uvs, m.vertex_count, m.triangles, m.triangle_count, &atlas, out, &err),
+                     SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "triangle 1 corner 1 has index 9 (vertex count 9)"));
+    assert_int_equal(sam_uv_fit_atlas(m.uvs, m.vertex_count, m.triangles, m.triangle_count, NULL, out, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(sam_uv_fit_atlas(NULL, 0, NULL, 0, &atlas, NULL, &err), SAM_OK);
+    assert_int_equal(atlas.moved, 0);
+    uv_mesh_free(&m);
+}
+
 static void test_degenerate_triangles_cover_nothing(void **state)
 {
     (void)state;
@@ -575,6 +661,7 @@ int main(void)
         cmocka_unit_test(test_mirrored_half_overlaps_everywhere),
         cmocka_unit_test(test_overlapping_squares_match_the_analytic_area),
         cmocka_unit_test(test_uv_outside_the_unit_square),
+        cmocka_unit_test(test_fit_atlas_moves_layouts_past_the_square),
         cmocka_unit_test(test_degenerate_triangles_cover_nothing),
         cmocka_unit_test(test_bad_arguments_are_named),
         cmocka_unit_test(test_usable_reason_buffer),

@@ -265,13 +265,19 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, in
     sam_runtime_scene_view(rt, scene, &view, warning, sizeof warning);
     if ((chosen == SAM_TECHNIQUE_TSM || job->beside == SAM_TECHNIQUE_TSM) && view.diffusion != 3) {
         char reason[160];
-        sam_runtime_uv_status(rt, reason, sizeof reason);
+        sam_runtime_uv_status(rt, reason, sizeof reason, NULL);
         st = sam_fail(err, SAM_ERR_UNSUPPORTED, "the tsm technique needs texture-space diffusion, which cannot run: %s",
                       reason);
         goto done;
     }
     if (warning[0])
         fprintf(stderr, "%s: warning: %s\n", tool, warning);
+    sam_uv_atlas atlas;
+    if (view.diffusion == 3 && sam_runtime_uv_status(rt, NULL, 0, &atlas) && atlas.moved)
+        fprintf(stderr, "%s: the UVs reach past [0,1] (u %g..%g, v %g..%g): texture-space diffusion scales them by %.3g "
+                        "into its atlas\n",
+                tool, (double)atlas.lo[0], (double)atlas.hi[0], (double)atlas.lo[1], (double)atlas.hi[1],
+                (double)atlas.scale);
     view.technique = chosen;
     apply_overrides(job, &view);
     if ((st = run_frames(job, tool, scene, rt, &view, &scene->exposure, err)) != SAM_OK ||

@@ -181,6 +181,7 @@ typedef struct sam_rt_tsd {
     int has_uvs, uv_usable;
     char uv_reason[160];
     float uv_coverage; /* fraction of the atlas the charts cover */
+    sam_uv_atlas uv_atlas; /* where the UVs lie in the atlas (the GL buffers keep the mesh's own) */
     GLuint program, blur_program, accumulate_program, fbo;
     GLuint atlas_tex[ATLAS_COUNT];
     uint32_t atlas_allocated, atlas_used; /* texture side, and the side of the last render */

@@ -143,7 +143,7 @@ void sam_runtime_scene_view(const sam_runtime *rt, const sam_scene *scene, sam_r
                       : scene->diffusion == SAM_DIFFUSION_NONE       ? 0
                                                                      : 1;
     char reason[160];
-    if (view->diffusion == 3 && !sam_runtime_uv_status(rt, reason, sizeof reason)) {
+    if (view->diffusion == 3 && !sam_runtime_uv_status(rt, reason, sizeof reason, NULL)) {
         if (warning && n)
             snprintf(warning, n, "texture-space diffusion falls back to screen space: %s", reason);
         view->diffusion = 1;

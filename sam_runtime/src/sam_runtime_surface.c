@@ -90,6 +90,10 @@ sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam
                         map->width, map->height);
     glGenerateMipmap(GL_TEXTURE_2D);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    /* Tiled layouts (UVs past [0, 1]) repeat the map, as glTF's default
+     * sampler and every DCC tool do. */
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     return SAM_OK;
 }
 

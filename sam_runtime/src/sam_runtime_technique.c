@@ -11,6 +11,7 @@
 #include "sam_runtime_shadows.h"
 #include "sam_runtime_technique.h"
 #include "sam_runtime_thickness.h"
+#include "sam_runtime_tsd.h"
 
 sam_status sam_runtime_technique_create(sam_runtime *rt, sam_error *err)
 {
@@ -192,6 +193,7 @@ sam_status sam_runtime_render_tsm(sam_runtime *rt, sam_error *err)
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glUseProgram(rt->technique.tsm_program);
+    sam_runtime_bind_uv_atlas(rt, rt->technique.tsm_program);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_LIGHTS, rt->buffer[SAM_B_LIGHTS]);
     glBindVertexArray(rt->vao);
     /* Area lights get no TSM, but keep their cube map's slot. */

@@ -11,6 +11,7 @@
  */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "sam/sam_uv.h"
@@ -74,10 +75,18 @@ sam_status sam_runtime_tsd_create(sam_runtime *rt, const samfile_data *sam, sam_
     if (sam->uvs) {
         t->has_uvs = 1;
         /* Texture-space diffusion needs charts inside [0, 1]^2 that do not
-         * overlap: mirrored islands would sum two places' light in one texel. */
+         * overlap: mirrored islands would sum two places' light in one texel.
+         * A layout reaching past [0, 1]^2 is moved into it first. */
+        float *atlas_uvs = malloc((sam->vertex_count ? sam->vertex_count : 1) * 2 * sizeof *atlas_uvs);
+        if (!atlas_uvs)
+            return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: out of memory for %u atlas UVs", sam->vertex_count);
         sam_uv_report report;
-        if ((st = sam_uv_check(sam->uvs, sam->vertex_count, sam->triangles, sam->triangle_count, 1024, &report,
-                               err)) != SAM_OK)
+        st = sam_uv_fit_atlas(sam->uvs, sam->vertex_count, sam->triangles, sam->triangle_count, &t->uv_atlas,
+                              atlas_uvs, err);
+        if (st == SAM_OK)
+            st = sam_uv_check(atlas_uvs, sam->vertex_count, sam->triangles, sam->triangle_count, 1024, &report, err);
+        free(atlas_uvs);
+        if (st != SAM_OK)
             return st;
         t->uv_usable = sam_uv_usable(&report, t->uv_reason, sizeof t->uv_reason);
         t->uv_coverage = report.resolution ? (float)((double)report.covered_texels /
@@ -105,8 +114,16 @@ void sam_runtime_tsd_destroy(sam_runtime *rt)
     sam_runtime_delete_program(&rt->tsd.accumulate_program);
 }
 
-int sam_runtime_uv_status(const sam_runtime *rt, char *reason, size_t n)
+void sam_runtime_bind_uv_atlas(const sam_runtime *rt, GLuint p)
 {
+    const sam_uv_atlas *a = &rt->tsd.uv_atlas;
+    glUniform3f(glGetUniformLocation(p, "u_uv_atlas"), a->scale, a->offset[0], a->offset[1]);
+}
+
+int sam_runtime_uv_status(const sam_runtime *rt, char *reason, size_t n, sam_uv_atlas *atlas)
+{
+    if (atlas)
+        *atlas = rt->tsd.uv_atlas;
     if (reason && n)
         snprintf(reason, n, "%s", rt->tsd.uv_usable ? "" : rt->tsd.uv_reason);
     return rt->tsd.uv_usable;
@@ -181,6 +198,7 @@ void sam_runtime_draw_atlas(sam_runtime *rt, const sam_render_view *view, const 
     glDisable(GL_CULL_FACE);
     GLuint p = rt->tsd.program;
     glUseProgram(p);
+    sam_runtime_bind_uv_atlas(rt, p);
     glUniform3fv(glGetUniformLocation(p, "u_total_reflectance"), 1, rt->total_reflectance);
     glUniform1i(glGetUniformLocation(p, "u_front"), front);
     glUniform1i(glGetUniformLocation(p, "u_gbuffer"), gbuffer);

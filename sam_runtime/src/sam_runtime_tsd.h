@@ -7,7 +7,8 @@
 #include "sam_runtime_internal.h"
 
 /* Step 8 of sam_runtime_create: whether the .sam's `uvs` (2 per vertex, or
- * NULL) can carry an atlas (charts inside [0, 1]^2 that do not overlap), and
+ * NULL) can carry an atlas (charts that do not overlap once moved into
+ * [0, 1]^2 by sam_uv_fit_atlas), and
  * the three programs. The UVs themselves are a mesh buffer (SAM_B_UVS).
  * Errors: those of sam_uv_check, SAM_ERR_FORMAT (shader errors). */
 sam_status sam_runtime_tsd_create(sam_runtime *rt, const samfile_data *sam, sam_error *err);
@@ -21,6 +22,10 @@ void sam_runtime_tsd_destroy(sam_runtime *rt);
  * SAM_ERR_INVALID_ARGUMENT (atlas size), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
                                      const sam_mat4 *proj, int mode, GLuint override_tex, int tsm, sam_error *err);
+
+/* Sets the program's u_uv_atlas (uv_atlas.glsl) to where the UVs lie in
+ * the atlas. */
+void sam_runtime_bind_uv_atlas(const sam_runtime *rt, GLuint program);
 
 /* The atlas side `view` asks for (options.atlas_size or the default). */
 uint32_t sam_runtime_atlas_size(const sam_render_view *view);

@@ -165,6 +165,7 @@ static void draw_view(sam_runtime *rt, const sam_render_view *view, const sam_ma
         glUniform1f(glGetUniformLocation(p, "u_atlas_texel"), 1.0f / (float)rt->tsd.atlas_allocated);
     }
     sam_runtime_bind_albedo(rt, p);
+    sam_runtime_bind_uv_atlas(rt, p);
     glUniform1i(glGetUniformLocation(p, "u_pre_size"), PRE_SIZE);
     glUniform1f(glGetUniformLocation(p, "u_pre_max_curvature"), PRE_MAX_CURVATURE);
     glUniform1f(glGetUniformLocation(p, "u_pre_max_penumbra"), PRE_MAX_PENUMBRA_MM);

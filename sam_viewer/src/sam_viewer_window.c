@@ -261,7 +261,7 @@ sam_status sam_viewer_window_open(sam_viewer_window *w, const sam_viewer_window_
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory for the samples view");
     sam_render_view start;
     sam_runtime_scene_view(w->rt, &v->scene, &start, NULL, 0);
-    sam_viewer_start(v, stride, centre, radius, sam_runtime_uv_status(w->rt, NULL, 0), start.eye, start.target,
+    sam_viewer_start(v, stride, centre, radius, sam_runtime_uv_status(w->rt, NULL, 0, NULL), start.eye, start.target,
                      start.fov_deg);
     glfwSetKeyCallback(w->window, on_key);
     glfwSetMouseButtonCallback(w->window, on_button);

@@ -67,6 +67,13 @@ printf '{"mesh": "stack.obj", "material": "skin", "scale": {"mm_per_unit": 10}, 
 "$bin/sam_render" "$tmp/stack.json" -o "$tmp/stack.exr" 2> "$tmp/stack.txt" || fail "overlap fallback: $(cat "$tmp/stack.txt")"
 [ "$(grep -c 'falls back to screen space: .*more than one triangle' "$tmp/stack.txt")" -eq 1 ] \
   || fail "expected one overlap warning: $(cat "$tmp/stack.txt")"
+# A real scan's UVs from u = -0.05: the layout moves into the atlas, with a note, and does not fall back.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt -0.05 0.1\nvt 0.9 0.1\nvt -0.05 0.9\nvt 0.99 0.9\nf 1/1 3/3 2/2\nf 1/2 2/4 4/3\n' > "$tmp/past.obj"
+sed 's/stack.obj/past.obj/' "$tmp/stack.json" > "$tmp/past.json"
+"$bin/sam_render" "$tmp/past.json" -o "$tmp/past.exr" 2> "$tmp/past.txt" || fail "UVs past [0,1]: $(cat "$tmp/past.txt")"
+grep -q warning "$tmp/past.txt" && fail "UVs past [0,1] fell back: $(cat "$tmp/past.txt")"
+grep -q "the UVs reach past \[0,1\] (u -0.05..0.99, v 0.1..0.9): texture-space diffusion scales them by 0.962" \
+  "$tmp/past.txt" || fail "no note on the moved UVs: $(cat "$tmp/past.txt")"
 # The diffusion settings: each kernel and optimisation renders, and changes the picture where it should.
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/eq1.exr" --sss-kernel eq1 --sss-samples 9 --passes 3 2>/dev/null || fail "--sss-kernel eq1"
 cmp -s "$tmp/eq1.exr" "$tmp/a.exr" && fail "the eq.-1 kernel gave the fit2d picture"

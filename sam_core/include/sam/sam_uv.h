@@ -4,7 +4,11 @@
  * Texture-space subsurface diffusion (d'Eon et al. 2007) rasterises the
  * irradiance of the surface into its UV atlas and blurs it there, so every
  * texel must stand for one place on the surface: UVs must lie in [0,1]^2
- * and no two triangles may share texture space. A mirrored or stacked UV
+ * and no two triangles may share texture space. Layouts that reach past
+ * [0,1]^2 (exporters write them for tiling, wrap-around seams and UDIM
+ * tiles) are first moved there whole by sam_uv_fit_atlas: one scale and
+ * offset for every UV, so charts that did not overlap still do not, and
+ * no triangle needs splitting. A mirrored or stacked UV
  * island (common in game assets, where both halves of a face share one
  * texture) would add the light of two surface places into one texel. A mesh
  * that fails falls back to screen-space diffusion, and sam_uv_usable gives
@@ -57,6 +61,36 @@ typedef struct sam_uv_report {
     uint32_t first_outside_triangle; /* index of the first of them, UINT32_MAX when none */
     uint32_t degenerate_triangles;   /* zero UV area (not an error by itself) */
 } sam_uv_report;
+
+/* Where a layout's UVs lie in the texture-space atlas:
+ * atlas_uv = uv * scale + offset. */
+typedef struct sam_uv_atlas {
+    int moved;          /* 1 when the UVs reach past [0,1]^2 and were moved into it */
+    float scale;        /* > 0; 1 when not moved */
+    float offset[2];    /* (0, 0) when not moved */
+    float lo[2], hi[2]; /* bounds of the UVs the triangles use, (0,0) when there are no triangles */
+} sam_uv_atlas;
+
+/* Fits the UV layout of `triangle_count` triangles (`triangles`:
+ * 3 * triangle_count indices < vertex_count) over `uvs` (2 * vertex_count
+ * floats) into the atlas's [0,1]^2 and writes every vertex's atlas UV to
+ * `out` (2 * vertex_count floats, may be `uvs` itself).
+ *
+ * When the UVs the triangles use already lie in [0,1]^2 they are kept as
+ * they are. Otherwise their bounding box is scaled, by one factor on both
+ * axes so texels stay square, to a side of 1 and moved to the origin: a
+ * layout from u = -0.05 to 0.99 loses 5% of its texel density, a tiled one
+ * from 0 to 4 three quarters, a row of ten UDIM tiles 90% (the atlas's
+ * side is sized from the covered fraction, so the blur keeps its reach).
+ * Wrapping into [0,1] instead would stack the tiles of a tiled or UDIM
+ * layout on one another. Atlas UVs of vertices no triangle uses are
+ * clamped into [0,1]^2.
+ *
+ * `uvs` and `out` may be NULL when vertex_count is 0, `triangles` when
+ * triangle_count is 0. Errors: SAM_ERR_INVALID_ARGUMENT (NULL atlas, or a
+ * NULL array with a non-zero count), SAM_ERR_FORMAT (as sam_uv_check). */
+sam_status sam_uv_fit_atlas(const float *uvs, uint32_t vertex_count, const uint32_t *triangles,
+                            uint32_t triangle_count, sam_uv_atlas *atlas, float *out, sam_error *err);
 
 /* Measures the coverage of the UV atlas of `triangle_count` triangles
  * (`triangles`: 3 * triangle_count indices < vertex_count) over `uvs`

@@ -121,36 +121,77 @@ static void rasterise(fixed_point p0, fixed_point p1, fixed_point p2, uint8_t *g
     }
 }
 
-static sam_status validate(const float *uvs, uint32_t vertex_count, const uint32_t *triangles,
-                           uint32_t triangle_count, uint32_t resolution, const sam_uv_report *report,
-                           sam_error *err)
+/* Checks what every sam_uv function reads: finite UVs, indices in range. */
+static sam_status validate_mesh(const char *fn, const float *uvs, uint32_t vertex_count, const uint32_t *triangles,
+                                uint32_t triangle_count, sam_error *err)
 {
-    if (!report)
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "sam_uv_check: NULL report");
     if (!uvs && vertex_count > 0)
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "sam_uv_check: NULL uvs for %u vertices",
-                        vertex_count);
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: NULL uvs for %u vertices", fn, vertex_count);
     if (!triangles && triangle_count > 0)
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "sam_uv_check: NULL triangles for %u triangles",
-                        triangle_count);
-    if (resolution == 0 || resolution > SAM_UV_MAX_RESOLUTION)
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
-                        "sam_uv_check: resolution %u is outside 1..%u texels", resolution,
-                        SAM_UV_MAX_RESOLUTION);
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: NULL triangles for %u triangles", fn, triangle_count);
     for (uint32_t v = 0; v < vertex_count; ++v) {
         const float *uv = uvs + 2 * (size_t)v;
         if (!isfinite(uv[0]) || !isfinite(uv[1]))
-            return sam_fail(err, SAM_ERR_FORMAT, "sam_uv_check: vertex %u has a non-finite UV (%g, %g)", v,
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: vertex %u has a non-finite UV (%g, %g)", fn, v,
                             (double)uv[0], (double)uv[1]);
     }
     for (uint32_t t = 0; t < triangle_count; ++t) {
         for (unsigned c = 0; c < 3; ++c) {
             uint32_t index = triangles[3 * (size_t)t + c];
             if (index >= vertex_count)
-                return sam_fail(err, SAM_ERR_FORMAT,
-                                "sam_uv_check: triangle %u corner %u has index %u (vertex count %u)", t, c,
-                                index, vertex_count);
+                return sam_fail(err, SAM_ERR_FORMAT, "%s: triangle %u corner %u has index %u (vertex count %u)",
+                                fn, t, c, index, vertex_count);
         }
+    }
+    return SAM_OK;
+}
+
+static sam_status validate(const float *uvs, uint32_t vertex_count, const uint32_t *triangles,
+                           uint32_t triangle_count, uint32_t resolution, const sam_uv_report *report,
+                           sam_error *err)
+{
+    if (!report)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "sam_uv_check: NULL report");
+    if (resolution == 0 || resolution > SAM_UV_MAX_RESOLUTION)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "sam_uv_check: resolution %u is outside 1..%u texels", resolution,
+                        SAM_UV_MAX_RESOLUTION);
+    return validate_mesh("sam_uv_check", uvs, vertex_count, triangles, triangle_count, err);
+}
+
+sam_status sam_uv_fit_atlas(const float *uvs, uint32_t vertex_count, const uint32_t *triangles,
+                            uint32_t triangle_count, sam_uv_atlas *atlas, float *out, sam_error *err)
+{
+    if (!atlas || (!out && vertex_count > 0))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "sam_uv_fit_atlas: NULL atlas or output");
+    memset(atlas, 0, sizeof *atlas);
+    atlas->scale = 1.0f;
+    sam_status st = validate_mesh("sam_uv_fit_atlas", uvs, vertex_count, triangles, triangle_count, err);
+    if (st != SAM_OK)
+        return st;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t i = 0; i < 3 * (size_t)triangle_count; ++i)
+        for (int c = 0; c < 2; ++c) {
+            double x = uvs[2 * (size_t)triangles[i] + c];
+            lo[c] = fmin(lo[c], x);
+            hi[c] = fmax(hi[c], x);
+        }
+    const int inside = triangle_count == 0 || (lo[0] >= 0.0 && lo[1] >= 0.0 && hi[0] <= 1.0 && hi[1] <= 1.0);
+    const double extent = triangle_count ? fmax(hi[0] - lo[0], hi[1] - lo[1]) : 0.0;
+    /* One scale for both axes: texels stay square, as the layout's author
+     * drew them, so the blur's stretch map sees the surface they chose. */
+    atlas->moved = !inside && extent > 0.0;
+    const double scale = atlas->moved ? 1.0 / extent : 1.0;
+    atlas->scale = (float)scale;
+    for (int c = 0; c < 2; ++c) {
+        atlas->lo[c] = triangle_count ? (float)lo[c] : 0.0f;
+        atlas->hi[c] = triangle_count ? (float)hi[c] : 0.0f;
+        atlas->offset[c] = atlas->moved ? (float)(0.0 - lo[c] * scale) : 0.0f;
+    }
+    for (size_t i = 0; i < 2 * (size_t)vertex_count; ++i) {
+        /* Rounding may put a UV an ulp past the square it lies in. */
+        double x = (double)uvs[i] * atlas->scale + atlas->offset[i & 1];
+        out[i] = atlas->moved ? (float)fmin(fmax(x, 0.0), 1.0) : uvs[i];
     }
     return SAM_OK;
 }

@@ -87,6 +87,7 @@
 #include "sam/sam_light.h"
 #include "sam/sam_profile.h"
 #include "sam/sam_technique.h"
+#include "sam/sam_uv.h"
 #include "sam/samfile.h"
 
 #ifdef __cplusplus
@@ -441,10 +442,13 @@ sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *view, sam
  * larger than the GL's texture limit). */
 sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam_error *err);
 
-/* 1 when texture-space diffusion can run: the .sam has UVs, they lie in
- * [0, 1]^2 and do not overlap (sam_uv_check at 1024^2). Otherwise 0, and
- * `reason` (size n, may be NULL) gets one line saying why. */
-int sam_runtime_uv_status(const sam_runtime *rt, char *reason, size_t n);
+/* 1 when texture-space diffusion can run: the .sam has UVs whose charts,
+ * moved into [0, 1]^2 when they reach past it (sam_uv_fit_atlas), do not
+ * overlap (sam_uv_check at 1024^2). Otherwise 0, and `reason` (size n, may
+ * be NULL) gets one line saying why. `atlas` (may be NULL) gets where the
+ * UVs lie in the atlas, moved or not; the albedo map is read at the
+ * mesh's own UVs, wrapping (GL_REPEAT) for tiled layouts. */
+int sam_runtime_uv_status(const sam_runtime *rt, char *reason, size_t n, sam_uv_atlas *atlas);
 
 /* The texture-space maps of the last texture-space render, T x T RGBA
  * floats (T the atlas side it used; caller destroys `out`). */
