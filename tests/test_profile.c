@@ -606,9 +606,143 @@ static void test_load_good_files(void **state)
     assert_int_equal(sam_profile_from_spec(SAM_TEST_DATA_DIR "/profile_jade.json", &p, &err),
                      SAM_OK);
     assert_string_equal(p.name, "jade_like");
+    /* The artist and measured materials shipped as examples. */
+    assert_int_equal(sam_profile_load(SAM_SOURCE_DIR "/scenes/materials/skin_burley.json", &p, &err), SAM_OK);
+    assert_string_equal(p.name, "skin_burley");
+    assert_int_equal(p.gaussian_count, 8);
+    assert_true(p.fit_source_error[0] > 0);
+    assert_int_equal(sam_profile_load(SAM_SOURCE_DIR "/scenes/materials/jade_radius.json", &p, &err), SAM_OK);
+    assert_string_equal(p.name, "jade_radius");
+    assert_int_equal(sam_profile_load(SAM_SOURCE_DIR "/scenes/materials/skin_table.json", &p, &err), SAM_OK);
+    assert_string_equal(p.name, "skin_table");
+    assert_true(p.fit_source_error[0] > 0 && p.fit_source_error[0] < 0.01f);
     assert_int_equal(sam_profile_from_spec("ketchupp", &p, &err), SAM_ERR_IO);
     assert_non_null(strstr(err.message, "'ketchupp'"));
     assert_non_null(strstr(err.message, "wholemilk"));
+}
+
+/* Burley's energy within r, closed form: A (1 - e^{-r/d} / 4 - 3 e^{-r/3d} / 4). */
+static double burley_energy(double albedo, double d, double r)
+{
+    return albedo * (1 - 0.25 * exp(-r / d) - 0.75 * exp(-r / (3 * d)));
+}
+
+/* A sum of Gaussians' energy within r. */
+static double gaussian_energy(const sam_profile *p, int c, double r)
+{
+    double e = 0;
+    for (uint32_t i = 0; i < p->gaussian_count; i++)
+        e += p->weight[i][c] * -expm1(-r * r / (2 * p->variance[i]));
+    return e;
+}
+
+/* An artist's skin (surface albedo and mean free path per channel) keeps
+ * its albedo as its total reflectance, misplaces at most the reported
+ * fraction of its energy (checked here against Burley's closed-form
+ * energy), scales with its distances, and a scatter radius d gives the
+ * profile of the mean free path it stands for. */
+static void test_burley_profile(void **state)
+{
+    (void)state;
+    const float albedo[3] = {0.83f, 0.53f, 0.38f}, mfp[3] = {3.67f, 1.37f, 0.68f};
+    sam_profile p;
+    sam_error err;
+    assert_int_equal(sam_profile_burley(albedo, mfp, SAM_BURLEY_MEAN_FREE_PATH, &p, &err), SAM_OK);
+    assert_int_equal(p.kind, SAM_PROFILE_GAUSSIAN_SUM);
+    assert_int_equal(p.gaussian_count, 8);
+    assert_string_equal(p.name, "burley");
+    float total[3];
+    sam_profile_total_reflectance(&p, total);
+    for (int c = 0; c < 3; c++) {
+        const double d = sam_profile_burley_shape(albedo[c], mfp[c]);
+        assert_true(fabs(d - mfp[c] / (1.9 - albedo[c] + 3.5 * (albedo[c] - 0.8) * (albedo[c] - 0.8))) < 1e-6);
+        double worst = 0, worst_r = 0;
+        for (double r = 1e-3 * d; r < 40 * d; r *= 1.01) {
+            const double e = fabs(gaussian_energy(&p, c, r) - burley_energy(albedo[c], d, r)) / albedo[c];
+            if (e > worst)
+                worst = e, worst_r = r / d;
+        }
+        float rd[3];
+        const double B = albedo[c] * (exp(-1.0) + exp(-1.0 / 3)) / (8 * 3.14159265358979 * d * d);
+        sam_profile_eval(&p, (float)d, rd);
+        printf("burley skin channel %d: d %.3f mm, total %.5f, reported energy error %.4f, measured %.4f at %.2f d, "
+               "R_d(d) %.4g against %.4g\n",
+               c, d, (double)total[c], (double)p.fit_source_error[c], worst, worst_r, (double)rd[c], B);
+        assert_true(fabs(total[c] - albedo[c]) < 1e-5);
+        assert_true(p.fit_source_error[c] < 0.02f);
+        assert_true(fabs(worst - p.fit_source_error[c]) < 0.1 * p.fit_source_error[c] + 1e-4);
+        assert_true(fabs(rd[c] / B - 1) < 0.05);
+    }
+    /* Twice the distances: every radius doubles. */
+    const float twice[3] = {2 * mfp[0], 2 * mfp[1], 2 * mfp[2]};
+    sam_profile q;
+    assert_int_equal(sam_profile_burley(albedo, twice, SAM_BURLEY_MEAN_FREE_PATH, &q, &err), SAM_OK);
+    assert_float_equal(sam_profile_radius(&q, 0.01f) / sam_profile_radius(&p, 0.01f), 2.0, 2e-3);
+    /* d given directly. */
+    float d[3];
+    for (int c = 0; c < 3; c++)
+        d[c] = (float)sam_profile_burley_shape(albedo[c], mfp[c]);
+    assert_int_equal(sam_profile_burley(albedo, d, SAM_BURLEY_SCATTER_RADIUS, &q, &err), SAM_OK);
+    for (uint32_t i = 0; i < 8; i++) {
+        assert_float_equal(q.variance[i], p.variance[i], 1e-4 * p.variance[i]);
+        for (int c = 0; c < 3; c++)
+            assert_float_equal(q.weight[i][c], p.weight[i][c], 1e-4);
+    }
+    /* Errors name the parameter and value. */
+    const float bad_albedo[3] = {1.5f, 0.5f, 0.5f}, zero[3] = {0, 0, 0}, bad_distance[3] = {1, 0, 1};
+    assert_int_equal(sam_profile_burley(bad_albedo, mfp, SAM_BURLEY_MEAN_FREE_PATH, &q, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "albedo[0] 1.5 must lie in [0, 1]"));
+    assert_int_equal(sam_profile_burley(albedo, bad_distance, SAM_BURLEY_SCATTER_RADIUS, &q, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "scatter_radius[1] 0 must be > 0"));
+    assert_int_equal(sam_profile_burley(zero, mfp, SAM_BURLEY_MEAN_FREE_PATH, &q, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "reflects no light"));
+}
+
+/* A measured profile: the skin preset sampled at 49 radii (as a
+ * measurement would give it) comes back as the preset, within the
+ * table's own interpolation. */
+static void test_table_profile(void **state)
+{
+    (void)state;
+    sam_profile skin = preset("skin"), p;
+    float r[49], rd[49][3];
+    r[0] = 0;
+    for (int i = 1; i < 49; i++)
+        r[i] = 0.005f * powf(4000.0f, (float)(i - 1) / 47.0f);
+    for (int i = 0; i < 49; i++)
+        sam_profile_eval(&skin, r[i], rd[i]);
+    sam_error err;
+    const float(*crd)[3] = rd;
+    assert_int_equal(sam_profile_table(49, r, crd, &p, &err), SAM_OK);
+    assert_string_equal(p.name, "table");
+    float total[3], want[3];
+    sam_profile_total_reflectance(&p, total);
+    sam_profile_total_reflectance(&skin, want);
+    for (int c = 0; c < 3; c++) {
+        double worst = 0;
+        for (double x = 1e-3; x < 40; x *= 1.01)
+            worst = fmax(worst, fabs(gaussian_energy(&p, c, x) - gaussian_energy(&skin, c, x)) / want[c]);
+        printf("skin table channel %d: total %.5f (preset %.5f), reported energy error %.4f, against the preset "
+               "%.4f\n",
+               c, (double)total[c], (double)want[c], (double)p.fit_source_error[c], worst);
+        assert_true(fabs(total[c] / want[c] - 1) < 0.01);
+        assert_true(p.fit_source_error[c] < 0.01f);
+        assert_true(worst < 0.005);
+    }
+    /* Errors: order, sign, size. */
+    float swapped[49];
+    memcpy(swapped, r, sizeof swapped);
+    swapped[10] = swapped[9];
+    assert_int_equal(sam_profile_table(49, swapped, crd, &p, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "radius_mm[10]"));
+    assert_non_null(strstr(err.message, "must ascend"));
+    rd[3][1] = -1;
+    assert_int_equal(sam_profile_table(49, r, crd, &p, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "rd[3][1] -1 must be >= 0"));
+    assert_int_equal(sam_profile_table(1, r, crd, &p, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "1 points, expected 2..4096"));
 }
 
 typedef struct bad_case {
@@ -664,6 +798,27 @@ static void test_load_bad_files(void **state)
          "{\"type\":\"gaussians\",\"gaussians\":[{\"variance\":1,\"weight\":[1,1,1]}]} x",
          SAM_ERR_FORMAT, ":1:", "syntax error"},
         {"profile_array.json", "[1, 2]", SAM_ERR_FORMAT, "top level", NULL},
+        {"profile_burley_both.json",
+         "{\"type\":\"burley\",\"albedo\":[0.5,0.5,0.5],\"mean_free_path\":[1,1,1],\"scatter_radius\":[1,1,1]}",
+         SAM_ERR_FORMAT, "one of \"mean_free_path\" and \"scatter_radius\", found both", NULL},
+        {"profile_burley_neither.json", "{\"type\":\"burley\",\"albedo\":[0.5,0.5,0.5]}", SAM_ERR_FORMAT,
+         "found neither", NULL},
+        {"profile_burley_eta.json", "{\"type\":\"burley\",\"albedo\":[0.5,0.5,0.5],\"eta\":1.3}",
+         SAM_ERR_FORMAT, "eta: not allowed in a \"burley\" profile", NULL},
+        {"profile_burley_albedo.json",
+         "{\"type\":\"burley\",\"albedo\":[0.5,2,0.5],\"scatter_radius\":[1,1,1]}", SAM_ERR_FORMAT,
+         "albedo[1]", "must lie in [0, 1]"},
+        {"profile_burley_radius.json",
+         "{\"type\":\"burley\",\"albedo\":[0.5,0.5,0.5],\"scatter_radius\":[1,-1,1]}", SAM_ERR_FORMAT,
+         "scatter_radius[1]", "must be > 0"},
+        {"profile_table_lengths.json", "{\"type\":\"table\",\"radius_mm\":[0,1,2],\"rd\":[[1,1,1],[0,0,0]]}",
+         SAM_ERR_FORMAT, "rd: 2 entries, but radius_mm has 3", NULL},
+        {"profile_table_order.json", "{\"type\":\"table\",\"radius_mm\":[0,2,1],\"rd\":[[1,1,1],[1,1,1],[0,0,0]]}",
+         SAM_ERR_FORMAT, "radius_mm[2] 1 does not exceed radius_mm[1] 2", NULL},
+        {"profile_table_rd.json", "{\"type\":\"table\",\"radius_mm\":[0,1],\"rd\":[[1,1,1],[1,\"x\",1]]}",
+         SAM_ERR_FORMAT, "rd[1]", NULL},
+        {"profile_table_missing.json", "{\"type\":\"table\",\"radius_mm\":[0,1]}", SAM_ERR_FORMAT,
+         "missing key \"rd\" of a table profile", NULL},
         {"profile_empty.json", "", SAM_ERR_FORMAT, "empty", NULL},
         {"profile_blank.txt", "  \n\t\n", SAM_ERR_FORMAT, "empty", NULL},
         {"profile_comments.txt", "# nothing here\n", SAM_ERR_FORMAT, "no profile", NULL},
@@ -975,6 +1130,8 @@ int main(void)
         cmocka_unit_test(test_marginal_mass),
         cmocka_unit_test(test_constructors_validate),
         cmocka_unit_test(test_to_json),
+        cmocka_unit_test(test_burley_profile),
+        cmocka_unit_test(test_table_profile),
         cmocka_unit_test(test_load_good_files),
         cmocka_unit_test(test_load_bad_files),
         cmocka_unit_test(test_truncated_files),

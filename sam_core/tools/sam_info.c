@@ -177,6 +177,11 @@ static int info_profile(const char *path)
     printf("  total reflectance: (%.4f, %.4f, %.4f)\n", total[0], total[1], total[2]);
     printf("  radius:            %.3f mm holds 99%%, %.3f mm holds 99.9%% of the energy\n",
            sam_profile_radius(&profile, 0.01f), sam_profile_radius(&profile, 0.001f));
+    const float *source = profile.fit_source_error;
+    if (source[0] > 0 || source[1] > 0 || source[2] > 0)
+        printf("  fitted to its source (a burley or table material): at most %.2f%%, %.2f%%, %.2f%% of the energy "
+               "lands at another radius\n",
+               100 * source[0], 100 * source[1], 100 * source[2]);
     printf("  8-Gaussian fit:    error %.3f%%, %.3f%%, %.3f%% (d'Eon eq. 10)\n",
            100 * sam_profile_fit_error(&profile, &fit, 0), 100 * sam_profile_fit_error(&profile, &fit, 1),
            100 * sam_profile_fit_error(&profile, &fit, 2));

@@ -137,6 +137,13 @@ const char *sam_profile_check_weight(double w)
     return w >= 0 ? NULL : "must be >= 0";
 }
 
+const char *sam_profile_check_albedo(double a)
+{
+    if (!finite_float(a))
+        return "is not a finite float";
+    return a >= 0 && a <= 1 ? NULL : "must lie in [0, 1]";
+}
+
 const char *sam_profile_check_sigma_s_prime(double s)
 {
     if (!finite_float(s))

@@ -49,12 +49,22 @@
 #define MIN_SEPARATION 0.05 /* ln v; closer variances make the Gram singular */
 
 typedef struct fit_problem {
-    double r[FIT_NODES + 1], w[FIT_NODES + 1];
+    int measure; /* 1: int r (R - F)^2 dr (eq. 10), 3: int r^3 (R - F)^2 dr */
+    double r[FIT_NODES + 1], w[FIT_NODES + 1]; /* w includes the measure's r^measure */
     double R[3][FIT_NODES + 1];
     double total[3];
-    double power[3]; /* int r R^2 dr, the denominator of eq. 10 squared */
+    double power[3]; /* int r^measure R^2 dr, the denominator of the error squared */
     double lnv_lo, lnv_hi;
 } fit_problem;
+
+/* int_0^inf r^measure G(v_i, r) G(v_j, r) dr, exact. */
+static double gram(int measure, double vi, double vj)
+{
+    if (measure == 1)
+        return 1 / (4 * SAM_PROFILE_PI * SAM_PROFILE_PI * (vi + vj));
+    const double a = 0.5 / vi + 0.5 / vj; /* int r^3 e^{-a r^2} dr = 1 / (2 a^2) */
+    return 1 / (2 * a * a) / (4 * SAM_PROFILE_PI * SAM_PROFILE_PI * vi * vj);
+}
 
 /* Solves the n x n system a x = b (row-major, n <= 9) by Gaussian
  * elimination with partial pivoting; returns 0 when it is singular. */
@@ -199,7 +209,7 @@ static double objective(const fit_problem *fp, const double lnv[8], const double
         v[i] = exp(lnv[i]);
     for (int i = 0; i < 8; i++)
         for (int j = 0; j < 8; j++)
-            H[i][j] = 1 / (4 * SAM_PROFILE_PI * SAM_PROFILE_PI * (v[i] + v[j]));
+            H[i][j] = gram(fp->measure, v[i], v[j]);
     for (int ch = 0; ch < 3; ch++) {
         double g[8], x[8] = {0};
         if (fp->total[ch] > 0) {
@@ -289,6 +299,11 @@ static int fit_exact(const sam_profile *p, sam_gaussian_fit *fit)
     return 1;
 }
 
+static void eval_profile(const void *user, double r, double out[3])
+{
+    sam_profile_eval_d(user, r, out);
+}
+
 sam_status sam_profile_fit_gaussians(const sam_profile *profile, sam_gaussian_fit *fit,
                                      sam_error *err)
 {
@@ -302,12 +317,10 @@ sam_status sam_profile_fit_gaussians(const sam_profile *profile, sam_gaussian_fi
                         profile->name, (int)profile->kind, profile->gaussian_count);
     if (profile->kind == SAM_PROFILE_GAUSSIAN_SUM && fit_exact(profile, fit))
         return SAM_OK;
-
-    fit_problem fp;
-    sam_profile_total_d(profile, fp.total);
-    double lo, hi;
+    double total[3], lo, hi;
+    sam_profile_total_d(profile, total);
     if (profile->kind == SAM_PROFILE_DIPOLE) {
-        deon_range(profile, fp.total, &lo, &hi);
+        deon_range(profile, total, &lo, &hi);
     } else {
         lo = INFINITY;
         hi = 0;
@@ -316,7 +329,18 @@ sam_status sam_profile_fit_gaussians(const sam_profile *profile, sam_gaussian_fi
             hi = fmax(hi, profile->variance[i]);
         }
     }
-    double lnlo = log(lo), lnhi = log(hi);
+    return sam_profile_fit_radial(eval_profile, profile, total, 1, lo, hi, 1e-4 * sam_profile_scale_min(profile),
+                                  sam_profile_scale_max(profile), profile->name, fit, err);
+}
+
+sam_status sam_profile_fit_radial(sam_profile_radial_fn f, const void *user, const double total[3], int measure,
+                                  double var_lo, double var_hi, double r_lo, double r_hi, const char *name,
+                                  sam_gaussian_fit *fit, sam_error *err)
+{
+    fit_problem fp;
+    fp.measure = measure;
+    memcpy(fp.total, total, sizeof fp.total);
+    double lnlo = log(var_lo), lnhi = log(var_hi);
     /* Too narrow a range would crowd the start below MIN_SEPARATION. */
     if (lnhi - lnlo < 7 * 2 * MIN_SEPARATION) {
         double mid = 0.5 * (lnlo + lnhi);
@@ -325,13 +349,15 @@ sam_status sam_profile_fit_gaussians(const sam_profile *profile, sam_gaussian_fi
     }
     fp.lnv_lo = lnlo - log(16.0);
     fp.lnv_hi = lnhi + log(16.0);
-    double r_lo = 1e-4 * fmin(sam_profile_scale_min(profile), exp(0.5 * fp.lnv_lo));
-    double r_hi = fmax(sam_profile_scale_max(profile), 10 * exp(0.5 * fp.lnv_hi));
+    r_lo = fmin(r_lo, 1e-4 * exp(0.5 * fp.lnv_lo));
+    r_hi = fmax(r_hi, 10 * exp(0.5 * fp.lnv_hi));
     sam_profile_radial_rule(r_lo, r_hi, FIT_NODES, fp.r, fp.w);
     fp.power[0] = fp.power[1] = fp.power[2] = 0;
     for (int k = 0; k <= FIT_NODES; k++) {
+        if (measure == 3)
+            fp.w[k] *= fp.r[k] * fp.r[k];
         double R[3];
-        sam_profile_eval_d(profile, fp.r[k], R);
+        f(user, fp.r[k], R);
         for (int ch = 0; ch < 3; ch++) {
             fp.R[ch][k] = R[ch];
             fp.power[ch] += fp.w[k] * R[ch] * R[ch];
@@ -375,8 +401,7 @@ sam_status sam_profile_fit_gaussians(const sam_profile *profile, sam_gaussian_fi
     double w[8][3];
     if (!isfinite(objective(&fp, lnv, c, w)))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
-                        "profile '%.64s': the 8-Gaussian fit found no solvable set of variances",
-                        profile->name);
+                        "profile '%.64s': the 8-Gaussian fit found no solvable set of variances", name);
 
     memset(fit, 0, sizeof *fit);
     fit->count = SAM_PROFILE_FIT_GAUSSIANS;

@@ -60,6 +60,24 @@ double sam_profile_scale_max(const sam_profile *p);
  * below r_lo and negligible beyond r_hi. */
 void sam_profile_radial_rule(double r_lo, double r_hi, int n, double *r, double *w);
 
+/* A radial function to fit: out[c] = f_c(r) for r >= 0 (mm). */
+typedef void (*sam_profile_radial_fn)(const void *user, double r_mm, double out[3]);
+
+/* The shared-variance 8-Gaussian fit of sam_profile_fit_gaussians (see
+ * sam_profile_fit.c) for any radial function: the weights keep `total`
+ * (2 pi int r f dr per channel) exactly, the variances start geometrically
+ * over [var_lo, var_hi] (mm^2) and move within 16 times past it, and f is
+ * integrated on a log grid over at least [r_lo, r_hi]. `measure` 1
+ * minimises d'Eon eq. 10, int r (f - F)^2 dr; 3 minimises
+ * int r^3 (f - F)^2 dr, the error of the energy per radius r f weighted by
+ * r: finite for a profile with a 1/r peak (Christensen-Burley), and it
+ * holds the tail, which carries the light through thick parts. `name` is
+ * for messages. Errors: SAM_ERR_INVALID_ARGUMENT (no solvable set of
+ * variances). */
+sam_status sam_profile_fit_radial(sam_profile_radial_fn f, const void *user, const double total[3], int measure,
+                                  double var_lo, double var_hi, double r_lo, double r_hi, const char *name,
+                                  sam_gaussian_fit *fit, sam_error *err);
+
 /* Checks of one parameter; NULL when valid, else what is wrong with it
  * ("must be > 0", ...), for messages that add the file, key or line. */
 const char *sam_profile_check_variance(double v);
@@ -67,5 +85,6 @@ const char *sam_profile_check_weight(double w);
 const char *sam_profile_check_sigma_s_prime(double s);
 const char *sam_profile_check_sigma_a(double s);
 const char *sam_profile_check_eta(double eta);
+const char *sam_profile_check_albedo(double a);
 
 #endif

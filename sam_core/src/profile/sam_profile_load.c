@@ -80,7 +80,65 @@ static sam_status json_members(const sam_json_ctx *ctx, const cJSON *object, con
     return SAM_OK;
 }
 
-enum { KEY_TYPE, KEY_KIND, KEY_NAME, KEY_GAUSSIANS, KEY_SSP, KEY_SA, KEY_ETA, KEY_COUNT };
+enum {
+    KEY_TYPE, KEY_KIND, KEY_NAME, KEY_GAUSSIANS, KEY_SSP, KEY_SA, KEY_ETA, KEY_ALBEDO, KEY_MFP, KEY_RADIUS,
+    KEY_TABLE_R, KEY_TABLE_RD, KEY_COUNT
+};
+
+/* The profile types, the keys each takes (bits of 1 << KEY_...) and the
+ * keys it needs; a Burley material needs one of its two distances. */
+enum { TYPE_GAUSSIANS, TYPE_DIPOLE, TYPE_BURLEY, TYPE_TABLE, TYPE_COUNT };
+static const char *const type_names[TYPE_COUNT] = {"gaussians", "dipole", "burley", "table"};
+static const unsigned type_keys[TYPE_COUNT] = {
+    1u << KEY_GAUSSIANS,
+    1u << KEY_SSP | 1u << KEY_SA | 1u << KEY_ETA,
+    1u << KEY_ALBEDO | 1u << KEY_MFP | 1u << KEY_RADIUS,
+    1u << KEY_TABLE_R | 1u << KEY_TABLE_RD,
+};
+static const unsigned type_required[TYPE_COUNT] = {
+    1u << KEY_GAUSSIANS,
+    1u << KEY_SSP | 1u << KEY_SA | 1u << KEY_ETA,
+    1u << KEY_ALBEDO,
+    1u << KEY_TABLE_R | 1u << KEY_TABLE_RD,
+};
+
+/* "radius_mm": [r...] and "rd": [[r, g, b]...] of one length. */
+static sam_status json_table(const sam_json_ctx *ctx, const cJSON *radius, const cJSON *rd, sam_profile *out)
+{
+    static const char *const names[2] = {"radius_mm", "rd"};
+    const cJSON *lists[2] = {radius, rd};
+    for (int k = 0; k < 2; k++) {
+        if (!cJSON_IsArray(lists[k]))
+            return sam_json_fail(ctx, SAM_ERR_FORMAT, names[k], "expected an array, found %s",
+                                 sam_json_kind(lists[k]));
+        int n = cJSON_GetArraySize(lists[k]);
+        if (n < 2 || n > SAM_PROFILE_MAX_TABLE)
+            return sam_json_fail(ctx, SAM_ERR_FORMAT, names[k], "%d entries, expected 2..%d", n,
+                                 SAM_PROFILE_MAX_TABLE);
+    }
+    const int n = cJSON_GetArraySize(radius);
+    if (cJSON_GetArraySize(rd) != n)
+        return sam_json_fail(ctx, SAM_ERR_FORMAT, "rd", "%d entries, but radius_mm has %d", cJSON_GetArraySize(rd),
+                             n);
+    float *r = malloc((size_t)n * sizeof *r);
+    float(*v)[3] = malloc((size_t)n * sizeof *v);
+    sam_status s = r && v ? SAM_OK : sam_fail(ctx->err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", ctx->name);
+    int i = 0;
+    for (const cJSON *a = radius->child, *b = rd->child; s == SAM_OK && a && b; a = a->next, b = b->next, i++) {
+        char where[64];
+        if ((s = sam_json_checked_number(ctx, a, sam_json_index_path(where, sizeof where, "radius_mm", i),
+                                         sam_profile_check_weight, &r[i])) == SAM_OK)
+            s = sam_json_checked_rgb(ctx, b, sam_json_index_path(where, sizeof where, "rd", i),
+                                     sam_profile_check_weight, v[i]);
+    }
+    sam_error inner;
+    const float(*cv)[3] = v;
+    if (s == SAM_OK && sam_profile_table((uint32_t)n, r, cv, out, &inner) != SAM_OK)
+        s = sam_fail(ctx->err, SAM_ERR_FORMAT, "%s: %s", ctx->name, inner.message);
+    free(r);
+    free(v);
+    return s;
+}
 
 static sam_status json_gaussians(const sam_json_ctx *ctx, const cJSON *list, sam_profile *out)
 {
@@ -124,8 +182,9 @@ static sam_status json_gaussians(const sam_json_ctx *ctx, const cJSON *list, sam
 static sam_status load_json(const char *path, const char *text, size_t size, sam_profile *out,
                             sam_error *err)
 {
-    static const char *const keys[KEY_COUNT] = {"type", "kind", "name", "gaussians",
-                                                "sigma_s_prime", "sigma_a", "eta"};
+    static const char *const keys[KEY_COUNT] = {"type",   "kind",           "name",           "gaussians",
+                                                "sigma_s_prime", "sigma_a", "eta",     "albedo",
+                                                "mean_free_path", "scatter_radius", "radius_mm", "rd"};
     sam_json_ctx ctx = {path, err};
     const char *end = NULL;
     /* The length includes the NUL that sam_read_file appends, so cJSON's
@@ -160,41 +219,38 @@ static sam_status load_json(const char *path, const char *text, size_t size, sam
     const char *type_key = found[KEY_TYPE] ? "type" : "kind";
     if (!type) {
         s = sam_fail(err, SAM_ERR_FORMAT,
-                     "%s: missing key \"type\" (\"gaussians\" or \"dipole\")", path);
+                     "%s: missing key \"type\" (\"gaussians\", \"dipole\", \"burley\" or \"table\")", path);
         goto done;
     }
     if (!cJSON_IsString(type)) {
         s = sam_json_fail(&ctx, SAM_ERR_FORMAT, type_key, "expected a string, found %s", sam_json_kind(type));
         goto done;
     }
-    int dipole = strcmp(type->valuestring, "dipole") == 0;
-    if (!dipole && strcmp(type->valuestring, "gaussians") != 0) {
+    int kind = 0;
+    while (kind < TYPE_COUNT && strcmp(type->valuestring, type_names[kind]) != 0)
+        kind++;
+    if (kind == TYPE_COUNT) {
         char type_shown[SHOWN_SIZE];
         s = sam_json_fail(&ctx, SAM_ERR_FORMAT, type_key,
-                          "\"%s\" is not a profile type (\"gaussians\" or \"dipole\")",
+                          "\"%s\" is not a profile type (\"gaussians\", \"dipole\", \"burley\" or \"table\")",
                           shown(type->valuestring, 64, type_shown));
         goto done;
     }
-    /* Keys of the other kind would be silently ignored: refuse them. */
-    static const int dipole_keys[] = {KEY_SSP, KEY_SA, KEY_ETA};
-    for (int k = 0; k < 3; k++) {
-        int key = dipole_keys[k];
-        if (found[key] && !dipole) {
-            s = sam_json_fail(&ctx, SAM_ERR_FORMAT, keys[key], "not allowed in a \"gaussians\" profile");
+    /* Keys of another type would be silently ignored: refuse them. */
+    for (int key = KEY_GAUSSIANS; key < KEY_COUNT; key++) {
+        if (found[key] && !(type_keys[kind] >> key & 1u)) {
+            s = sam_json_fail(&ctx, SAM_ERR_FORMAT, keys[key], "not allowed in a \"%s\" profile", type_names[kind]);
             goto done;
         }
-        if (!found[key] && dipole) {
-            s = sam_fail(err, SAM_ERR_FORMAT, "%s: missing key \"%s\" of a dipole profile", path,
-                         keys[key]);
+        if (!found[key] && (type_required[kind] >> key & 1u)) {
+            s = sam_fail(err, SAM_ERR_FORMAT, "%s: missing key \"%s\" of a %s profile", path, keys[key],
+                         type_names[kind]);
             goto done;
         }
     }
-    if (dipole && found[KEY_GAUSSIANS]) {
-        s = sam_json_fail(&ctx, SAM_ERR_FORMAT, "gaussians", "not allowed in a \"dipole\" profile");
-        goto done;
-    }
-    if (!dipole && !found[KEY_GAUSSIANS]) {
-        s = sam_fail(err, SAM_ERR_FORMAT, "%s: missing key \"gaussians\"", path);
+    if (kind == TYPE_BURLEY && !found[KEY_MFP] == !found[KEY_RADIUS]) {
+        s = sam_fail(err, SAM_ERR_FORMAT, "%s: a burley profile takes one of \"mean_free_path\" and \"scatter_radius\", "
+                     "found %s", path, found[KEY_MFP] ? "both" : "neither");
         goto done;
     }
     char name[SAM_PROFILE_NAME_SIZE];
@@ -213,7 +269,7 @@ static sam_status load_json(const char *path, const char *text, size_t size, sam
         }
         replace_name(name, n->valuestring, len);
     }
-    if (dipole) {
+    if (kind == TYPE_DIPOLE) {
         float ssp[3], sa[3], eta;
         if ((s = sam_json_checked_rgb(&ctx, found[KEY_SSP], "sigma_s_prime", sam_profile_check_sigma_s_prime,
                                       ssp)) != SAM_OK ||
@@ -225,6 +281,23 @@ static sam_status load_json(const char *path, const char *text, size_t size, sam
             s = sam_fail(err, SAM_ERR_FORMAT, "%s: %s", path, inner.message);
             goto done;
         }
+    } else if (kind == TYPE_BURLEY) {
+        const int mfp = found[KEY_MFP] != NULL;
+        float albedo[3], distance[3];
+        if ((s = sam_json_checked_rgb(&ctx, found[KEY_ALBEDO], "albedo", sam_profile_check_albedo, albedo)) !=
+                SAM_OK ||
+            (s = sam_json_checked_rgb(&ctx, found[mfp ? KEY_MFP : KEY_RADIUS], keys[mfp ? KEY_MFP : KEY_RADIUS],
+                                      sam_profile_check_variance, distance)) != SAM_OK)
+            goto done;
+        sam_error inner;
+        if (sam_profile_burley(albedo, distance, mfp ? SAM_BURLEY_MEAN_FREE_PATH : SAM_BURLEY_SCATTER_RADIUS, out,
+                               &inner) != SAM_OK) {
+            s = sam_fail(err, SAM_ERR_FORMAT, "%s: %s", path, inner.message);
+            goto done;
+        }
+    } else if (kind == TYPE_TABLE) {
+        if ((s = json_table(&ctx, found[KEY_TABLE_R], found[KEY_TABLE_RD], out)) != SAM_OK)
+            goto done;
     } else {
         s = json_gaussians(&ctx, found[KEY_GAUSSIANS], out);
         if (s != SAM_OK)
