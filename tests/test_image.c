@@ -1269,6 +1269,41 @@ static void test_compare_errors(void **state)
     sam_image_destroy(&b);
 }
 
+/* Text: drawn pixels lie inside the reported width and the font's height,
+ * scale 2 covers four times the pixels of scale 1, text past an edge is
+ * clipped, and bad arguments draw nothing. */
+static void test_draw_text(void **state)
+{
+    (void)state;
+    sam_image img;
+    sam_error err;
+    const float ink[3] = {1, 0.5f, 0.25f};
+    size_t covered[2] = {0, 0};
+    for (int scale = 1; scale <= 2; scale++) {
+        assert_int_equal(sam_image_create(&img, 200, 60, 4, &err), SAM_OK);
+        const int w = sam_image_draw_text(&img, 10, 5, scale, ink, "SAM 1.0");
+        assert_int_equal(w, sam_image_text_width("SAM 1.0", scale));
+        assert_true(w > 20 * scale && w < 60 * scale);
+        for (uint32_t y = 0; y < img.height; y++)
+            for (uint32_t x = 0; x < img.width; x++) {
+                const float *p = img.pixels + 4 * ((size_t)y * img.width + x);
+                if (p[0] == 0)
+                    continue;
+                covered[scale - 1]++;
+                assert_true(p[0] == 1.0f && p[1] == 0.5f && p[2] == 0.25f && p[3] == 0.0f);
+                assert_true((int)x >= 10 && (int)x < 10 + w && (int)y >= 5 && (int)y < 5 + 14 * scale);
+            }
+        sam_image_destroy(&img);
+    }
+    assert_true(covered[0] > 50);
+    assert_int_equal(covered[1], 4 * covered[0]);
+    assert_int_equal(sam_image_create(&img, 20, 8, 3, &err), SAM_OK);
+    assert_true(sam_image_draw_text(&img, -30, -4, 3, ink, "clipped on every side\nand below") > 0);
+    assert_int_equal(sam_image_draw_text(&img, 0, 0, 1, NULL, "x"), 0);
+    assert_int_equal(sam_image_draw_text(NULL, 0, 0, 1, ink, "x"), 0);
+    sam_image_destroy(&img);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1301,6 +1336,7 @@ int main(void)
         cmocka_unit_test(test_compare_mask),
         cmocka_unit_test(test_compare_matches_png_bytes),
         cmocka_unit_test(test_compare_errors),
+        cmocka_unit_test(test_draw_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,9 +1,7 @@
 /*
- * sam_profile_image: draws a material's diffusion profile to a PNG.
- * Left half: a point of light entering the material, seen from the lit side
- * (R_d(r), tonemapped). Right half: the energy per logarithmic radius,
- * 2 pi r^2 R_d(r) over ln r (so the area under each curve is the channel's
- * total reflectance), solid, with the 8-Gaussian texture-space fit, dotted.
+ * sam_profile_image: draws a material to a PNG (sam_profile_plot): a point
+ * of light entering it, the energy per log radius with its 8-Gaussian fit
+ * on labelled axes, and a sphere and a wedge lit from behind.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -18,19 +16,23 @@ static void usage(FILE *out)
     fprintf(out,
             "usage: sam_profile_image MATERIAL -o OUT.png [--size N] [--force]\n"
             "\n"
-            "Draws a diffusion profile: a point of light seen through the material (left) and\n"
-            "the energy per log radius 2 pi r^2 R_d(r) per channel over r on a log axis from\n"
-            "1/1000 of the radius holding 99%% of the energy to that radius: the profile solid, its\n"
-            "8-Gaussian fit dotted (right).\n"
+            "Draws a material: a point of light seen through it (top left); the energy per log\n"
+            "radius 2 pi r^2 R_d(r) per channel from 1/1000 of the radius holding 99%% of the\n"
+            "energy to that radius, the profile solid and its 8-Gaussian fit dotted, ticks in mm\n"
+            "(top right); a sphere half that radius across and a wedge from 0 to that radius thick,\n"
+            "both lit from behind (below).\n"
             "  MATERIAL   a preset (skin, marble, apple, chicken1, chicken2, cream, ketchup,\n"
-            "             potato, skimmilk, skin1, skin2, wholemilk) or a profile file (.json, .txt)\n"
+            "             potato, skimmilk, skin1, skin2, wholemilk) or a material file (.json,\n"
+            "             .txt): gaussians, dipole, burley (albedo and mean free path or scatter\n"
+            "             radius) or a table of R_d(r)\n"
             "  -o OUT.png output image (written atomically)\n"
-            "  --size N   height in pixels, 64..4096 (default 512); the width is 2N\n"
+            "  --size N   height of the top row in pixels, 64..4096 (default 512); the picture\n"
+            "             is 2N x 3N/2, labelled from N = 256\n"
             "  --force    replace OUT.png if it exists\n"
             "\n"
             "examples:\n"
             "  sam_profile_image skin -o skin.png\n"
-            "  sam_profile_image my_material.json -o mine.png --size 256\n");
+            "  sam_profile_image scenes/materials/skin_burley.json -o mine.png --size 256\n");
 }
 
 int main(int argc, char **argv)

@@ -191,6 +191,18 @@ typedef struct sam_image_comparison {
 sam_status sam_image_compare_srgb8(const sam_image *a, const sam_image *b, const sam_image *mask,
                                    sam_image_comparison *out, sam_error *err);
 
+/* Draws `text` (ASCII; '\n' starts a line) into an image of 3 or 4
+ * channels with its top-left corner at pixel (x, y), in colour `rgb` (the
+ * first three channels), each pixel of stb_easy_font's segment font
+ * `scale` x `scale` image pixels (a glyph is about 6 x 12 font pixels).
+ * Clipped to the image. Returns the width of its longest line in image
+ * pixels; 0, drawing nothing, for a NULL or invalid argument or when out of
+ * memory. */
+int sam_image_draw_text(sam_image *img, int x, int y, int scale, const float rgb[3], const char *text);
+
+/* The width in image pixels sam_image_draw_text gives `text` at `scale`. */
+int sam_image_text_width(const char *text, int scale);
+
 #ifdef __cplusplus
 }
 #endif

@@ -129,8 +129,8 @@ typedef enum sam_burley_distance {
  * `distance` says. The profile is named "burley"; its fit_source_error
  * holds the fit's error: the largest difference over r between the energy
  * within r of the fit and of Burley's profile, as a fraction of the
- * channel's total (0.3% for a grey material, up to 1.9% where the channels'
- * radii differ fivefold, as in skin; see docs/materials.md). Takes a few
+ * channel's total (0.3% for a grey material, 1.7% for skin-like channels
+ * whose shapes differ tenfold; see docs/materials.md). Takes a few
  * milliseconds.
  * Errors: SAM_ERR_INVALID_ARGUMENT naming the parameter and value. */
 sam_status sam_profile_burley(const float albedo[3], const float distance_mm[3], sam_burley_distance distance,
@@ -303,14 +303,18 @@ size_t sam_profile_to_json(const sam_profile *profile, char *buf, size_t n);
 
 struct sam_image;
 
-/* Draws `profile` into a new 2 height x height RGB image (linear; the
- * caller destroys it with sam_image_destroy): on the left a point of light
- * seen through the material out to the radius holding 99% of the energy,
- * on the right the energy per log radius r^2 R_d(r) per channel over three
- * decades of r up to that radius, the profile solid and its 8-Gaussian fit
- * dotted. `extent_mm` (may be NULL) gets that radius. `img` is zeroed on
- * failure. Errors: SAM_ERR_INVALID_ARGUMENT (height outside 64..4096), and
- * those of sam_profile_fit_gaussians and sam_image_create. */
+/* Draws `profile` into a new 2 height x 3/2 height RGB image (linear; the
+ * caller destroys it with sam_image_destroy), labelled: top left, a point
+ * of light seen through the material out to the radius holding 99% of the
+ * energy (the extent); top right, the energy per log radius r^2 R_d(r) per
+ * channel over three decades of r up to the extent, the profile solid and
+ * its 8-Gaussian fit dotted, with ticks in mm; below, the material on a
+ * sphere half the extent across and a wedge from 0 to the extent thick,
+ * both lit from behind and seen from the front (sam_profile_preview.c).
+ * `extent_mm` (may be NULL) gets the extent. Takes about a second at
+ * height 512. `img` is zeroed on failure. Errors: SAM_ERR_INVALID_ARGUMENT
+ * (height outside 64..4096), and those of sam_profile_fit_gaussians and
+ * sam_image_create, SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_profile_plot(const sam_profile *profile, uint32_t height, struct sam_image *img, float *extent_mm,
                             sam_error *err);
 

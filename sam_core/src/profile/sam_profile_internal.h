@@ -78,6 +78,20 @@ sam_status sam_profile_fit_radial(sam_profile_radial_fn f, const void *user, con
                                   double var_lo, double var_hi, double r_lo, double r_hi, const char *name,
                                   sam_gaussian_fit *fit, sam_error *err);
 
+struct sam_image;
+
+/* The previews of sam_profile_plot (sam_profile_preview.c), drawn into an
+ * RGB image at pixel (x0, y0), the rest of the image untouched. A sphere
+ * `diameter_mm` across, lit from behind and seen from the front, in a
+ * side x side square (side >= 2); returns 0 when out of memory. */
+int sam_profile_draw_sphere(const sam_profile *profile, float diameter_mm, struct sam_image *img, int x0, int y0,
+                            int side);
+
+/* A wedge lit from behind, seen from the front: its thickness grows from 0
+ * at the left of the w x h strip to `thickness_mm` at the right. */
+void sam_profile_draw_wedge(const sam_profile *profile, float thickness_mm, struct sam_image *img, int x0, int y0,
+                            int w, int h);
+
 /* Checks of one parameter; NULL when valid, else what is wrong with it
  * ("must be > 0", ...), for messages that add the file, key or line. */
 const char *sam_profile_check_variance(double v);

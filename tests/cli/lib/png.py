@@ -3,7 +3,9 @@ for the command-line tests (there is no numpy or PIL): `python3 png.py psnr
 A B`, `python3 png.py differ A B` (pixels that differ), `python3 png.py
 count A R G B TOL` (pixels within TOL of a colour), `python3 png.py glow A B
 LEVEL`, `python3 png.py checker OUT SIZE` (writes a red and cream
-checkerboard, 8-pixel squares); or import pixels() and psnr()."""
+checkerboard, 8-pixel squares), `python3 png.py size A` (WIDTHxHEIGHT),
+`python3 png.py at A X Y` (R G B of one pixel); or import pixels() and
+psnr()."""
 import math
 import struct
 import sys
@@ -89,6 +91,11 @@ def main():
     elif cmd == "count":
         want, tol = [int(v) for v in sys.argv[3:6]], int(sys.argv[6])
         print(sum(all(abs(x - w) <= tol for x, w in zip(p, want)) for p in pixels(sys.argv[2])))
+    elif cmd == "size":
+        rows = read(sys.argv[2])
+        print(f"{len(rows[0])}x{len(rows)}")
+    elif cmd == "at":
+        print(*read(sys.argv[2])[int(sys.argv[4])][int(sys.argv[3])])
     else:
         raise SystemExit(f"unknown command {cmd}")
 
