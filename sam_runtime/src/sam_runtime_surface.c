@@ -105,3 +105,9 @@ void sam_runtime_bind_albedo(const sam_runtime *rt, GLuint p)
     glUniform1i(glGetUniformLocation(p, "u_albedo_map"), UNIT_ALBEDO);
     glUniform1i(glGetUniformLocation(p, "u_has_albedo_map"), rt->surface.albedo_tex != 0);
 }
+
+void sam_runtime_bind_uv_atlas(const sam_runtime *rt, GLuint p)
+{
+    const sam_uv_atlas *a = &rt->tsd.uv_atlas;
+    glUniform3f(glGetUniformLocation(p, "u_uv_atlas"), a->scale, a->offset[0], a->offset[1]);
+}

@@ -1,6 +1,6 @@
 /* The surface's reflection: rho_dt (the light the specular lobe leaves to
- * enter the surface), its table on the GPU, and the albedo map (state in
- * rt->surface). Not installed. */
+ * enter the surface), its table on the GPU, the albedo map (state in
+ * rt->surface) and where the UVs lie in the atlas. Not installed. */
 #ifndef SAM_RUNTIME_SURFACE_H
 #define SAM_RUNTIME_SURFACE_H
 
@@ -19,5 +19,9 @@ void sam_runtime_set_surface_uniforms(const sam_runtime *rt, GLuint p);
 /* Binds the albedo map (or a white texel's absence: u_has_albedo_map = 0)
  * for the current program p. */
 void sam_runtime_bind_albedo(const sam_runtime *rt, GLuint p);
+
+/* Sets the program's u_uv_atlas (uv_atlas.glsl) to where the UVs lie in
+ * the texture-space atlas (rt->tsd.uv_atlas, set by sam_runtime_tsd_create). */
+void sam_runtime_bind_uv_atlas(const sam_runtime *rt, GLuint p);
 
 #endif

@@ -9,9 +9,9 @@
 
 #include "sam_runtime_gpu.h"
 #include "sam_runtime_shadows.h"
+#include "sam_runtime_surface.h"
 #include "sam_runtime_technique.h"
 #include "sam_runtime_thickness.h"
-#include "sam_runtime_tsd.h"
 
 sam_status sam_runtime_technique_create(sam_runtime *rt, sam_error *err)
 {

@@ -114,12 +114,6 @@ void sam_runtime_tsd_destroy(sam_runtime *rt)
     sam_runtime_delete_program(&rt->tsd.accumulate_program);
 }
 
-void sam_runtime_bind_uv_atlas(const sam_runtime *rt, GLuint p)
-{
-    const sam_uv_atlas *a = &rt->tsd.uv_atlas;
-    glUniform3f(glGetUniformLocation(p, "u_uv_atlas"), a->scale, a->offset[0], a->offset[1]);
-}
-
 int sam_runtime_uv_status(const sam_runtime *rt, char *reason, size_t n, sam_uv_atlas *atlas)
 {
     if (atlas)

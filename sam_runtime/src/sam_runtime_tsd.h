@@ -23,10 +23,6 @@ void sam_runtime_tsd_destroy(sam_runtime *rt);
 sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
                                      const sam_mat4 *proj, int mode, GLuint override_tex, int tsm, sam_error *err);
 
-/* Sets the program's u_uv_atlas (uv_atlas.glsl) to where the UVs lie in
- * the atlas. */
-void sam_runtime_bind_uv_atlas(const sam_runtime *rt, GLuint program);
-
 /* The atlas side `view` asks for (options.atlas_size or the default). */
 uint32_t sam_runtime_atlas_size(const sam_render_view *view);
 
