@@ -5,6 +5,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -94,6 +96,53 @@ static void test_read_missing_file_names_it(void **state)
     assert_null(data);
 }
 
+/* A killed writer's temporary is removed by the next write of the same
+ * output; a live process's, another output's and an odd name stay. */
+static void test_atomic_open_removes_dead_writers_temporaries(void **state)
+{
+    (void)state;
+    pid_t child = fork();
+    assert_true(child >= 0);
+    if (child == 0)
+        _exit(0);
+    assert_int_equal(waitpid(child, NULL, 0), child);
+    char out[512], dead[600], live[600], other[600], odd[600];
+    sam_test_tmp_path(out, sizeof out, "stale.sam");
+    snprintf(dead, sizeof dead, "%s.tmp.%ld.3", out, (long)child);
+    snprintf(live, sizeof live, "%s.tmp.%ld.0", out, (long)getppid());
+    snprintf(other, sizeof other, "%s.other.tmp.%ld.0", out, (long)child);
+    snprintf(odd, sizeof odd, "%s.tmp.%ld.x", out, (long)child);
+    const char *names[4] = {dead, live, other, odd};
+    for (int i = 0; i < 4; ++i)
+        sam_test_write_text(names[i], "half a map");
+    sam_atomic_file f;
+    sam_error err;
+    assert_int_equal(sam_atomic_open(&f, out, &err), SAM_OK);
+    assert_int_equal(sam_atomic_commit(&f, &err), SAM_OK);
+    assert_false(sam_test_file_exists(dead));
+    for (int i = 1; i < 4; ++i) {
+        assert_true(sam_test_file_exists(names[i]));
+        remove(names[i]);
+    }
+    remove(out);
+}
+
+/* Only regular files are read. */
+static void test_read_refuses_what_is_not_a_file(void **state)
+{
+    (void)state;
+    uint8_t *data;
+    size_t size;
+    sam_error err;
+    assert_int_equal(sam_read_file("/dev/zero", &data, &size, &err), SAM_ERR_IO);
+    assert_non_null(strstr(err.message, "/dev/zero: not a regular file (a character device)"));
+    assert_int_equal(sam_read_file("/", &data, &size, &err), SAM_ERR_IO);
+    assert_non_null(strstr(err.message, "not a regular file (a directory)"));
+    assert_int_equal(sam_check_regular_file("/dev/null", &err), SAM_ERR_IO);
+    assert_int_equal(sam_check_regular_file("/nonexistent/x", &err), SAM_ERR_IO);
+    assert_non_null(strstr(err.message, "cannot open"));
+}
+
 static void test_paths(void **state)
 {
     (void)state;
@@ -111,6 +160,8 @@ int main(void)
         cmocka_unit_test(test_atomic_abort_keeps_target_and_removes_temp),
         cmocka_unit_test(test_atomic_open_in_missing_dir_fails_clearly),
         cmocka_unit_test(test_read_missing_file_names_it),
+        cmocka_unit_test(test_atomic_open_removes_dead_writers_temporaries),
+        cmocka_unit_test(test_read_refuses_what_is_not_a_file),
         cmocka_unit_test(test_paths),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

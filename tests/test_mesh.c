@@ -6,6 +6,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -538,6 +540,69 @@ static void test_bad_inputs_give_one_clear_error(void **state)
     }
 }
 
+/* Inputs that once loaded wrongly or said the wrong thing: each gives
+ * one line naming what is wrong, and a number too large for a float never
+ * shifts the indices after it. */
+static void test_hostile_inputs(void **state)
+{
+    (void)state;
+    expect_error("float_range.obj", "v 0 0 0\nv 1e39 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 5 5 5\nf 1 3 4\nf 1 4 5\n",
+                 SAM_ERR_FORMAT, "OBJ line 2: \"1e39\" is not a finite number that fits a 32-bit float");
+    expect_error("float_range.off", "OFF\n4 2 0\n0 0 0\n1e39 0 0\n0 1 0\n0 0 1\n3 0 2 3\n3 0 1 2\n", SAM_ERR_FORMAT,
+                 "OFF line 4: vertex 1: \"1e39\" is not a finite number that fits a 32-bit float");
+    expect_error("float_range.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1e39 0 0\n0 1 0\n"
+                 "0 0 1\n3 0 2 3\n3 0 1 2\n",
+                 SAM_ERR_FORMAT, "PLY vertex 1: \"1e39\" is not a finite number that fits a 32-bit float");
+    expect_error("float_range_ascii.stl",
+                 "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1e39 0 0\nvertex 0 1 0\n"
+                 "endloop\nendfacet\nendsolid x\n",
+                 SAM_ERR_FORMAT, "STL line 5: \"1e39\" is not a finite number");
+    expect_error("repeated.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 1\nf 2 2 3\n", SAM_ERR_EMPTY,
+                 "all 2 faces repeat a vertex and have fewer than 3 distinct corners (the first on line 4)");
+    expect_error("count_max.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 18446744073709551615\nproperty float x\nend_header\n",
+                 SAM_ERR_FORMAT, "declares 18446744073709551615 elements");
+    expect_error("count_overflow.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 18446744073709551616\nproperty float x\nend_header\n",
+                 SAM_ERR_FORMAT, "is too large (above 2^64 - 1)");
+    {
+        /* A binary STL with a NaN corner. */
+        unsigned char stl[84 + 50];
+        memset(stl, 0, sizeof stl);
+        stl[80] = 1;
+        const float nan_corner[3] = {NAN, 0, 0};
+        memcpy(stl + 84 + 12 + 12, nan_corner, sizeof nan_corner);
+        char path[512];
+        sam_test_write_file(sam_test_tmp_path(path, sizeof path, "nan.stl"), stl, sizeof stl);
+        expect_error("nan.stl", NULL, SAM_ERR_FORMAT, "binary STL triangle 0, vertex 1 has a non-finite coordinate");
+    }
+    /* What is not a regular file is refused, not read without end. */
+    char path[512], dir[512];
+    sam_test_tmp_path(path, sizeof path, "zero.obj");
+    remove(path);
+    assert_int_equal(symlink("/dev/zero", path), 0);
+    expect_error("zero.obj", NULL, SAM_ERR_IO, "not a regular file (a character device)");
+    remove(path);
+    sam_test_tmp_path(dir, sizeof dir, "folder.obj");
+    rmdir(dir);
+    assert_int_equal(mkdir(dir, 0700), 0);
+    expect_error("folder.obj", NULL, SAM_ERR_IO, "not a regular file (a directory)");
+    rmdir(dir);
+    /* Faces the reader drops for repeated corners are reported as the file's. */
+    sam_test_write_text(sam_test_tmp_path(path, sizeof path, "one_repeated.obj"),
+                        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 1\n");
+    sam_mesh m;
+    sam_mesh_report rep;
+    sam_error err;
+    assert_int_equal(sam_mesh_load(path, &m, &rep, &err), SAM_OK);
+    assert_int_equal(m.triangle_count, 1);
+    assert_int_equal(rep.file_faces, 2);
+    assert_int_equal(rep.faces_too_small, 1);
+    sam_mesh_destroy(&m);
+}
+
 static void test_create_rejects_bad_arrays(void **state)
 {
     (void)state;
@@ -745,6 +810,7 @@ int main(void)
         cmocka_unit_test(test_file_normals_are_used_and_normalised),
         cmocka_unit_test(test_bad_inputs_give_one_clear_error),
         cmocka_unit_test(test_create_rejects_bad_arrays),
+        cmocka_unit_test(test_hostile_inputs),
         cmocka_unit_test(test_truncated_prefixes),
         cmocka_unit_test(test_body_counts_are_checked),
         cmocka_unit_test(test_render_of_source),

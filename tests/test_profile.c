@@ -745,6 +745,25 @@ static void test_table_profile(void **state)
     assert_non_null(strstr(err.message, "1 points, expected 2..4096"));
 }
 
+/* A profile nested deeper than the JSON parser goes says so. */
+static void test_profile_nesting_too_deep(void **state)
+{
+    (void)state;
+    enum { DEPTH = 1100 };
+    char text[2 * DEPTH + 32];
+    size_t n = (size_t)snprintf(text, sizeof text, "{\"type\": ");
+    for (int i = 0; i < DEPTH; ++i)
+        text[n++] = '[';
+    for (int i = 0; i < DEPTH; ++i)
+        text[n++] = ']';
+    text[n++] = '}';
+    sam_profile p;
+    sam_error err;
+    assert_int_equal(sam_profile_parse_json(text, n, "deep.json", &p, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "deep.json:1:"));
+    assert_non_null(strstr(err.message, "nest deeper than 1000 levels"));
+}
+
 typedef struct bad_case {
     const char *file;     /* name under the temporary directory */
     const char *contents; /* NULL: do not create the file */
@@ -1134,6 +1153,7 @@ int main(void)
         cmocka_unit_test(test_table_profile),
         cmocka_unit_test(test_load_good_files),
         cmocka_unit_test(test_load_bad_files),
+        cmocka_unit_test(test_profile_nesting_too_deep),
         cmocka_unit_test(test_truncated_files),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

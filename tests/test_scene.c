@@ -954,6 +954,16 @@ static const error_case error_cases[] = {
      "scene.json: texture_space.texels_per_pixel: expected a number in (0, 16], found -1"},
     {"{\"sam\": \"head.sam\", \"texture_space\": {\"texels_per_pixel\": 1e999}}", SAM_ERR_FORMAT,
      "scene.json: texture_space.texels_per_pixel: expected a number in (0, 16], found inf"},
+    /* a double that is 0 as a float */
+    {"{\"sam\": \"head.sam\", \"scale\": {\"mm_per_unit\": 1e-300}}", SAM_ERR_FORMAT,
+     "scene.json: scale.mm_per_unit: expected a number > 0 (finite), found 1e-300, which a 32-bit float holds as 0"},
+    /* each file under its own key */
+    {"{\"mesh\": \"head.sam\", \"material\": \"skin\", \"scale\": {\"size_mm\": 1}}", SAM_ERR_FORMAT,
+     "scene.json: mesh: @/head.sam is a .sam map; give it as \"sam\""},
+    {"{\"sam\": \"head.obj\"}", SAM_ERR_FORMAT,
+     "scene.json: sam: @/head.obj is not a .sam map; give a mesh as \"mesh\""},
+    {"{\"mesh\": \"sky.exr\", \"material\": \"skin\", \"scale\": {\"size_mm\": 1}}", SAM_ERR_FORMAT,
+     "scene.json: mesh: @/sky.exr is not a mesh file (.obj, .ply, .off, .stl, .gltf or .glb)"},
 };
 
 static void test_errors(void **state)
@@ -983,6 +993,28 @@ static void test_errors(void **state)
         assert_null(s.albedo_map);
         assert_null(s.keyframes);
     }
+}
+
+/* Nesting deeper than the JSON parser goes is named as such, not as a
+ * syntax error at the bracket where it stopped. */
+static void test_nesting_too_deep(void **state)
+{
+    (void)state;
+    enum { DEPTH = 1200 };
+    char *text = malloc(2 * DEPTH + 64);
+    assert_non_null(text);
+    size_t n = (size_t)sprintf(text, "{\"sam\": \"head.sam\", \"x\": ");
+    for (int i = 0; i < DEPTH; ++i)
+        text[n++] = '[';
+    for (int i = 0; i < DEPTH; ++i)
+        text[n++] = ']';
+    text[n++] = '}';
+    text[n] = 0;
+    sam_scene s;
+    sam_error err;
+    assert_int_equal(parse(text, &s, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "objects and arrays nest deeper than 1000 levels"));
+    free(text);
 }
 
 static void test_too_many_lights(void **state)
@@ -1139,6 +1171,7 @@ int main(void)
         cmocka_unit_test(test_round_trip),
         cmocka_unit_test(test_write_hand_built_scene),
         cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_nesting_too_deep),
         cmocka_unit_test(test_too_many_lights),
         cmocka_unit_test(test_every_truncation_fails),
         cmocka_unit_test(test_load_errors_and_relative_paths),

@@ -240,14 +240,12 @@ static sam_status give_thickness(sam_runtime *rt, const samfile_data *sam, float
  * summary. */
 static sam_status render_map(const sam_app_render_job *job, const char *tool, int staged, sam_scene *scene,
                              const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
-                             sam_technique chosen, sam_error *err)
+                             sam_technique chosen, const sam_gl_context *gl, sam_error *err)
 {
-    sam_gl_context *gl = NULL;
     sam_runtime *rt = NULL;
     char warning[512];
     sam_status st;
-    if ((st = sam_gl_context_create_headless(&gl, err)) != SAM_OK ||
-        (st = sam_runtime_create(sam, profile, mm_per_unit, &rt, err)) != SAM_OK ||
+    if ((st = sam_runtime_create(sam, profile, mm_per_unit, &rt, err)) != SAM_OK ||
         (st = sam_runtime_scene_setup(rt, scene, NULL, NULL, warning, sizeof warning, err)) != SAM_OK ||
         (st = sam_runtime_scene_keyframes(rt, scene, sam, err)) != SAM_OK ||
         ((chosen == SAM_TECHNIQUE_THICKNESS || job->beside == SAM_TECHNIQUE_THICKNESS) &&
@@ -296,7 +294,6 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, in
             sam_gl_context_info(gl)->renderer);
 done:
     sam_runtime_destroy(rt);
-    sam_gl_context_destroy(gl);
     return st;
 }
 
@@ -411,6 +408,15 @@ sam_status sam_app_render_run(const sam_app_render_job *job, const char *tool, s
     samfile_data sam;
     sam_profile profile;
     float mm_per_unit;
+    /* The GL's limits before any work: a picture it cannot hold fails now,
+     * not after the map is built. */
+    sam_gl_context *gl = NULL;
+    if ((st = sam_gl_context_create_headless(&gl, err)) != SAM_OK ||
+        (st = sam_gl_check_picture_size(scene.width, scene.height, err)) != SAM_OK) {
+        sam_gl_context_destroy(gl);
+        sam_scene_destroy(&scene);
+        return st;
+    }
     if ((st = sam_app_cache_object(&scene, NULL, cache_dir, !job->no_cache, tool, &sam, &profile, &mm_per_unit, NULL,
                                    err)) ==
         SAM_OK) {
@@ -418,9 +424,10 @@ sam_status sam_app_render_run(const sam_app_render_job *job, const char *tool, s
             fprintf(stderr, "%s: warning: %s has no lights and no environment: only the black of no light will show\n",
                     tool, job->scene_path);
         warn_lights_inside(tool, &scene, &sam);
-        st = render_map(job, tool, bare, &scene, &sam, &profile, mm_per_unit, chosen, err);
+        st = render_map(job, tool, bare, &scene, &sam, &profile, mm_per_unit, chosen, gl, err);
         samfile_free(&sam);
     }
+    sam_gl_context_destroy(gl);
     if (st == SAM_OK && job->write_scene && (st = sam_scene_write(job->write_scene, &scene, err)) == SAM_OK)
         fprintf(stderr, "%s: wrote the scene to %s\n", tool, job->write_scene);
     sam_scene_destroy(&scene);

@@ -1,11 +1,14 @@
 #define _POSIX_C_SOURCE 200809L
 #include "sam/sam_common.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -64,6 +67,50 @@ int sam_parse_double(const char *text, double *out)
     return 1;
 }
 
+/* Removes "PATH.tmp.PID.N" files that a killed writer (no process PID is
+ * alive) left beside PATH, so they cannot pile up; a live writer's, and
+ * anything not named so, stay. Best effort: what cannot be read or
+ * removed is left. */
+static void remove_stale_temporaries(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    const size_t dir_len = slash ? (size_t)(slash - path) : 0, base_len = strlen(base);
+    char *dir = malloc(dir_len + 2), *stale = malloc(strlen(path) + 64);
+    if (!dir || !stale) {
+        free(dir);
+        free(stale);
+        return;
+    }
+    if (slash)
+        memcpy(dir, path, dir_len ? dir_len : 1), dir[dir_len ? dir_len : 1] = 0;
+    else
+        strcpy(dir, ".");
+    DIR *d = opendir(dir);
+    for (struct dirent *e; d && (e = readdir(d)) != NULL;) {
+        const char *name = e->d_name;
+        if (strncmp(name, base, base_len) != 0 || strncmp(name + base_len, ".tmp.", 5) != 0)
+            continue;
+        char *end;
+        errno = 0;
+        const long pid = strtol(name + base_len + 5, &end, 10);
+        if (errno || end == name + base_len + 5 || *end != '.' || pid <= 0 || pid == (long)getpid())
+            continue;
+        const char *counter = end + 1;
+        strtoul(counter, &end, 10);
+        if (end == counter || *end)
+            continue;
+        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH)
+            continue;
+        snprintf(stale, strlen(path) + 64, "%s/%s", dir, name);
+        remove(stale);
+    }
+    if (d)
+        closedir(d);
+    free(dir);
+    free(stale);
+}
+
 sam_status sam_atomic_open(sam_atomic_file *file, const char *path, sam_error *err)
 {
     if (!file || !path || !path[0])
@@ -76,6 +123,7 @@ sam_status sam_atomic_open(sam_atomic_file *file, const char *path, sam_error *e
         sam_atomic_abort(file);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
     }
+    remove_stale_temporaries(path);
     /* The counter keeps two writers in one process from sharing a name. */
     static _Thread_local unsigned counter;
     for (int attempt = 0; attempt < 100; ++attempt) {
@@ -135,6 +183,28 @@ void sam_atomic_abort(sam_atomic_file *file)
     memset(file, 0, sizeof *file);
 }
 
+static const char *file_kind(mode_t mode)
+{
+    return S_ISDIR(mode)    ? "a directory"
+           : S_ISCHR(mode)  ? "a character device"
+           : S_ISBLK(mode)  ? "a block device"
+           : S_ISFIFO(mode) ? "a pipe"
+           : S_ISSOCK(mode) ? "a socket"
+                            : "not a file";
+}
+
+sam_status sam_check_regular_file(const char *path, sam_error *err)
+{
+    struct stat st;
+    if (!path)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "check file: NULL path");
+    if (stat(path, &st) != 0)
+        return sam_fail(err, SAM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (!S_ISREG(st.st_mode))
+        return sam_fail(err, SAM_ERR_IO, "%s: not a regular file (%s)", path, file_kind(st.st_mode));
+    return SAM_OK;
+}
+
 sam_status sam_read_file(const char *path, uint8_t **data, size_t *size, sam_error *err)
 {
     if (!path || !data || !size)
@@ -144,6 +214,17 @@ sam_status sam_read_file(const char *path, uint8_t **data, size_t *size, sam_err
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return sam_fail(err, SAM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    /* What was opened, not what the path names now, must be a file. */
+    struct stat st;
+    if (fstat(fileno(fp), &st) != 0) {
+        int e = errno;
+        fclose(fp);
+        return sam_fail(err, SAM_ERR_IO, "%s: cannot examine: %s", path, strerror(e));
+    }
+    if (!S_ISREG(st.st_mode)) {
+        fclose(fp);
+        return sam_fail(err, SAM_ERR_IO, "%s: not a regular file (%s)", path, file_kind(st.st_mode));
+    }
     size_t cap = 1 << 16, len = 0;
     uint8_t *buf = malloc(cap + 1);
     if (!buf) {

@@ -188,7 +188,9 @@ static int info_profile(const char *path)
     return 0;
 }
 
-/* A .json file is a scene when it names a mesh or a .sam, else a profile. */
+/* A .json file is a material profile when it says its type (every profile
+ * does: "type" or "kind"), else a scene, which the scene loader checks as
+ * sam_render does (a scene without "mesh" or "sam" included). */
 static int is_scene(const char *path)
 {
     uint8_t *text;
@@ -196,7 +198,7 @@ static int is_scene(const char *path)
     if (sam_read_file(path, &text, &size, NULL) != SAM_OK)
         return 1; /* let the scene loader report the I/O error */
     cJSON *root = cJSON_ParseWithLength((const char *)text, size);
-    int scene = !root || cJSON_HasObjectItem(root, "mesh") || cJSON_HasObjectItem(root, "sam");
+    int scene = !root || !(cJSON_HasObjectItem(root, "type") || cJSON_HasObjectItem(root, "kind"));
     cJSON_Delete(root);
     free(text);
     return scene;

@@ -67,6 +67,51 @@ sam_status sam_gl_check_current(int debug, sam_gl_info *info, sam_error *err)
     return SAM_OK;
 }
 
+sam_status sam_gl_check_picture_size(uint32_t width, uint32_t height, sam_error *err)
+{
+    static const struct {
+        GLenum name;
+        int sides; /* 3: both; 1: the width; 2: the height */
+        const char *what;
+    } limits[] = {
+        {GL_MAX_TEXTURE_SIZE, 3, "GL_MAX_TEXTURE_SIZE"},
+        {GL_MAX_RENDERBUFFER_SIZE, 3, "GL_MAX_RENDERBUFFER_SIZE"},
+        {GL_MAX_FRAMEBUFFER_WIDTH, 1, "GL_MAX_FRAMEBUFFER_WIDTH"},
+        {GL_MAX_FRAMEBUFFER_HEIGHT, 2, "GL_MAX_FRAMEBUFFER_HEIGHT"},
+        {GL_MAX_VIEWPORT_DIMS, 3, "GL_MAX_VIEWPORT_DIMS"},
+    };
+    for (size_t i = 0; i < sizeof limits / sizeof limits[0]; ++i) {
+        GLint value[2] = {0, 0};
+        glGetIntegerv(limits[i].name, value);
+        /* The viewport's two dimensions: the smaller holds for both. */
+        const GLint limit = limits[i].name == GL_MAX_VIEWPORT_DIMS && value[1] < value[0] ? value[1] : value[0];
+        const uint32_t side = limits[i].sides == 1   ? width
+                              : limits[i].sides == 2 ? height
+                              : width > height       ? width
+                                                     : height;
+        if (limit > 0 && side > (uint32_t)limit)
+            return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                            "a %ux%u picture passes the GL's %s of %d (%s): choose a smaller resolution", width,
+                            height, limits[i].what, limit, (const char *)glGetString(GL_RENDERER));
+    }
+    /* Within the limits, the GL may still lack the memory for one
+     * RGBA32F target; its proxy texture says so without allocating. */
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    glTexImage2D(GL_PROXY_TEXTURE_2D, 0, GL_RGBA32F, (GLsizei)width, (GLsizei)height, 0, GL_RGBA, GL_FLOAT, NULL);
+    GLint got = 0;
+    glGetTexLevelParameteriv(GL_PROXY_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &got);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    if (got == 0)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                        "the GL (%s) cannot hold a %ux%u RGBA32F picture (%.2f GiB a target): choose a smaller "
+                        "resolution",
+                        (const char *)glGetString(GL_RENDERER), width, height,
+                        (double)width * height * 16 / (1024.0 * 1024 * 1024));
+    return SAM_OK;
+}
+
 int sam_gl_debug_requested(void)
 {
     const char *env = getenv("SAM_GL_DEBUG");

@@ -51,6 +51,21 @@ done
 [ $? -eq 1 ] || fail "mixed good/bad files should exit 1"
 grep -q "tet.obj: mesh" "$tmp/out.txt" || fail "good file not summarised"
 
+# sam_info says of a scene exactly what sam_render would: the same first
+# error for a scene without an object, a scale that is 0 as a float, and a
+# mesh given as the map.
+printf '{"lights": [{"type": "directional", "direction": [0, -1, 0]}]}' > "$tmp/no_object.json"
+printf '{"mesh": "tet.obj", "material": "marble", "scale": {"mm_per_unit": 1e-300}}' > "$tmp/tiny.json"
+printf 'SAMF' > "$tmp/tet.sam"
+printf '{"mesh": "tet.sam", "material": "marble", "scale": {"mm_per_unit": 10}}' > "$tmp/swapped.json"
+for scene in no_object tiny swapped; do
+  "$bin/sam_info" "$tmp/$scene.json" > /dev/null 2> "$tmp/info.txt" && fail "sam_info accepted $scene.json"
+  "$bin/sam_render" "$tmp/$scene.json" -o "$tmp/$scene.png" > /dev/null 2> "$tmp/render.txt" \
+    && fail "sam_render accepted $scene.json"
+  [ "$(sed 's/^sam_info: //' "$tmp/info.txt")" = "$(sed 's/^sam_render: //' "$tmp/render.txt")" ] \
+    || fail "$scene.json: sam_info says '$(cat "$tmp/info.txt")', sam_render '$(cat "$tmp/render.txt")'"
+done
+
 "$bin/sam_info" --help | grep -q "usage: sam_info" || fail "--help"
 "$bin/sam_info" > /dev/null 2>&1; [ $? -eq 2 ] || fail "no arguments should exit 2"
 "$bin/sam_info" --bogus x > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown option should exit 2"

@@ -93,6 +93,12 @@ expect_error() { # status label args...
   ls "$tmp"/bad.exr* > /dev/null 2>&1 && fail "$label: left output"
   return 0
 }
+# A picture the GL cannot hold fails before the map is built, naming the limit.
+start=$(date +%s)
+expect_error 1 "16384x16384" "$tmp/scene.json" --size 16384x16384
+grep -qE "16384x16384 (picture passes the GL's GL_MAX_[A-Z_]+ of|RGBA32F picture)" "$tmp/err.txt" \
+  || fail "16384x16384: $(cat "$tmp/err.txt")"
+[ $(( $(date +%s) - start )) -le 10 ] || fail "16384x16384 took $(( $(date +%s) - start )) s to be refused"
 printf '{"material": "skin", "scale": {"mm_per_unit": 1}}' > "$tmp/nomesh.json"
 printf '{"mesh": "ear.obj", "material": "skin", "scale": {"mm_per_unit": "sixty"}}' > "$tmp/type.json"
 printf '{"mesh": "gone.obj", "material": "skin", "scale": {"mm_per_unit": 60}}' > "$tmp/missing.json"

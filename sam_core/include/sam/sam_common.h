@@ -67,7 +67,9 @@ typedef struct sam_atomic_file {
     char *temp_path;  /* temporary path (owned) */
 } sam_atomic_file;
 
-/* Opens a temporary file next to `path` for binary writing.
+/* Opens a temporary file next to `path` ("PATH.tmp.PID.N") for binary
+ * writing. Temporaries of PATH that a killed writer left (no process of
+ * their PID is alive) are removed first, so they never pile up.
  * Errors: SAM_ERR_INVALID_ARGUMENT (NULL/empty path), SAM_ERR_IO (cannot
  * create the temporary file: the message names it and strerror). */
 sam_status sam_atomic_open(sam_atomic_file *file, const char *path, sam_error *err);
@@ -83,8 +85,16 @@ void sam_atomic_abort(sam_atomic_file *file);
 
 /* Reads a whole file into a newly malloc'd buffer (caller frees) with a
  * terminating NUL byte after the data (not counted in *size), so text
- * parsers can use it directly. Errors: SAM_ERR_IO. */
+ * parsers can use it directly. Only regular files are read: a directory,
+ * device, pipe or socket (a link to /dev/zero would never end) is refused
+ * (sam_check_regular_file). Errors: SAM_ERR_IO. */
 sam_status sam_read_file(const char *path, uint8_t **data, size_t *size, sam_error *err);
+
+/* SAM_OK when `path` names a regular file (after following links).
+ * Errors: SAM_ERR_IO, "PATH: cannot open: REASON" when it does not exist or
+ * cannot be examined, "PATH: not a regular file (a directory)" (or device,
+ * pipe, socket) otherwise. */
+sam_status sam_check_regular_file(const char *path, sam_error *err);
 
 /* malloc'd copy of a NUL-terminated string (caller frees), NULL when out of memory. */
 char *sam_strdup(const char *s);

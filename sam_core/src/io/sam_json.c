@@ -124,8 +124,13 @@ sam_status sam_json_float(const sam_json_ctx *ctx, const cJSON *item, const char
     if (cJSON_IsNumber(item)) {
         double v = item->valuedouble;
         int ok = isfinite(v) && fabs(v) <= FLT_MAX && (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+        /* 1e-300 passes "> 0" as a double and is 0 as the float it is kept in. */
+        const float f = ok ? (float)v : 0.0f;
+        if (ok && !((lo_open ? f > lo : f >= lo) && (hi_open ? f < hi : f <= hi)))
+            return sam_json_fail(ctx, SAM_ERR_FORMAT, path, "expected a number %s, found %g, which a 32-bit float "
+                                 "holds as %g", range, v, (double)f);
         if (ok) {
-            *out = (float)v;
+            *out = f;
             return SAM_OK;
         }
     }
@@ -274,10 +279,13 @@ void sam_json_line_column(const char *text, size_t offset, size_t *line, size_t 
     }
 }
 
-int sam_json_ends_early(const char *text, size_t size)
+/* Walks the brackets outside strings: returns 1 when the text stops inside
+ * a string or with a bracket open; *deepest gets the deepest nesting. */
+static int scan_brackets(const char *text, size_t size, long *deepest)
 {
     long depth = 0;
     int in_string = 0, escaped = 0;
+    *deepest = 0;
     for (size_t i = 0; i < size; ++i) {
         char ch = text[i];
         if (in_string) {
@@ -290,10 +298,24 @@ int sam_json_ends_early(const char *text, size_t size)
         } else if (ch == '"') {
             in_string = 1;
         } else if (ch == '{' || ch == '[') {
-            ++depth;
+            if (++depth > *deepest)
+                *deepest = depth;
         } else if (ch == '}' || ch == ']') {
             --depth;
         }
     }
     return in_string || depth > 0;
+}
+
+int sam_json_ends_early(const char *text, size_t size)
+{
+    long deepest;
+    return scan_brackets(text, size, &deepest);
+}
+
+int sam_json_too_deep(const char *text, size_t size)
+{
+    long deepest;
+    scan_brackets(text, size, &deepest);
+    return deepest > CJSON_NESTING_LIMIT;
 }

@@ -283,6 +283,15 @@ static sam_status parse_texture_space(const sam_scene_parser *p, const cJSON *it
     return SAM_OK;
 }
 
+static int is_mesh_path(const char *path)
+{
+    static const char *const extensions[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb"};
+    for (size_t i = 0; i < COUNT_OF(extensions); ++i)
+        if (sam_path_has_extension(path, extensions[i]))
+            return 1;
+    return 0;
+}
+
 static sam_status parse_root(const sam_scene_parser *p, const cJSON *root, sam_scene *scene)
 {
     static const char *const keys[] = {"mesh",         "sam",        "material",  "scale",
@@ -305,6 +314,16 @@ static sam_status parse_root(const sam_scene_parser *p, const cJSON *root, sam_s
         return st;
     if (sam && (st = sam_scene_get_file(p, sam, "sam", &scene->sam_path)) != SAM_OK)
         return st;
+    /* Each key's file goes to its own reader: say so here, where sam_info
+     * sees it too, not when the wrong reader fails. */
+    if (mesh && !is_mesh_path(scene->mesh_path))
+        return sam_json_fail(&p->json, SAM_ERR_FORMAT, "mesh", "%s is %s", scene->mesh_path,
+                             sam_path_has_extension(scene->mesh_path, ".sam")
+                                 ? "a .sam map; give it as \"sam\""
+                                 : "not a mesh file (.obj, .ply, .off, .stl, .gltf or .glb)");
+    if (sam && !sam_path_has_extension(scene->sam_path, ".sam"))
+        return sam_json_fail(&p->json, SAM_ERR_FORMAT, "sam", "%s is not a .sam map%s", scene->sam_path,
+                             is_mesh_path(scene->sam_path) ? "; give a mesh as \"mesh\"" : "");
 
     const cJSON *v;
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "material"))) {
@@ -412,6 +431,12 @@ sam_status sam_scene_parse(const char *text, size_t size, const char *base_dir, 
         if (offset > size)
             offset = size;
         size_t line, column;
+        if (sam_json_too_deep(text, size)) {
+            sam_json_line_column(text, offset, &line, &column);
+            return sam_fail(err, SAM_ERR_FORMAT,
+                            "%s: line %zu, column %zu: objects and arrays nest deeper than %d levels",
+                            p.json.name, line, column, CJSON_NESTING_LIMIT);
+        }
         if (offset >= size || sam_json_ends_early(text, size)) {
             sam_json_line_column(text, size, &line, &column);
             return sam_fail(err, SAM_ERR_FORMAT,

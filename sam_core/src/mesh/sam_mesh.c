@@ -26,14 +26,35 @@ sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *repo
     sam_mesh_soup soup;
     memset(&soup, 0, sizeof soup);
     const int gltf = sam_path_has_extension(path, ".gltf") || sam_path_has_extension(path, ".glb");
-    sam_status st = gltf ? sam_mesh_gltf_read(path, &soup, err) : sam_mesh_preflight(path, err);
+    sam_mesh_expect expect;
+    memset(&expect, 0, sizeof expect);
+    /* The readers open the path themselves: refuse a device or pipe first. */
+    sam_status st = sam_check_regular_file(path, err);
+    if (st == SAM_OK)
+        st = gltf ? sam_mesh_gltf_read(path, &soup, err) : sam_mesh_preflight(path, &expect, err);
     if (st == SAM_OK && !gltf)
         st = sam_mesh_soup_read(path, &soup, err);
-    if (st == SAM_OK && soup.face_count == 0)
-        st = sam_fail(err, SAM_ERR_EMPTY, "%s: the file has %u vertices but no faces", path,
-                      soup.vertex_count);
+    /* The reader and the pre-check must agree on what the file holds. */
+    if (st == SAM_OK && expect.known && (soup.vertex_count != expect.vertices || soup.face_count != expect.faces))
+        st = sam_fail(err, SAM_ERR_FORMAT,
+                      "%s: the reader delivered %u vertices and %u faces, but the file holds %llu and %llu; "
+                      "refusing a mesh that was not read as written",
+                      path, soup.vertex_count, soup.face_count, (unsigned long long)expect.vertices,
+                      (unsigned long long)expect.faces);
+    if (st == SAM_OK && soup.face_count == 0) {
+        if (expect.repeated_corner_faces && expect.repeated_corner_faces == expect.file_faces)
+            st = sam_fail(err, SAM_ERR_EMPTY,
+                          "%s: all %llu faces repeat a vertex and have fewer than 3 distinct corners (the first on "
+                          "line %d): no face is left",
+                          path, (unsigned long long)expect.file_faces, expect.first_repeated_line);
+        else
+            st = sam_fail(err, SAM_ERR_EMPTY, "%s: the file has %u vertices but no faces", path, soup.vertex_count);
+    }
     if (st == SAM_OK)
         st = sam_mesh_build(&soup, path, mesh, &rep, err);
+    /* The faces the reader dropped for repeated corners are the file's too. */
+    rep.file_faces += (uint32_t)expect.repeated_corner_faces;
+    rep.faces_too_small += (uint32_t)expect.repeated_corner_faces;
     sam_mesh_soup_free(&soup);
     return finish(st, mesh, report, &rep);
 }

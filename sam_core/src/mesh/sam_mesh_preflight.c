@@ -10,8 +10,17 @@
  * (numbers and face corners; Debian builds OpenMesh with assertions, which
  * abort on a bad normal index) and binary STL (size) is walked here first,
  * and only a file whose every count and index fits reaches OpenMesh.
+ *
+ * Every number must also fit the 32-bit float it will be stored in:
+ * OpenMesh's stream extraction fails on "1e39" and its OBJ reader then
+ * drops the whole vertex line, so every later face index would point at
+ * the wrong vertex. The counts found here (sam_mesh_expect) are checked
+ * against what the reader delivered (sam_mesh.c), so any other
+ * disagreement between this walk and OpenMesh fails the load too.
  */
 #include <ctype.h>
+#include <float.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -66,20 +75,45 @@ static int token_is(const char *tok, int len, const char *word)
     return len == (int)strlen(word) && !strncmp(tok, word, (size_t)len);
 }
 
-/* A whole token of decimal digits; 0 when it is not one or overflows. */
+/* A whole token of decimal digits: 1, with its value; 0 when it is not
+ * one; -1 when its value passes 2^64 - 1. */
 static int token_count(const char *tok, int len, unsigned long long *out)
 {
     unsigned long long v = 0;
+    int overflow = 0;
     if (len <= 0)
         return 0;
     for (int i = 0; i < len; ++i) {
-        if (!isdigit((unsigned char)tok[i]) || v > (~0ull - 9) / 10)
+        if (!isdigit((unsigned char)tok[i]))
             return 0;
-        v = v * 10 + (unsigned long long)(tok[i] - '0');
+        const unsigned long long digit = (unsigned long long)(tok[i] - '0');
+        if (v > (~0ull - digit) / 10)
+            overflow = 1;
+        v = v * 10 + digit;
     }
     *out = v;
-    return 1;
+    return overflow ? -1 : 1;
 }
+
+/* strtod's reading of a whole token: 1 when it is a number that fits a
+ * 32-bit float (finite, at most FLT_MAX in size; smaller ones round to 0
+ * or a subnormal, as a float reader gives them), -1 when it is a number
+ * that does not, 0 when it is no number. */
+static int token_number(const char *tok, int len)
+{
+    char buf[64];
+    if (len <= 0 || len >= (int)sizeof buf)
+        return 0;
+    memcpy(buf, tok, (size_t)len);
+    buf[len] = 0;
+    char *stop;
+    double v = strtod(buf, &stop);
+    if (stop == buf || *stop)
+        return 0;
+    return isfinite(v) && fabs(v) <= FLT_MAX ? 1 : -1;
+}
+
+#define NOT_A_FLOAT "is not a finite number that fits a 32-bit float (at most 3.4e38 in size)"
 
 static int shown(const char *line, const char *eol)
 {
@@ -218,7 +252,7 @@ static sam_status ply_body_ascii(const char *path, const ply_element *el, int el
                 if (el[e].property[k].is_list) {
                     if (!next_token(&ts, &tok, &len))
                         goto truncated;
-                    if (!token_count(tok, len, &n))
+                    if (token_count(tok, len, &n) != 1)
                         return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY %s %llu: list count \"%.*s\" is not a count",
                                         path, el[e].name, i, len < 40 ? len : 40, tok);
                     /* Each entry takes at least two bytes (a digit and a blank). */
@@ -228,15 +262,10 @@ static sam_status ply_body_ascii(const char *path, const ply_element *el, int el
                 for (unsigned long long j = 0; j < n; ++j) {
                     if (!next_token(&ts, &tok, &len))
                         goto truncated;
-                    char *stop;
-                    char number[64];
-                    int m = len < 63 ? len : 63;
-                    memcpy(number, tok, (size_t)m);
-                    number[m] = 0;
-                    strtod(number, &stop);
-                    if (stop == number || *stop)
-                        return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY %s %llu: \"%.*s\" is not a number", path,
-                                        el[e].name, i, len < 40 ? len : 40, tok);
+                    const int kind = token_number(tok, len);
+                    if (kind != 1)
+                        return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY %s %llu: \"%.*s\" %s", path, el[e].name, i,
+                                        len < 40 ? len : 40, tok, kind ? NOT_A_FLOAT : "is not a number");
                 }
             }
             continue;
@@ -248,7 +277,8 @@ static sam_status ply_body_ascii(const char *path, const ply_element *el, int el
     return SAM_OK;
 }
 
-static sam_status preflight_ply(const char *path, const char *data, size_t size, sam_error *err)
+static sam_status preflight_ply(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
+                                sam_error *err)
 {
     text_cursor c = {data, data + size, 0};
     const char *line, *eol;
@@ -294,6 +324,14 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
             st = format == 0 ? ply_body_ascii(path, el, elements, data + body, size - body, err)
                              : ply_body_binary(path, el, elements, (const unsigned char *)data + body, size - body,
                                                format == 2, err);
+            /* OpenMesh reads the elements named vertex and face. */
+            for (int e = 0; e < elements; ++e) {
+                if (!strcmp(el[e].name, "vertex"))
+                    expect->vertices = el[e].count;
+                else if (!strcmp(el[e].name, "face"))
+                    expect->faces = expect->file_faces = el[e].count;
+            }
+            expect->known = st == SAM_OK;
             goto done;
         } else if (count == 3 && token_is(tok[0], len[0], "element")) {
             if (elements == PLY_MAX_ELEMENTS) {
@@ -303,9 +341,14 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
             }
             ply_element *e = &el[elements++];
             snprintf(e->name, sizeof e->name, "%.*s", len[1], tok[1]);
-            if (!token_count(tok[2], len[2], &e->count)) {
-                st = sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header line %d: \"%.*s\" has no element count", path,
-                              c.line_no, s, line);
+            const int counted = token_count(tok[2], len[2], &e->count);
+            if (counted != 1) {
+                st = counted ? sam_fail(err, SAM_ERR_FORMAT,
+                                        "%s: PLY header line %d: the element count in \"%.*s\" is too large "
+                                        "(above 2^64 - 1)",
+                                        path, c.line_no, s, line)
+                             : sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header line %d: \"%.*s\" has no element count",
+                                        path, c.line_no, s, line);
                 goto done;
             }
             if (e->count > size) {
@@ -358,28 +401,13 @@ static int next_content_line(text_cursor *c, const char **line, const char **eol
     return -1;
 }
 
-/* A whole token that strtod reads completely; -1 when it is a number but
- * not finite, 0 when it is no number. */
-static int token_number(const char *tok, int len)
-{
-    char buf[64];
-    if (len <= 0 || len >= (int)sizeof buf)
-        return 0;
-    memcpy(buf, tok, (size_t)len);
-    buf[len] = 0;
-    char *stop;
-    double v = strtod(buf, &stop);
-    if (stop == buf || *stop)
-        return 0;
-    return v - v == 0 ? 1 : -1;
-}
-
 #define OFF_MAX_TOKENS 16
 
 /* The line layout is checked exactly, because OpenMesh reads vertices by
  * the keyword's layout and faces token by token: a line with extra or
  * missing values would shift everything after it. */
-static sam_status preflight_off(const char *path, const char *data, size_t size, sam_error *err)
+static sam_status preflight_off(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
+                                sam_error *err)
 {
     sam_status st = check_text(path, "OFF", data, size, err);
     if (st != SAM_OK)
@@ -419,7 +447,7 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
     unsigned long long value[3] = {0, 0, 0};
     int numbers = count;
     for (int k = 0; k < numbers && k < 3; ++k)
-        if (!token_count(tok[k], len[k], &value[k]))
+        if (token_count(tok[k], len[k], &value[k]) != 1)
             numbers = -1;
     /* All three: OpenMesh reads the edge count whether or not it is there,
      * and would take the first coordinate for it. */
@@ -442,10 +470,13 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
         if (count < 0)
             return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file is truncated: it ends before vertex %llu of %llu", path,
                             v, value[0]);
-        int ok = count == base || (colour && (count == base + 3 || count == base + 4));
-        for (int k = 0; k < count && ok; ++k)
-            ok = token_number(tok[k], len[k]) == 1;
-        if (!ok)
+        int ok = count == base || (colour && (count == base + 3 || count == base + 4)), kind = 1, at = 0;
+        for (int k = 0; k < count && count <= OFF_MAX_TOKENS && kind == 1; ++k)
+            kind = token_number(tok[k], len[k]), at = k;
+        if (ok && kind < 0)
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF line %d: vertex %llu: \"%.*s\" " NOT_A_FLOAT, path,
+                            c.line_no, v, len[at] < 40 ? len[at] : 40, tok[at]);
+        if (!ok || kind != 1)
             return sam_fail(err, SAM_ERR_FORMAT,
                             "%s: OFF line %d: vertex %llu must be %d finite numbers%s: \"%.*s\"", path, c.line_no, v,
                             base, colour ? " plus 3 or 4 colour values" : "", shown(line, eol), line);
@@ -460,7 +491,8 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
         /* k >= 3 corner indices and nothing else (no face colours): the
          * whole line is checked, whatever its length. */
         unsigned long long corners;
-        int ok = token_count(tok[0], len[0], &corners) && corners >= 3 && corners + 1 == (unsigned long long)count;
+        int ok = token_count(tok[0], len[0], &corners) == 1 && corners >= 3 &&
+                 corners + 1 == (unsigned long long)count;
         const char *p = line;
         for (int k = 0; ok && k < count; ++k) {
             const char *t[1];
@@ -469,7 +501,7 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
                 p++;
             tokenize(p, eol, t, l, 1);
             unsigned long long index;
-            ok = token_count(t[0], l[0], &index) && (k == 0 || index < value[0]);
+            ok = token_count(t[0], l[0], &index) == 1 && (k == 0 || index < value[0]);
             p = t[0] + l[0];
         }
         if (!ok)
@@ -478,6 +510,9 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
                             "%llu (face colours are not supported): \"%.*s\"",
                             path, c.line_no, f, value[0], shown(line, eol), line);
     }
+    expect->known = 1;
+    expect->vertices = value[0];
+    expect->faces = expect->file_faces = value[1];
     return SAM_OK;
 comment:
     return sam_fail(err, SAM_ERR_FORMAT,
@@ -488,17 +523,31 @@ comment:
 /* ---- OBJ */
 
 /* One OBJ index ("3", "-1"): 1-based against `count` elements so far,
- * negative counts back from the last. */
-static int obj_index_ok(const char *tok, int len, unsigned long long count)
+ * negative counts back from the last. Its 0-based element goes to *at. */
+static int obj_index_ok(const char *tok, int len, unsigned long long count, unsigned long long *at)
 {
     int negative = len > 0 && tok[0] == '-';
     unsigned long long v;
-    if (!token_count(tok + negative, len - negative, &v))
+    if (token_count(tok + negative, len - negative, &v) != 1 || v < 1 || v > count)
         return 0;
-    return v >= 1 && v <= count;
+    *at = negative ? count - v : v - 1;
+    return 1;
 }
 
-static sam_status preflight_obj(const char *path, const char *data, size_t size, sam_error *err)
+#define OBJ_DISTINCT 3
+
+/* Adds a face's corner vertex to the (up to 3) distinct ones seen. */
+static void note_distinct(unsigned long long v, unsigned long long *seen, int *n)
+{
+    for (int i = 0; i < *n; ++i)
+        if (seen[i] == v)
+            return;
+    if (*n < OBJ_DISTINCT)
+        seen[(*n)++] = v;
+}
+
+static sam_status preflight_obj(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
+                                sam_error *err)
 {
     sam_status st = check_text(path, "OBJ", data, size, err);
     if (st != SAM_OK)
@@ -527,17 +576,20 @@ static sam_status preflight_obj(const char *path, const char *data, size_t size,
             for (int i = 1; i <= values; ++i) {
                 int kind = token_number(tok[i], len[i]);
                 if (kind <= 0)
-                    return sam_fail(err, SAM_ERR_FORMAT, "%s: OBJ line %d: \"%.*s\" is not a %s number", path,
-                                    c.line_no, len[i] < 40 ? len[i] : 40, tok[i], kind < 0 ? "finite" : "valid");
+                    return sam_fail(err, SAM_ERR_FORMAT, "%s: OBJ line %d: \"%.*s\" %s", path, c.line_no,
+                                    len[i] < 40 ? len[i] : 40, tok[i], kind < 0 ? NOT_A_FLOAT : "is not a valid number");
             }
             (*counter)++;
             continue;
         }
         if (!token_is(tok[0], len[0], "f"))
             continue; /* groups, materials, smoothing, lines: not geometry we read */
-        /* Corners: v, v/t, v//n or v/t/n; all corners of a face alike. */
+        /* Corners: v, v/t, v//n or v/t/n; all corners of a face alike.
+         * OpenMesh drops repeated corners, and a face left with fewer
+         * than 3. */
         const char *p = line + 1;
-        int corner = 0;
+        int corner = 0, distinct = 0;
+        unsigned long long seen[OBJ_DISTINCT], vertex, unused;
         while (p < eol) {
             while (p < eol && (*p == ' ' || *p == '\t'))
                 p++;
@@ -555,9 +607,11 @@ static sam_status preflight_obj(const char *path, const char *data, size_t size,
                 p++;
             }
             plen[parts - 1] = (int)(p - part[parts - 1]);
-            if (!obj_index_ok(part[0], plen[0], nv) || (parts >= 2 && plen[1] && !obj_index_ok(part[1], plen[1], nt)) ||
-                (parts == 3 && !obj_index_ok(part[2], plen[2], nn)) || (parts == 2 && !plen[1]))
+            if (!obj_index_ok(part[0], plen[0], nv, &vertex) ||
+                (parts >= 2 && plen[1] && !obj_index_ok(part[1], plen[1], nt, &unused)) ||
+                (parts == 3 && !obj_index_ok(part[2], plen[2], nn, &unused)) || (parts == 2 && !plen[1]))
                 goto bad_corner;
+            note_distinct(vertex, seen, &distinct);
             corner++;
             continue;
         bad_corner:
@@ -566,12 +620,72 @@ static sam_status preflight_obj(const char *path, const char *data, size_t size,
                             "%llu positions, %llu texture coordinates, %llu normals so far): \"%.*s\"",
                             path, c.line_no, corner + 1, nv, nt, nn, s, line);
         }
+        expect->file_faces++;
+        if (distinct < 3 && expect->repeated_corner_faces++ == 0)
+            expect->first_repeated_line = c.line_no;
     }
+    expect->known = 1;
+    expect->vertices = nv;
+    expect->faces = expect->file_faces - expect->repeated_corner_faces;
     return SAM_OK;
 }
 
-sam_status sam_mesh_preflight(const char *path, sam_error *err)
+/* ---- STL */
+
+/* Binary STL: an 80-byte header, a u32 count, 50 bytes per triangle (a
+ * normal, three vertices, two attribute bytes); every vertex coordinate
+ * must be finite. ASCII STL: the numbers of every vertex line must fit a
+ * float. */
+static sam_status preflight_stl(const char *path, const char *data, size_t size, sam_error *err)
 {
+    const unsigned char *u = (const unsigned char *)data;
+    uint32_t n = size >= 84 ? (uint32_t)u[80] | (uint32_t)u[81] << 8 | (uint32_t)u[82] << 16 | (uint32_t)u[83] << 24
+                            : 0;
+    /* Binary files may begin with "solid" too; their size tells them apart. */
+    if (size >= 5 && !memcmp(data, "solid", 5) && !(size >= 84 && 84ull + 50ull * n == size)) {
+        text_cursor c = {data, data + size, 0};
+        const char *line, *eol;
+        while (next_line(&c, &line, &eol)) {
+            const char *tok[5];
+            int len[5];
+            int count = tokenize(line, eol, tok, len, 5);
+            if (count < 1 || !token_is(tok[0], len[0], "vertex"))
+                continue;
+            for (int k = 1; k < count && k < 5; ++k) {
+                const int kind = token_number(tok[k], len[k]);
+                if (kind != 1)
+                    return sam_fail(err, SAM_ERR_FORMAT, "%s: STL line %d: \"%.*s\" %s", path, c.line_no,
+                                    len[k] < 40 ? len[k] : 40, tok[k], kind ? NOT_A_FLOAT : "is not a number");
+            }
+            if (count != 4)
+                return sam_fail(err, SAM_ERR_FORMAT, "%s: STL line %d: a vertex takes 3 numbers: \"%.*s\"", path,
+                                c.line_no, shown(line, eol), line);
+        }
+        return SAM_OK;
+    }
+    if (size < 84)
+        return sam_fail(err, SAM_ERR_FORMAT, "%s: binary STL is truncated: %zu bytes, the header alone is 84", path,
+                        size);
+    if (84ull + 50ull * n > size)
+        return sam_fail(err, SAM_ERR_FORMAT,
+                        "%s: binary STL declares %u triangles (%llu bytes) but the file has only %zu bytes", path, n,
+                        84ull + 50ull * n, size);
+    for (uint32_t t = 0; t < n; ++t)
+        for (int k = 3; k < 12; ++k) {
+            const unsigned char *b = u + 84 + 50 * (size_t)t + 4 * (size_t)k;
+            const uint32_t bits = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+            float f;
+            memcpy(&f, &bits, sizeof f);
+            if (!isfinite(f))
+                return sam_fail(err, SAM_ERR_FORMAT, "%s: binary STL triangle %u, vertex %d has a non-finite coordinate "
+                                "(%g)", path, t, k / 3 - 1, (double)f);
+        }
+    return SAM_OK;
+}
+
+sam_status sam_mesh_preflight(const char *path, sam_mesh_expect *expect, sam_error *err)
+{
+    memset(expect, 0, sizeof *expect);
     int ply = sam_path_has_extension(path, ".ply"), off = sam_path_has_extension(path, ".off");
     int stl = sam_path_has_extension(path, ".stl"), obj = sam_path_has_extension(path, ".obj");
     if (!ply && !off && !stl && !obj)
@@ -584,25 +698,15 @@ sam_status sam_mesh_preflight(const char *path, sam_error *err)
     if (size == 0)
         st = SAM_OK; /* the reader reports an empty file */
     else if (ply)
-        st = preflight_ply(path, (const char *)data, size, err);
+        st = preflight_ply(path, (const char *)data, size, expect, err);
     else if (off)
-        st = preflight_off(path, (const char *)data, size, err);
+        st = preflight_off(path, (const char *)data, size, expect, err);
     else if (obj)
-        st = preflight_obj(path, (const char *)data, size, err);
-    else if (size < 5 || memcmp(data, "solid", 5)) {
-        /* Binary STL: an 80-byte header, a u32 count, 50 bytes per triangle. */
-        if (size < 84) {
-            st = sam_fail(err, SAM_ERR_FORMAT, "%s: binary STL is truncated: %zu bytes, the header alone is 84", path,
-                          size);
-        } else {
-            uint32_t n = (uint32_t)data[80] | (uint32_t)data[81] << 8 | (uint32_t)data[82] << 16 |
-                         (uint32_t)data[83] << 24;
-            if (84ull + 50ull * n > size)
-                st = sam_fail(err, SAM_ERR_FORMAT,
-                              "%s: binary STL declares %u triangles (%llu bytes) but the file has only %zu bytes", path,
-                              n, 84ull + 50ull * n, size);
-        }
-    }
+        st = preflight_obj(path, (const char *)data, size, expect, err);
+    else
+        st = preflight_stl(path, (const char *)data, size, err);
+    if (st != SAM_OK)
+        memset(expect, 0, sizeof *expect);
     free(data);
     return st;
 }

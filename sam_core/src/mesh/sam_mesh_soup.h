@@ -57,12 +57,26 @@ sam_status sam_mesh_gltf_read(const char *path, sam_mesh_soup *soup, sam_error *
  * RGBA), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_mesh_gltf_base_color(const char *path, sam_image *image, float factor[4], sam_error *err);
 
-/* Checks the structure of a PLY, OFF, OBJ or binary STL file before OpenMesh
+/* What a mesh file holds, as the pre-check counts it: what OpenMesh's
+ * reader must deliver for the file to have been read as written. */
+typedef struct sam_mesh_expect {
+    int known;                         /* 1 for OBJ, OFF and PLY; STL's reader merges and drops vertices */
+    uint64_t vertices, faces;          /* what the reader must deliver */
+    uint64_t file_faces;               /* face records, those with repeated corners included */
+    uint64_t repeated_corner_faces;    /* OBJ faces with fewer than 3 distinct corners: the reader drops them */
+    int first_repeated_line;           /* the line of the first of them, 0 when none */
+} sam_mesh_expect;
+
+/* Checks the structure of a PLY, OFF, OBJ or STL file before OpenMesh
  * reads it (sam_mesh_preflight.c): OpenMesh's readers trust the counts they
- * parse and loop, crash or allocate gigabytes on corrupt ones. A file that
- * cannot be opened passes (the reader reports it).
- * Errors: SAM_ERR_FORMAT naming the line or element, SAM_ERR_UNSUPPORTED. */
-sam_status sam_mesh_preflight(const char *path, sam_error *err);
+ * parse and loop, crash or allocate gigabytes on corrupt ones, and drop a
+ * vertex line whose number does not fit a float (every later index would
+ * shift), so every number must fit a 32-bit float. Fills `expect` (zeroed
+ * first; known stays 0 for STL and for a file that cannot be opened, which
+ * passes: the reader reports it).
+ * Errors: SAM_ERR_FORMAT naming the line or element and the value,
+ * SAM_ERR_UNSUPPORTED. */
+sam_status sam_mesh_preflight(const char *path, sam_mesh_expect *expect, sam_error *err);
 
 #ifdef __cplusplus
 }

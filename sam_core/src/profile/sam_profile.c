@@ -123,11 +123,17 @@ static int finite_float(double v)
     return isfinite(v) && fabs(v) <= FLT_MAX;
 }
 
+/* What must be > 0 must stay so as a float: 1e-300 would become 0. */
+static const char *positive(double v)
+{
+    return !(v > 0) ? "must be > 0" : v < FLT_MIN ? "is too small for a 32-bit float (below 1.2e-38)" : NULL;
+}
+
 const char *sam_profile_check_variance(double v)
 {
     if (!finite_float(v))
         return "is not a finite float";
-    return v > 0 ? NULL : "must be > 0";
+    return positive(v);
 }
 
 const char *sam_profile_check_weight(double w)
@@ -148,7 +154,7 @@ const char *sam_profile_check_sigma_s_prime(double s)
 {
     if (!finite_float(s))
         return "is not a finite float";
-    return s > 0 ? NULL : "must be > 0";
+    return positive(s);
 }
 
 const char *sam_profile_check_sigma_a(double s)
@@ -167,8 +173,8 @@ const char *sam_profile_check_eta(double eta)
 {
     if (!finite_float(eta))
         return "is not a finite float";
-    if (!(eta > 0))
-        return "must be > 0";
+    if (positive(eta))
+        return positive(eta);
     /* The boundary term A = (1 + F_dr)/(1 - F_dr) is positive only for
      * |F_dr| < 1; outside, the virtual source lands on the wrong side. */
     double fdr = sam_profile_fdr(eta);

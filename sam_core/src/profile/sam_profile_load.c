@@ -194,6 +194,9 @@ static sam_status load_json(const char *path, const char *text, size_t size, sam
         size_t at = (end && end >= text && end <= text + size) ? (size_t)(end - text) : size;
         size_t line, column;
         sam_json_line_column(text, at, &line, &column);
+        if (sam_json_too_deep(text, size))
+            return sam_fail(err, SAM_ERR_FORMAT, "%s:%zu:%zu: objects and arrays nest deeper than %d levels", path,
+                            line, column, CJSON_NESTING_LIMIT);
         if (at >= size)
             return sam_fail(err, SAM_ERR_FORMAT, "%s:%zu:%zu: JSON ends early (truncated?)", path,
                             line, column);

@@ -141,6 +141,11 @@ void sam_json_line_column(const char *text, size_t offset, size_t *line, size_t 
  * unfinished token, while the useful message is that the text ends early. */
 int sam_json_ends_early(const char *text, size_t size);
 
+/* 1 when objects and arrays in `text` nest deeper than cJSON parses
+ * (CJSON_NESTING_LIMIT, 1000 levels), which cJSON reports as a syntax
+ * error at the bracket where it stopped. */
+int sam_json_too_deep(const char *text, size_t size);
+
 #ifdef __cplusplus
 }
 #endif

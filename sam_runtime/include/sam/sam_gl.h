@@ -54,6 +54,15 @@ sam_status sam_gl_context_create_headless(sam_gl_context **ctx, sam_error *err);
  * Errors: SAM_ERR_UNSUPPORTED naming the renderer and what it lacks. */
 sam_status sam_gl_check_current(int debug, sam_gl_info *info, sam_error *err);
 
+/* With a context current: whether the GL can render a width x height
+ * picture, before any work is done for it: its side against
+ * GL_MAX_TEXTURE_SIZE, GL_MAX_RENDERBUFFER_SIZE, GL_MAX_FRAMEBUFFER_WIDTH
+ * and _HEIGHT and GL_MAX_VIEWPORT_DIMS, then a proxy RGBA32F texture of
+ * that size (the GL's own answer on its memory; nothing is allocated).
+ * Errors: SAM_ERR_UNSUPPORTED naming the limit and its value, or the size
+ * that does not fit. */
+sam_status sam_gl_check_picture_size(uint32_t width, uint32_t height, sam_error *err);
+
 /* 1 when GL debug output is wanted: a build without NDEBUG, or
  * SAM_GL_DEBUG=1 in the environment. */
 int sam_gl_debug_requested(void);

@@ -1,0 +1,48 @@
+/*
+ * Differential libFuzzer target: the pre-check (sam_mesh_preflight) and
+ * OpenMesh's readers must agree on what a file holds. For every input the
+ * pre-check accepts with known counts and OpenMesh reads, the vertices and
+ * faces OpenMesh delivered must be the pre-check's; a disagreement is a
+ * file that would be read other than as written, and aborts. The first
+ * byte picks the extension (0 OBJ, 1 PLY, 2 OFF, 3 STL, modulo 4), as in
+ * fuzz_mesh; the rest is the content.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "sam_mesh_soup.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    static const char *const ext[] = {"obj", "ply", "off", "stl"};
+    if (size < 1)
+        return 0;
+    char path[256];
+    snprintf(path, sizeof path, "/tmp/sam_fuzz_counts_%ld.%s", (long)getpid(), ext[data[0] % 4]);
+    FILE *fp = fopen(path, "wb");
+    if (!fp)
+        abort();
+    if (size > 1 && fwrite(data + 1, 1, size - 1, fp) != size - 1)
+        abort();
+    fclose(fp);
+    sam_mesh_expect expect;
+    sam_mesh_soup soup;
+    sam_error err;
+    if (sam_mesh_preflight(path, &expect, &err) == SAM_OK && expect.known &&
+        sam_mesh_soup_read(path, &soup, &err) == SAM_OK) {
+        if (soup.vertex_count != expect.vertices || soup.face_count != expect.faces) {
+            fprintf(stderr, "fuzz_mesh_counts: the pre-check counts %llu vertices and %llu faces, OpenMesh read %u "
+                            "and %u\n",
+                    (unsigned long long)expect.vertices, (unsigned long long)expect.faces, soup.vertex_count,
+                    soup.face_count);
+            abort();
+        }
+        sam_mesh_soup_free(&soup);
+    }
+    remove(path);
+    return 0;
+}
