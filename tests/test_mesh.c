@@ -559,6 +559,23 @@ static void test_hostile_inputs(void **state)
                  "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1e39 0 0\nvertex 0 1 0\n"
                  "endloop\nendfacet\nendsolid x\n",
                  SAM_ERR_FORMAT, "STL line 5: \"1e39\" is not a finite number");
+    /* Found by the differential fuzzer: PLY layouts OpenMesh reads other
+     * than as written. */
+    expect_error("face_list_name.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 1\nproperty list uchar int corners\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                 SAM_ERR_UNSUPPORTED, "its first property must be the list vertex_indices (or vertex_index), found "
+                                      "the list corners");
+    expect_error("face_flags_first.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 1\nproperty uchar flags\nproperty list uchar int vertex_indices\nend_header\n"
+                 "0 0 0\n1 0 0\n0 1 0\n7 3 0 1 2\n",
+                 SAM_ERR_UNSUPPORTED, "found the scalar flags");
+    expect_error("two_vertex_elements.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 1\nproperty list uchar int vertex_indices\nelement vertex 1\nproperty float x\n"
+                 "property float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0 0 1\n",
+                 SAM_ERR_FORMAT, "PLY header line 9 declares a second element \"vertex\"");
     expect_error("repeated.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 1\nf 2 2 3\n", SAM_ERR_EMPTY,
                  "all 2 faces repeat a vertex and have fewer than 3 distinct corners (the first on line 4)");
     expect_error("count_max.ply",

@@ -146,6 +146,7 @@ static sam_status check_text(const char *path, const char *kind, const char *dat
 #define PLY_MAX_PROPERTIES 64
 
 typedef struct ply_property {
+    char name[32];
     int is_list;
     int count_size, count_signed; /* list: the count's type */
     int value_size;               /* scalar, or list entries */
@@ -324,12 +325,24 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
             st = format == 0 ? ply_body_ascii(path, el, elements, data + body, size - body, err)
                              : ply_body_binary(path, el, elements, (const unsigned char *)data + body, size - body,
                                                format == 2, err);
-            /* OpenMesh reads the elements named vertex and face. */
-            for (int e = 0; e < elements; ++e) {
-                if (!strcmp(el[e].name, "vertex"))
+            /* OpenMesh reads the elements named vertex and face; of a face,
+             * the corners only from a first property that is the list
+             * vertex_indices (or vertex_index): another name gave no faces,
+             * a property before it garbled them. */
+            for (int e = 0; st == SAM_OK && e < elements; ++e) {
+                const ply_property *first = el[e].property;
+                if (!strcmp(el[e].name, "vertex")) {
                     expect->vertices = el[e].count;
-                else if (!strcmp(el[e].name, "face"))
+                } else if (!strcmp(el[e].name, "face")) {
                     expect->faces = expect->file_faces = el[e].count;
+                    if (el[e].count && (!el[e].property_count || !first->is_list ||
+                                        (strcmp(first->name, "vertex_indices") && strcmp(first->name, "vertex_index"))))
+                        st = sam_fail(err, SAM_ERR_UNSUPPORTED,
+                                      "%s: PLY face element: its first property must be the list vertex_indices (or "
+                                      "vertex_index), found %s%s",
+                                      path, !el[e].property_count ? "none" : first->is_list ? "the list " : "the scalar ",
+                                      el[e].property_count ? first->name : "");
+                }
             }
             expect->known = st == SAM_OK;
             goto done;
@@ -341,6 +354,14 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
             }
             ply_element *e = &el[elements++];
             snprintf(e->name, sizeof e->name, "%.*s", len[1], tok[1]);
+            /* OpenMesh reads every element of a name: a second vertex
+             * element would add to the first. */
+            for (int k = 0; k + 1 < elements; ++k)
+                if (!strcmp(el[k].name, e->name)) {
+                    st = sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header line %d declares a second element \"%.31s\"",
+                                  path, c.line_no, e->name);
+                    goto done;
+                }
             const int counted = token_count(tok[2], len[2], &e->count);
             if (counted != 1) {
                 st = counted ? sam_fail(err, SAM_ERR_FORMAT,
@@ -365,6 +386,7 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                      ply_type(tok[3], len[3], NULL)))) {
             ply_property *pr = &el[elements - 1].property[el[elements - 1].property_count++];
             pr->is_list = count == 5;
+            snprintf(pr->name, sizeof pr->name, "%.*s", len[count - 1], tok[count - 1]);
             if (pr->is_list) {
                 pr->count_size = ply_type(tok[2], len[2], &pr->count_signed);
                 pr->value_size = ply_type(tok[3], len[3], NULL);
