@@ -4,26 +4,18 @@
  * byte picks the extension (and so the reader: 0 OBJ, 1 PLY, 2 OFF, 3 STL,
  * 4 glTF, 5 GLB, modulo 6) and the rest is the content.
  */
-#define _POSIX_C_SOURCE 200809L
-#include <stdio.h>
+#include "fuzz_input_file.h"
+
 #include <stdlib.h>
-#include <unistd.h>
 
 #include "sam/sam_mesh.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static const char *const ext[] = {"obj", "ply", "off", "stl", "gltf", "glb"};
-    if (size < 1)
-        return 0;
     char path[256];
-    snprintf(path, sizeof path, "/tmp/sam_fuzz_mesh_%ld.%s", (long)getpid(), ext[data[0] % 6]);
-    FILE *fp = fopen(path, "wb");
-    if (!fp)
-        abort();
-    if (size > 1 && fwrite(data + 1, 1, size - 1, fp) != size - 1)
-        abort();
-    fclose(fp);
+    if (!fuzz_input_file(data, size, "fuzz_mesh", ext, 6, path, sizeof path))
+        return 0;
     sam_mesh mesh;
     sam_mesh_report report;
     sam_error err;

@@ -7,10 +7,10 @@
  * byte picks the extension (0 OBJ, 1 PLY, 2 OFF, 3 STL, modulo 4), as in
  * fuzz_mesh; the rest is the content.
  */
-#define _POSIX_C_SOURCE 200809L
+#include "fuzz_input_file.h"
+
 #include <stdio.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 #include "sam_mesh_soup.h"
 
@@ -19,16 +19,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static const char *const ext[] = {"obj", "ply", "off", "stl"};
-    if (size < 1)
-        return 0;
     char path[256];
-    snprintf(path, sizeof path, "/tmp/sam_fuzz_counts_%ld.%s", (long)getpid(), ext[data[0] % 4]);
-    FILE *fp = fopen(path, "wb");
-    if (!fp)
-        abort();
-    if (size > 1 && fwrite(data + 1, 1, size - 1, fp) != size - 1)
-        abort();
-    fclose(fp);
+    if (!fuzz_input_file(data, size, "fuzz_mesh_counts", ext, 4, path, sizeof path))
+        return 0;
     sam_mesh_expect expect;
     sam_mesh_soup soup;
     sam_error err;

@@ -107,6 +107,35 @@ static sam_light directional(float x, float y, float z, float intensity)
     return l;
 }
 
+/* A hard-edged spot 5 mm above the plane, straight down: a disk of radius
+ * 5 tan(angle) mm. */
+static sam_light spot_from_above(float angle_deg)
+{
+    sam_light l;
+    memset(&l, 0, sizeof l);
+    l.type = SAM_LIGHT_SPOT;
+    l.color[0] = l.color[1] = l.color[2] = 1.0f;
+    l.intensity = 25.0f;
+    memcpy(l.position, (float[3]){0, 5, 0}, 3 * sizeof(float));
+    memcpy(l.direction, (float[3]){0, -1, 0}, 3 * sizeof(float));
+    l.inner_angle_deg = l.outer_angle_deg = angle_deg;
+    return l;
+}
+
+/* plane()'s skin plane, 40 mm across, under a light from straight above
+ * and without specular (it does not take the albedo, and would blur the
+ * ratios), its irradiance computed. */
+static sam_runtime *lit_plane(int layout, sam_profile *profile, samfile_data *d)
+{
+    sam_runtime *rt = skin_plane_runtime(33, 40.0f, layout, profile, d);
+    sam_error err;
+    sam_light l = directional(0, -1, 0, 1.0f);
+    assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+    assert_int_equal(sam_runtime_set_surface(rt, 0.3f, 0.0f, &err), SAM_OK);
+    assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+    return rt;
+}
+
 static void look(sam_render_view *view, uint32_t size, float fov, const float eye[3], const float target[3],
                  const float up[3])
 {
@@ -238,14 +267,7 @@ static void test_spot_matches_profile(void **state)
     samfile_data d;
     sam_runtime *rt = skin_plane_runtime(n, size, UV_UNIT, &profile, &d);
     sam_error err;
-    sam_light l;
-    memset(&l, 0, sizeof l);
-    l.type = SAM_LIGHT_SPOT;
-    l.color[0] = l.color[1] = l.color[2] = 1.0f;
-    l.intensity = 25.0f;
-    memcpy(l.position, (float[3]){0, 5, 0}, 3 * sizeof(float));
-    memcpy(l.direction, (float[3]){0, -1, 0}, 3 * sizeof(float));
-    l.inner_angle_deg = l.outer_angle_deg = 8.0f; /* a disk of radius 0.7 mm */
+    sam_light l = spot_from_above(8.0f); /* a disk of radius 0.7 mm */
     assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
     assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
     float *ld = malloc((size_t)n * n * 3 * sizeof *ld);
@@ -413,13 +435,8 @@ static void test_albedo_map(void **state)
     (void)state;
     sam_profile profile;
     samfile_data d;
-    sam_runtime *rt = skin_plane_runtime(33, 40.0f, UV_UNIT, &profile, &d);
+    sam_runtime *rt = lit_plane(UV_UNIT, &profile, &d);
     sam_error err;
-    sam_light l = directional(0, -1, 0, 1.0f);
-    assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
-    /* No specular: it does not take the albedo, and would blur the ratios. */
-    assert_int_equal(sam_runtime_set_surface(rt, 0.3f, 0.0f, &err), SAM_OK);
-    assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
     sam_render_view view;
     /* Looking down with image up = world -z: the top of the image is v = 0. */
     look(&view, 96, 40.0f, (float[3]){0, 40, 0.01f}, (float[3]){0, 0, 0}, (float[3]){0, 0, -1});
@@ -501,14 +518,7 @@ static void test_overlapping_uvs_refused(void **state)
 static void test_uvs_past_the_square(void **state)
 {
     (void)state;
-    sam_light l;
-    memset(&l, 0, sizeof l);
-    l.type = SAM_LIGHT_SPOT;
-    l.color[0] = l.color[1] = l.color[2] = 1.0f;
-    l.intensity = 25.0f;
-    memcpy(l.position, (float[3]){0, 5, 0}, 3 * sizeof(float));
-    memcpy(l.direction, (float[3]){0, -1, 0}, 3 * sizeof(float));
-    l.inner_angle_deg = l.outer_angle_deg = 20.0f; /* a disk of radius 1.8 mm */
+    const sam_light l = spot_from_above(20.0f); /* a disk of radius 1.8 mm */
     sam_render_view view;
     look(&view, 96, 40.0f, (float[3]){0, 20, 0.01f}, (float[3]){0, 0, 0}, (float[3]){0, 0, -1});
     sam_image img[2];
@@ -549,12 +559,8 @@ static void test_tiled_albedo_repeats(void **state)
     (void)state;
     sam_profile profile;
     samfile_data d;
-    sam_runtime *rt = skin_plane_runtime(33, 40.0f, UV_TILED, &profile, &d);
+    sam_runtime *rt = lit_plane(UV_TILED, &profile, &d);
     sam_error err;
-    sam_light l = directional(0, -1, 0, 1.0f);
-    assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
-    assert_int_equal(sam_runtime_set_surface(rt, 0.3f, 0.0f, &err), SAM_OK);
-    assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
     sam_image map;
     assert_int_equal(sam_image_create(&map, 8, 8, 3, &err), SAM_OK);
     for (int i = 0; i < 64; ++i)
