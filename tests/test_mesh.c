@@ -580,6 +580,8 @@ static void test_hostile_inputs(void **state)
                  "element face 1\nproperty list uchar int vertex_indices\nelement vertex 1\nproperty float x\n"
                  "property float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0 0 1\n",
                  SAM_ERR_FORMAT, "PLY header line 9 declares a second element \"vertex\"");
+    expect_error("hex.obj", "v 0 0 0\nv 1 0xce 8\nv 0 1 0\nf 1 2 3\n", SAM_ERR_FORMAT,
+                 "OBJ line 2: \"0xce\" is not a valid number");
     expect_error("repeated.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 1\nf 2 2 3\n", SAM_ERR_EMPTY,
                  "all 2 faces repeat a vertex and have fewer than 3 distinct corners (the first on line 4)");
     expect_error("count_max.ply",

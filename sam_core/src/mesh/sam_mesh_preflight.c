@@ -23,6 +23,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "sam_mesh_soup.h"
 
@@ -95,15 +96,49 @@ static int token_count(const char *tok, int len, unsigned long long *out)
     return overflow ? -1 : 1;
 }
 
-/* strtod's reading of a whole token: 1 when it is a number that fits a
- * 32-bit float (finite, at most FLT_MAX in size; smaller ones round to 0
+/* A decimal number as C++ stream extraction reads one, which OpenMesh
+ * uses: [+-]digits[.digits][(e|E)[+-]digits], a digit before or after the
+ * point. strtod also takes hex ("0xce"), "inf" and "nan", on which the
+ * stream stops and OpenMesh drops the line. */
+static int decimal_syntax(const char *tok, int len)
+{
+    int i = 0, digits = 0;
+    if (i < len && (tok[i] == '+' || tok[i] == '-'))
+        i++;
+    while (i < len && isdigit((unsigned char)tok[i]))
+        i++, digits++;
+    if (i < len && tok[i] == '.')
+        for (i++; i < len && isdigit((unsigned char)tok[i]); i++)
+            digits++;
+    if (!digits)
+        return 0;
+    if (i < len && (tok[i] == 'e' || tok[i] == 'E')) {
+        int exponent = 0;
+        if (++i < len && (tok[i] == '+' || tok[i] == '-'))
+            i++;
+        while (i < len && isdigit((unsigned char)tok[i]))
+            i++, exponent++;
+        if (!exponent)
+            return 0;
+    }
+    return i == len;
+}
+
+/* A whole token read as a number: 1 when it is a decimal number that fits
+ * a 32-bit float (finite, at most FLT_MAX in size; smaller ones round to 0
  * or a subnormal, as a float reader gives them), -1 when it is a number
- * that does not, 0 when it is no number. */
+ * that does not, 0 when it is no decimal number. */
 static int token_number(const char *tok, int len)
 {
     char buf[64];
     if (len <= 0 || len >= (int)sizeof buf)
         return 0;
+    if (!decimal_syntax(tok, len)) {
+        /* "inf" and "nan" are numbers, just not finite ones. */
+        const int special = (len >= 3 && (!strncasecmp(tok + (tok[0] == '-' || tok[0] == '+'), "inf", 3) ||
+                                          !strncasecmp(tok + (tok[0] == '-' || tok[0] == '+'), "nan", 3)));
+        return special ? -1 : 0;
+    }
     memcpy(buf, tok, (size_t)len);
     buf[len] = 0;
     char *stop;
