@@ -96,7 +96,7 @@ static void draw_curve(const sam_profile *profile, const sam_gaussian_fit *fit, 
         fill(img, x0, y0 + q * (y1 - y0 - 1) / 4, x1, y0 + q * (y1 - y0 - 1) / 4 + 1, grid);
     text(img, x0, y1 + 16 * ts, pw, ts, white, "radius r, mm (log scale)");
     text(img, x0, 4 * ts, pw, ts, white, "energy per log radius r^2 R_d(r), by channel");
-    text(img, x0, 16 * ts, pw, ts, grey, "solid: the profile   dotted: its 8-Gaussian fit");
+    text(img, x0, 16 * ts, pw, ts, grey, "solid: profile, dotted: 8-Gaussian fit");
     double peak = 0;
     for (int x = 0; x < pw; ++x) {
         float r = (float)pow(10, lo + (hi - lo) * (x + 0.5) / pw), rd[3];
