@@ -153,9 +153,17 @@ static int info_scene(const char *path)
            count[SAM_LIGHT_POINT], count[SAM_LIGHT_SPOT], count[SAM_LIGHT_DIRECTIONAL], count[SAM_LIGHT_AREA]);
     printf("  environment:       %s\n", scene.environment.map ? scene.environment.map : "none");
     printf("  camera:            %s\n", scene.has_camera ? "given" : "framed automatically");
+
     printf("  output:            %ux%u, technique %s, diffusion %s, tonemap %s, exposure %g EV\n",
            scene.width, scene.height, sam_technique_name(scene.technique), sam_diffusion_name(scene.diffusion),
            sam_tonemap_name(scene.tonemap), scene.exposure);
+    /* The one check sam_render adds needs a GL: whether it can hold the
+     * picture (sam_gl_check_picture_size, before any work). */
+    const double gib = (double)scene.width * scene.height * 16 / (1024.0 * 1024.0 * 1024.0);
+    if (gib >= 1.0)
+        printf("  note:              a %ux%u picture takes %.2f GiB per RGBA32F target; sam_render checks that "
+               "the GL can hold it before any work\n",
+               scene.width, scene.height, gib);
     sam_scene_destroy(&scene);
     return 0;
 }
