@@ -196,17 +196,23 @@ static int info_profile(const char *path)
     return 0;
 }
 
-/* A .json file is a material profile when it says its type (every profile
- * does: "type" or "kind"), else a scene, which the scene loader checks as
- * sam_render does (a scene without "mesh" or "sam" included). */
+/* A .json file is a material profile when it says its type ("type" or
+ * "kind", which every profile needs) or has a key only profiles have, else
+ * a scene, which the scene loader checks as sam_render does (a scene
+ * without "mesh" or "sam" included). */
 static int is_scene(const char *path)
 {
+    static const char *const profile_keys[] = {"type",      "kind",           "gaussians",      "sigma_s_prime",
+                                               "sigma_a",   "eta",            "mean_free_path", "scatter_radius",
+                                               "radius_mm", "rd"};
     uint8_t *text;
     size_t size;
     if (sam_read_file(path, &text, &size, NULL) != SAM_OK)
         return 1; /* let the scene loader report the I/O error */
     cJSON *root = cJSON_ParseWithLength((const char *)text, size);
-    int scene = !root || !(cJSON_HasObjectItem(root, "type") || cJSON_HasObjectItem(root, "kind"));
+    int scene = 1;
+    for (size_t i = 0; root && i < sizeof profile_keys / sizeof *profile_keys; ++i)
+        scene &= !cJSON_HasObjectItem(root, profile_keys[i]);
     cJSON_Delete(root);
     free(text);
     return scene;
