@@ -203,6 +203,21 @@ static void test_bad_references(void **state)
                  SAM_ERR_FORMAT, "indices must be unsigned");
 }
 
+/* A buffer whose URI names a directory is refused with a message; TinyGLTF
+ * alone opened it and asked for 2^63 bytes (found by fuzz/fuzz_mesh). */
+static void test_buffer_naming_a_directory(void **state)
+{
+    (void)state;
+    char path[512];
+    sam_test_tmp_path(path, sizeof path, "dir_buffer.gltf");
+    sam_test_write_text(path, "{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [{\"byteLength\": 4, \"uri\": \"./\"}]}");
+    sam_mesh m;
+    sam_error err;
+    assert_int_equal(sam_mesh_load(path, &m, NULL, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "dir_buffer.gltf: not a readable glTF file"));
+    assert_null(m.positions);
+}
+
 /* A GLB of the same tetrahedron, and every truncated prefix of it. */
 static void test_glb_and_truncation(void **state)
 {
@@ -244,6 +259,7 @@ int main(void)
         cmocka_unit_test(test_strips_and_fans),
         cmocka_unit_test(test_bad_references),
         cmocka_unit_test(test_glb_and_truncation),
+        cmocka_unit_test(test_buffer_naming_a_directory),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

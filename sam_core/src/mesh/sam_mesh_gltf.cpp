@@ -304,11 +304,32 @@ bool skip_image(tinygltf::Image *, const int, std::string *, std::string *, int,
     return true;
 }
 
+// Every file TinyGLTF reads (the .gltf or .glb, its buffers and images)
+// goes through sam_read_file, which reads regular files only: TinyGLTF's own
+// reader opened a buffer URI that named a directory and sized its buffer
+// from the failed tellg (found by fuzz/fuzz_mesh).
+bool read_whole_file(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *)
+{
+    uint8_t *data;
+    size_t size;
+    sam_error e;
+    if (sam_read_file(path.c_str(), &data, &size, &e) != SAM_OK) {
+        if (err)
+            *err += e.message;
+        return false;
+    }
+    out->assign(data, data + size);
+    std::free(data);
+    return true;
+}
+
 // Parses the file; with `images` its pictures are decoded too (for the
 // base colour).
 bool load(const char *path, bool images, tinygltf::Model &model, std::string &message)
 {
     tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_whole_file,
+                           &tinygltf::WriteWholeFile, nullptr});
     if (!images)
         loader.SetImageLoader(skip_image, nullptr);
     std::string err, warn;
