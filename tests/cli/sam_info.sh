@@ -66,6 +66,13 @@ for scene in no_object tiny swapped; do
     || fail "$scene.json: sam_info says '$(cat "$tmp/info.txt")', sam_render '$(cat "$tmp/render.txt")'"
 done
 
+# A picture the GL cannot hold: sam_info checks it as sam_render does.
+sed 's/"mm_per_unit": 10}/"mm_per_unit": 10}, "resolution": [16384, 16384]/' "$tmp/scene.json" > "$tmp/huge.json"
+"$bin/sam_info" "$tmp/huge.json" > "$tmp/out.txt" 2> "$tmp/info.txt" && fail "sam_info accepted a 16384x16384 picture"
+"$bin/sam_render" "$tmp/huge.json" -o "$tmp/huge.png" > /dev/null 2> "$tmp/render.txt" && fail "sam_render accepted it"
+[ ! -s "$tmp/out.txt" ] && [ "$(sed 's/^sam_info: [^ ]*huge.json: //' "$tmp/info.txt")" = "$(sed 's/^sam_render: //' "$tmp/render.txt")" ] \
+  || fail "16384x16384: sam_info says '$(cat "$tmp/info.txt")', sam_render '$(cat "$tmp/render.txt")'"
+
 "$bin/sam_info" --help | grep -q "usage: sam_info" || fail "--help"
 "$bin/sam_info" > /dev/null 2>&1; [ $? -eq 2 ] || fail "no arguments should exit 2"
 "$bin/sam_info" --bogus x > /dev/null 2>&1; [ $? -eq 2 ] || fail "unknown option should exit 2"

@@ -12,6 +12,7 @@
 #include <cjson/cJSON.h>
 
 #include "sam/sam_args.h"
+#include "sam/sam_gl.h"
 #include "sam/sam_mesh.h"
 #include "sam/sam_profile.h"
 #include "sam/sam_scene.h"
@@ -137,6 +138,19 @@ static int info_scene(const char *path)
         fprintf(stderr, "sam_info: %s\n", err.message);
         return 1;
     }
+    /* sam_render's one check beyond the scene's own, before any work:
+     * whether the GL holds the picture. Without a GL it cannot be made. */
+    sam_gl_context *gl = NULL;
+    char gl_note[SAM_ERROR_MESSAGE_SIZE + 32] = "";
+    if (sam_gl_context_create_headless(&gl, &err) != SAM_OK)
+        snprintf(gl_note, sizeof gl_note, "not checked (%s)", err.message);
+    else if (sam_gl_check_picture_size(scene.width, scene.height, &err) != SAM_OK) {
+        sam_gl_context_destroy(gl);
+        sam_scene_destroy(&scene);
+        fprintf(stderr, "sam_info: %s: %s\n", path, err.message);
+        return 1;
+    }
+    sam_gl_context_destroy(gl);
     printf("%s: scene\n", path);
     printf("  object:            %s\n", scene.mesh_path ? scene.mesh_path : scene.sam_path);
     printf("  material:          %s\n", scene.material ? scene.material : "(from the .sam)");
@@ -157,13 +171,8 @@ static int info_scene(const char *path)
     printf("  output:            %ux%u, technique %s, diffusion %s, tonemap %s, exposure %g EV\n",
            scene.width, scene.height, sam_technique_name(scene.technique), sam_diffusion_name(scene.diffusion),
            sam_tonemap_name(scene.tonemap), scene.exposure);
-    /* The one check sam_render adds needs a GL: whether it can hold the
-     * picture (sam_gl_check_picture_size, before any work). */
-    const double gib = (double)scene.width * scene.height * 16 / (1024.0 * 1024.0 * 1024.0);
-    if (gib >= 1.0)
-        printf("  note:              a %ux%u picture takes %.2f GiB per RGBA32F target; sam_render checks that "
-               "the GL can hold it before any work\n",
-               scene.width, scene.height, gib);
+    if (gl_note[0])
+        printf("  GL:                %s\n", gl_note);
     sam_scene_destroy(&scene);
     return 0;
 }
