@@ -173,8 +173,9 @@ const char *sam_profile_check_eta(double eta)
 {
     if (!finite_float(eta))
         return "is not a finite float";
-    if (positive(eta))
-        return positive(eta);
+    const char *not_positive = positive(eta);
+    if (not_positive)
+        return not_positive;
     /* The boundary term A = (1 + F_dr)/(1 - F_dr) is positive only for
      * |F_dr| < 1; outside, the virtual source lands on the wrong side. */
     double fdr = sam_profile_fdr(eta);
