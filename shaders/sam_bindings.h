@@ -34,7 +34,8 @@
 #define SAM_B_REST_POSITIONS 19 /* the rest pose a posed K is carried from */
 #define SAM_B_BOUNDS 20         /* the posed box: 6 order-preserving uint keys */
 #define SAM_B_TRANSMISSION 21   /* vec4 per vertex: G(t) of the vertex's local thickness */
-#define SAM_B_LIMIT 22          /* bindings a context must offer */
+#define SAM_B_REST_K 22         /* {uint index; float K rgb} x N per vertex: each sample's K at rest */
+#define SAM_B_LIMIT 23          /* bindings a context must offer */
 
 /* The deform pass reads its inputs where the normals and samples usually
  * are: it writes positions only, and the normals pass runs after it. */

@@ -20,6 +20,10 @@
 // members on the back side carry the K) and fail the test at rest already,
 // so dropping them made T fall by up to its whole value as soon as a
 // pose began.
+//
+// With SAM_REST_K the rest pose's K of every sample is read from the
+// rest-K pass's buffer (rest_k.comp) instead of evaluated: the rest pass
+// then sums L_d K alone, and a posed node's rest K is read, not evaluated.
 #include "sam_bindings.h"
 #include "profile.glsl"
 
@@ -45,6 +49,9 @@ layout(std430, binding = SAM_B_SAMPLE_TAU) readonly buffer SampleTau { float sam
 layout(std430, binding = SAM_B_REST_POSITIONS) readonly buffer RestPositions { vec4 rest_positions[]; };
 layout(std430, binding = SAM_B_REST_NODES) readonly buffer RestNodes { Node rest_nodes[]; };
 #endif
+#ifdef SAM_REST_K
+layout(std430, binding = SAM_B_REST_K) readonly buffer RestK { Sample rest_k[]; }; // K, not K'
+#endif
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
 layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
@@ -56,16 +63,50 @@ uniform uint u_samples;       // samples used, <= u_stride
 uniform float u_mm_per_unit;
 uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
 
-// Compiled three times: the rest pose's program (K by eq. 15, which is K
-// itself there) and, with SAM_POSED, a deformed pose's, which skips samples
-// off the back side and carries K from rest, or with SAM_POSED_EQ15 too
-// takes eq. 15 as the paper does (cheaper, worse under shear; see
-// sam_runtime_set_posed_k). Programs, not branches: a branch made
-// llvmpipe's rest pose pay about 2x for the posed path it never took.
+// Compiled three times for each sam_rest_k mode: the rest pose's program
+// (K by eq. 15, which is K itself there, or read from rest_k) and, with
+// SAM_POSED, a deformed pose's, which skips samples off the back side and
+// carries K from rest, or with SAM_POSED_EQ15 too takes eq. 15 as the
+// paper does (cheaper, worse under shear; see sam_runtime_set_posed_k).
+// Programs, not branches: a branch made llvmpipe's rest pose pay about 2x
+// for the posed path it never took.
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 #include "fan_form_factor.glsl"
 #endif
 
+// L_d where sample k of vertex v takes its light: a vertex's own, or a
+// node's to first order where the sample's light comes from (STAU).
+vec3 sample_light(uint v, uint k, uint index)
+{
+    if (index < u_vertex_count)
+        return irradiance[index].rgb;
+    Node d = nodes[index - u_vertex_count];
+    return max(d.ld.rgb + sample_tau[v * u_stride + k] * d.ld_diff.rgb, vec3(0.0));
+}
+
+void store(uint v, vec3 sum)
+{
+    // mix() may be x + (y - x) a, which with a = 1 leaves the history's last
+    // bits in: a reset must not depend on what came before.
+    translucency[v] = vec4(u_alpha >= 1.0 ? sum : mix(translucency[v].rgb, sum, u_alpha), 1.0);
+}
+
+#if defined(SAM_REST_K) && !defined(SAM_POSED)
+void main()
+{
+    uint v = gl_GlobalInvocationID.x;
+    if (v >= u_vertex_count)
+        return;
+    vec3 sum = vec3(0.0);
+    for (uint k = 0u; k < u_samples; ++k) {
+        Sample s = rest_k[v * u_stride + k];
+        if (s.index == 0xFFFFFFFFu)
+            break;
+        sum += sample_light(v, k, s.index) * vec3(s.kr, s.kg, s.kb);
+    }
+    store(v, sum);
+}
+#else
 void main()
 {
     uint v = gl_GlobalInvocationID.x;
@@ -84,8 +125,7 @@ void main()
             Node d = nodes[s.index - u_vertex_count];
             q = d.centroid_area.xyz;
             area = d.centroid_area.w;
-            // First order: L_d where the sample's light comes from (STAU).
-            L = max(d.ld.rgb + sample_tau[v * u_stride + k] * d.ld_diff.rgb, vec3(0.0));
+            L = sample_light(v, k, s.index);
             m = d.normal.xyz;
         } else {
             q = positions[s.index].xyz;
@@ -100,8 +140,14 @@ void main()
 #ifdef SAM_POSED
         vec3 kprime = vec3(s.kr, s.kg, s.kb);
         if (node) {
+#ifdef SAM_REST_K
+            // The walk never moves a node from its slot, so the slot's rest K is its own.
+            Sample r = rest_k[v * u_stride + k];
+            vec3 k_rest = vec3(r.kr, r.kg, r.kb);
+#else
             vec4 rest = rest_nodes[s.index - u_vertex_count].centroid_area;
             vec3 k_rest = kprime * rest.w * profile_rd(u_mm_per_unit * distance(rest.xyz, rest_positions[v].xyz));
+#endif
             vec3 k_pose = kprime * area * profile_rd(u_mm_per_unit * distance(q, p));
             vec3 change = clamp(k_pose / max(k_rest, vec3(1e-30)), vec3(0.25), vec3(4.0));
             sum += L * k_rest * change;
@@ -114,7 +160,6 @@ void main()
 #endif
         sum += L * (vec3(s.kr, s.kg, s.kb) * area * profile_rd(u_mm_per_unit * distance(q, p)));
     }
-    // mix() may be x + (y - x) a, which with a = 1 leaves the history's last
-    // bits in: a reset must not depend on what came before.
-    translucency[v] = vec4(u_alpha >= 1.0 ? sum : mix(translucency[v].rgb, sum, u_alpha), 1.0);
+    store(v, sum);
 }
+#endif

@@ -69,13 +69,14 @@ double frame_median_ms_gpu(sam_runtime *rt, frame_pass_fn fn, void *user, int ru
     return bench_median(t, runs);
 }
 
-void frame_median_ms_pair(sam_runtime *const rt[2], frame_pass_fn fn, void *const user[2], int runs,
-                           const sam_pass *passes, int pass_count, double ms[2], double gpu_ms[2][SAM_PASS_COUNT])
+void frame_median_ms_side_by_side(sam_runtime *const *rt, int count, frame_pass_fn fn, void *const *user, int runs,
+                                  const sam_pass *passes, int pass_count, double *ms,
+                                  double (*gpu_ms)[SAM_PASS_COUNT])
 {
-    double t[2][32], g[2][SAM_PASS_COUNT][32], call_gpu[SAM_PASS_COUNT];
+    double t[FRAME_SIDE_MAX][32], g[FRAME_SIDE_MAX][SAM_PASS_COUNT][32], call_gpu[SAM_PASS_COUNT];
     for (int i = -1; i < runs; ++i)
-        for (int j = 0; j < 2; ++j) {
-            int r = i % 2 ? 1 - j : j; /* the untimed round and odd rounds run B first */
+        for (int j = 0; j < count; ++j) {
+            int r = (i + 1 + j) % count; /* each round starts one runtime later */
             double wall = time_call(rt[r], fn, user[r], passes, pass_count, call_gpu);
             if (i < 0)
                 continue;
@@ -83,7 +84,7 @@ void frame_median_ms_pair(sam_runtime *const rt[2], frame_pass_fn fn, void *cons
             for (int k = 0; k < pass_count; ++k)
                 g[r][k][i] = call_gpu[k];
         }
-    for (int r = 0; r < 2; ++r) {
+    for (int r = 0; r < count; ++r) {
         ms[r] = bench_median(t[r], runs);
         for (int k = 0; k < pass_count; ++k)
             gpu_ms[r][k] = bench_median(g[r][k], runs);

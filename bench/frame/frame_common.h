@@ -53,12 +53,15 @@ double frame_median_ms_gpu(sam_runtime *rt, frame_pass_fn fn, void *user, int ru
                            int pass_count, double *gpu_ms);
 double frame_median_ms(sam_runtime *rt, frame_pass_fn fn, void *user, int runs);
 
-/* frame_median_ms_gpu on two runtimes side by side: their calls alternate
- * A B, B A, A B, ... after an untimed call of each, so a change in the
- * machine's load falls on both alike and neither always runs first.
+/* frame_median_ms_gpu on `count` runtimes (at most FRAME_SIDE_MAX) side
+ * by side: after an untimed call of each, their calls run in rounds, each
+ * round starting one runtime later (A B C, B C A, C A B, ...), so a change
+ * in the machine's load falls on all alike and none always runs first.
  * ms[r] and gpu_ms[r][k] are runtime r's medians. */
-void frame_median_ms_pair(sam_runtime *const rt[2], frame_pass_fn fn, void *const user[2], int runs,
-                          const sam_pass *passes, int pass_count, double ms[2], double gpu_ms[2][SAM_PASS_COUNT]);
+#define FRAME_SIDE_MAX 3
+void frame_median_ms_side_by_side(sam_runtime *const *rt, int count, frame_pass_fn fn, void *const *user, int runs,
+                                  const sam_pass *passes, int pass_count, double *ms,
+                                  double (*gpu_ms)[SAM_PASS_COUNT]);
 
 /* `"key": value`, or `"key": null` where value <= 0 (a timer query the
  * driver did not answer, a ratio of such times, an estimate not made). */

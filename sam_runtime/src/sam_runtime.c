@@ -13,6 +13,7 @@
 #include "sam_runtime_irradiance.h"
 #include "sam_runtime_lights.h"
 #include "sam_runtime_nodes.h"
+#include "sam_runtime_rest_k.h"
 #include "sam_runtime_shadows.h"
 #include "sam_runtime_surface.h"
 #include "sam_runtime_technique.h"
@@ -147,6 +148,7 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
             (st = sam_runtime_engine_create(rt, sam, err)) == SAM_OK &&
             (st = sam_runtime_irradiance_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_nodes_create(rt, sam, err)) == SAM_OK &&
+            (st = sam_runtime_rest_k_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_translucency_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_technique_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_tsd_create(rt, sam, err)) == SAM_OK &&
@@ -172,6 +174,7 @@ void sam_runtime_destroy(sam_runtime *rt)
     sam_runtime_tsd_destroy(rt);
     sam_runtime_technique_destroy(rt);
     sam_runtime_translucency_destroy(rt);
+    sam_runtime_rest_k_destroy(rt);
     sam_runtime_nodes_destroy(rt);
     sam_runtime_irradiance_destroy(rt);
     sam_runtime_engine_destroy(rt);

@@ -12,8 +12,10 @@
  *   sam_runtime_thickness.c    the local-thickness technique's T: calls surface
  *   sam_runtime_diffusion.c    screen-space kernel and blur, pre-integrated tables
  *   sam_runtime_irradiance.c   L_d: calls shadows, surface
- *   sam_runtime_translucency.c eq. 12 and the smoothing
- *   sam_runtime_deform.c       deformers, keyframes, the pose, the walk
+ *   sam_runtime_translucency.c eq. 12 and the smoothing: calls rest_k, nodes
+ *   sam_runtime_rest_k.c       each sample's K at rest, once: calls nodes
+ *   sam_runtime_deform.c       deformers, keyframes, the pose, the walk: calls nodes
+ *   sam_runtime_nodes.c        a cut map's tree nodes
  *   sam_runtime_shadows.c      shadow maps of the shadowed lights
  *   sam_runtime_lights.c       lights and environment
  *   sam_runtime_surface.c      rho_dt, the specular lobe, the albedo map
@@ -134,11 +136,20 @@ typedef struct sam_rt_irradiance {
     GLuint program;
 } sam_rt_irradiance;
 
-/* sam_runtime_translucency.c */
+/* sam_runtime_translucency.c: its programs by rest-K mode and pose (rest,
+ * posed with the carried K, posed by eq. 15), each 0 until first needed. */
+enum { TRANSLUCENCY_REST, TRANSLUCENCY_CARRIED, TRANSLUCENCY_EQ15, TRANSLUCENCY_PROGRAMS };
 typedef struct sam_rt_translucency {
-    GLuint rest_program, posed_program, eq15_program;
+    GLuint program[2][TRANSLUCENCY_PROGRAMS]; /* [sam_rest_k][TRANSLUCENCY_*] */
     sam_posed_k posed_k;
 } sam_rt_translucency;
+
+/* sam_runtime_rest_k.c */
+typedef struct sam_rt_rest_k {
+    GLuint program;
+    GLuint buffer;   /* {uint index; float K rgb} per stored sample, or 0 (SAM_REST_K_EVALUATED) */
+    sam_rest_k mode;
+} sam_rt_rest_k;
 
 /* sam_runtime_nodes.c */
 typedef struct sam_rt_nodes {
@@ -225,6 +236,7 @@ struct sam_runtime {
     sam_rt_irradiance irradiance;
     sam_rt_nodes nodes;
     sam_rt_translucency translucency;
+    sam_rt_rest_k rest_k;
     sam_rt_technique technique;
     sam_rt_thickness thickness;
     sam_rt_diffusion diffusion;

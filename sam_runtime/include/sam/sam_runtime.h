@@ -72,8 +72,9 @@
  * node's area and its area-weighted centroid, normal and L_d from its two
  * children, so a node is to the translucency pass what a vertex is. The
  * translucency pass evaluates eq. 12 with
- * K = K' F'_b R_d(|v_b - v|) (eq. 15) at rest and, on a deformed pose, K
- * carried from rest (sam_runtime_set_posed_k), and smooths it in time
+ * K = K' F'_b R_d(|v_b - v|) (eq. 15) at rest (computed once per map,
+ * sam_runtime_set_rest_k) and, on a deformed pose, K carried from rest
+ * (sam_runtime_set_posed_k), and smooths it in time
  * (eq. 17-18), T <- (1 - alpha) T_prev + alpha T, alpha = 1 - (1e-10)^dt.
  *
  * The caller owns the runtime and destroys it before the context.
@@ -223,6 +224,33 @@ typedef enum sam_posed_k {
 /* Chooses the posed K; takes effect at the next sam_runtime_translucency.
  * Errors: SAM_ERR_INVALID_ARGUMENT (an unknown mode). */
 sam_status sam_runtime_set_posed_k(sam_runtime *rt, sam_posed_k mode, sam_error *err);
+
+/* How the translucency pass takes the rest pose's K. */
+typedef enum sam_rest_k {
+    /* The default: every stored sample's K at rest, K' F'_b R_d(|v_b - v|)
+     * (eq. 15), computed once at sam_runtime_create into a buffer of 16
+     * bytes per stored sample (samples_per_vertex x vertex_count), so the
+     * rest pass sums L_d K without evaluating R_d, and a posed frame reads
+     * a tree node's rest K from it. On llvmpipe the rest pass took a fifth
+     * to a seventh of its evaluated time (docs/performance.md). */
+    SAM_REST_K_CACHED = 0,
+    /* Eq. 15 evaluated per sample every frame, as the paper does: no
+     * buffer, for a GL short of memory. sam_runtime_create falls back to
+     * it when the GL cannot hold the buffer. */
+    SAM_REST_K_EVALUATED = 1
+} sam_rest_k;
+
+/* Chooses the rest K; takes effect at the next sam_runtime_translucency.
+ * CACHED allocates and fills the buffer (from the rest pose, posed or
+ * not), EVALUATED frees it; either compiles its programs on first use.
+ * The two give the same T up to float rounding. Errors:
+ * SAM_ERR_INVALID_ARGUMENT (an unknown mode), SAM_ERR_OUT_OF_MEMORY and
+ * SAM_ERR_UNSUPPORTED (the GL cannot hold the buffer; the mode is left as
+ * it was), SAM_ERR_FORMAT (shader errors). */
+sam_status sam_runtime_set_rest_k(sam_runtime *rt, sam_rest_k mode, sam_error *err);
+
+/* The rest K in use (SAM_REST_K_EVALUATED after a fallback). */
+sam_rest_k sam_runtime_rest_k_mode(const sam_runtime *rt);
 
 /* Testing aid. Reads the samples buffer: `index` (vertex_count * n, n =
  * sam_runtime_samples_per_vertex) the back-side vertex of each sample (or

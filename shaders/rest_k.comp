@@ -1,0 +1,51 @@
+#version 430 core
+// Each stored sample's K at the rest pose, K = K' F'_b R_d(|v_b - v|)
+// (eq. 15), written once per map (sam_runtime_rest_k.h). At rest K never
+// changes, and R_d is most of what the translucency pass paid per sample
+// (8 Gaussians, or the dipole's two poles): with K read from here the rest
+// pass only sums L_d K, and a posed frame takes a tree node's rest K from
+// here too. The inputs are bound to the rest pose: the live buffers before
+// any deformation, else the copies the first deformation kept.
+#include "sam_bindings.h"
+#include "profile.glsl"
+
+layout(local_size_x = 64) in;
+
+struct Sample {
+    uint index;       // back-side vertex or vertex_count + node, 0xFFFFFFFF for none
+    float kr, kg, kb; // in: K' (eq. 15); out: K
+};
+struct Node {
+    vec4 centroid_area, ld, normal, ld_diff; // nodes.comp
+};
+
+layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = SAM_B_SAMPLES) readonly buffer Samples { Sample samples[]; };
+layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_area[]; };
+layout(std430, binding = SAM_B_NODES) readonly buffer Nodes { Node nodes[]; };
+layout(std430, binding = SAM_B_REST_K) writeonly buffer RestK { Sample rest_k[]; };
+
+uniform uint u_vertex_count;
+uniform uint u_stride; // samples stored per vertex
+uniform float u_mm_per_unit;
+
+void main()
+{
+    uint v = gl_GlobalInvocationID.x;
+    if (v >= u_vertex_count)
+        return;
+    vec3 p = positions[v].xyz;
+    for (uint k = 0u; k < u_stride; ++k) {
+        uint i = v * u_stride + k;
+        Sample s = samples[i];
+        if (s.index == 0xFFFFFFFFu) {
+            rest_k[i] = Sample(s.index, 0.0, 0.0, 0.0);
+            continue;
+        }
+        vec4 q = s.index >= u_vertex_count ? nodes[s.index - u_vertex_count].centroid_area
+                                           : vec4(positions[s.index].xyz, fan_area[s.index]);
+        // The same expression, in the same order, as the evaluated pass's.
+        vec3 k_rest = vec3(s.kr, s.kg, s.kb) * q.w * profile_rd(u_mm_per_unit * distance(q.xyz, p));
+        rest_k[i] = Sample(s.index, k_rest.r, k_rest.g, k_rest.b);
+    }
+}
