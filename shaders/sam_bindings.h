@@ -37,6 +37,9 @@
 #define SAM_B_REST_K 22         /* {uint index; float K rgb} x N per vertex: each sample's K at rest */
 #define SAM_B_LIMIT 23          /* bindings a context must offer */
 
+/* Tree levels the node pass sums per dispatch (nodes.comp). */
+#define SAM_NODE_BAND_LEVELS 4
+
 /* The deform pass reads its inputs where the normals and samples usually
  * are: it writes positions only, and the normals pass runs after it. */
 #define SAM_B_KEY_POSITIONS SAM_B_NORMALS

@@ -80,18 +80,24 @@ static void test_shader_errors_name_file_and_line(void **state)
     free(src);
 }
 
-/* A small built .sam for the runtime tests. */
-static void build_sam(const char *material, samfile_data *out, sam_profile *profile)
+/* A built .sam of the ear shape at `resolution` for the runtime tests. */
+static void build_sam_at(const char *material, int resolution, samfile_data *out, sam_profile *profile)
 {
     sam_error err;
     sam_mesh mesh;
-    sam_test_shape_mesh("ear", 24, 0, 0, 0, &mesh);
+    sam_test_shape_mesh("ear", resolution, 0, 0, 0, &mesh);
     assert_int_equal(sam_profile_preset(material, profile, &err), SAM_OK);
     sam_build_settings set;
     sam_build_default_settings(&set);
     set.samples_per_vertex = 4;
     assert_int_equal(sam_build_samfile(&mesh, profile, 60.0f, &set, NULL, NULL, NULL, out, NULL, &err), SAM_OK);
     sam_mesh_destroy(&mesh);
+}
+
+/* A small one. */
+static void build_sam(const char *material, samfile_data *out, sam_profile *profile)
+{
+    build_sam_at(material, 24, out, profile);
 }
 
 /* eq. 12 on the CPU, in double precision. */
@@ -122,11 +128,11 @@ static void cpu_translucency(const samfile_data *d, const sam_profile *p, float 
     free(s);
 }
 
-static void check_translucency(const char *material)
+static void check_translucency(const char *material, int resolution)
 {
     samfile_data d;
     sam_profile profile;
-    build_sam(material, &d, &profile);
+    build_sam_at(material, resolution, &d, &profile);
     sam_runtime *rt;
     sam_error err;
     if (sam_runtime_create(&d, &profile, 60.0f, &rt, &err) != SAM_OK)
@@ -134,10 +140,11 @@ static void check_translucency(const char *material)
     uint32_t nv = d.vertex_count;
     float *ld = malloc(nv * 3 * sizeof *ld), *gpu = malloc(nv * 3 * sizeof *gpu);
     double *cpu = malloc(nv * 3 * sizeof *cpu);
-    for (uint32_t i = 0; i < 3 * nv; ++i)
-        ld[i] = (float)((i * 2654435761u) % 1000) / 100.0f;
-    assert_int_equal(sam_runtime_set_irradiance(rt, ld, &err), SAM_OK);
     for (uint32_t used = 1; used <= 4; used += 3) {
+        /* New L_d each time: at rest the node pass sums L_d alone after its first run. */
+        for (uint32_t i = 0; i < 3 * nv; ++i)
+            ld[i] = (float)(((i + used) * 2654435761u) % 1000) / 100.0f;
+        assert_int_equal(sam_runtime_set_irradiance(rt, ld, &err), SAM_OK);
         assert_int_equal(sam_runtime_translucency(rt, used, 0.016f, 1, &err), SAM_OK);
         assert_int_equal(sam_runtime_read_translucency(rt, gpu, &err), SAM_OK);
         cpu_translucency(&d, &profile, 60.0f, ld, used, cpu);
@@ -149,8 +156,8 @@ static void check_translucency(const char *material)
             double rel = fabs(gpu[i] - cpu[i]) / fmax(fabs(cpu[i]), 1e-6 * peak);
             worst = fmax(worst, rel);
         }
-        printf("%s, %u samples: worst relative error %.2e (peak T %.3g), %.3f ms\n", material, used, worst, peak,
-               sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY));
+        printf("%s, %u vertices, %u tree nodes, %u samples: worst relative error %.2e (peak T %.3g), %.3f ms\n",
+               material, nv, d.node_count, used, worst, peak, sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY));
         assert_true(peak > 0);
         assert_true(worst <= 1e-4);
         assert_true(sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY) >= 0);
@@ -165,13 +172,21 @@ static void check_translucency(const char *material)
 static void test_translucency_matches_cpu_skin(void **state)
 {
     (void)state;
-    check_translucency("skin");
+    check_translucency("skin", 24);
+}
+
+/* A tree of many node-pass groups and nodes above them (nodes.comp's two
+ * stages), against the CPU's level-by-level sums. */
+static void test_translucency_matches_cpu_large_tree(void **state)
+{
+    (void)state;
+    check_translucency("skin", 64);
 }
 
 static void test_translucency_matches_cpu_marble(void **state)
 {
     (void)state;
-    check_translucency("marble");
+    check_translucency("marble", 24);
 }
 
 static void test_temporal_smoothing(void **state)
@@ -623,6 +638,7 @@ int main(void)
         cmocka_unit_test(test_shader_errors_name_file_and_line),
         cmocka_unit_test(test_translucency_matches_cpu_skin),
         cmocka_unit_test(test_translucency_matches_cpu_marble),
+        cmocka_unit_test(test_translucency_matches_cpu_large_tree),
         cmocka_unit_test(test_temporal_smoothing),
         cmocka_unit_test(test_irradiance_matches_cpu),
         cmocka_unit_test(test_shadows_block_light),

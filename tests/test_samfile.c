@@ -1065,7 +1065,9 @@ static void test_tree_rules(void **state)
         uint32_t value;
         const char *needle;
     } cases[] = {
-        {0, 4 + 0, "child 0 of node 0 (level 0) is 4, expected a vertex < 4 or a node of a deeper level"},
+        {0, 4 + 0, "child 0 of node 0 (level 0) is 4, expected a vertex < 4 or a node of the next level (5..6)"},
+        {5, 0, "chunk NODE: vertex 0 is a child of nodes 1 and 1 (a tree gives each one parent)"},
+        {1, 4 + 1, "chunk NODE: node 1 is a child of nodes 0 and 0"},
         {1, 4 + 3, "child 1 of node 0 (level 0) is 7"},
         {2, 3, "chunk NLVL: level 1 is empty or reversed (nodes 3 to 3)"},
         {3, 4 + 3, "sample index 7 of vertex 0 is out of range (vertex_count 4 + node_count 3)"},
@@ -1079,6 +1081,7 @@ static void test_tree_rules(void **state)
         case 1: t.children[1] = cases[c].value; break;
         case 2: t.levels[1] = cases[c].value; break;
         case 3: t.sidx[0] = cases[c].value; break;
+        case 5: t.children[3] = cases[c].value; break;
         default: t.tau[0] = 1.5f; break;
         }
         if (samfile_validate(&t.d, &err) != SAM_ERR_INVALID_ARGUMENT || !strstr(err.message, cases[c].needle))

@@ -153,7 +153,8 @@ typedef struct sam_rt_rest_k {
 
 /* sam_runtime_nodes.c */
 typedef struct sam_rt_nodes {
-    GLuint program;
+    GLuint program, light_program; /* all of a node, or its L_d alone (SAM_NODES_LIGHT) */
+    int rest_geometry;       /* 1 while the node buffer holds the rest pose's centroids, areas and normals */
     GLuint rest_nodes;       /* the node buffer of the rest pose, once a pose was set; else 0 */
     uint32_t node_count, level_count;
     uint32_t *level_offsets; /* level_count + 1, host copy for the dispatches */

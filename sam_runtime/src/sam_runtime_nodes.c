@@ -34,8 +34,9 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
                                  (nc ? samples : 1) * sizeof(float), err)) == SAM_OK &&
         (st = sam_runtime_upload(rt, SAM_B_NODE_CHILDREN, nc ? (const void *)sam->node_children : none,
                                  (nc ? nc : 1) * 2 * sizeof(uint32_t), err)) == SAM_OK &&
-        (st = sam_runtime_upload(rt, SAM_B_NODE_PARENTS, parent, total * sizeof(uint32_t), err)) == SAM_OK)
-        st = sam_gl_compute_program("nodes.comp", NULL, &t->program, err);
+        (st = sam_runtime_upload(rt, SAM_B_NODE_PARENTS, parent, total * sizeof(uint32_t), err)) == SAM_OK &&
+        (st = sam_gl_compute_program("nodes.comp", NULL, &t->program, err)) == SAM_OK)
+        st = sam_gl_compute_program("nodes.comp", "#define SAM_NODES_LIGHT 1\n", &t->light_program, err);
     free(zero);
     free(parent);
     return st;
@@ -44,6 +45,7 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
 void sam_runtime_nodes_destroy(sam_runtime *rt)
 {
     sam_runtime_delete_program(&rt->nodes.program);
+    sam_runtime_delete_program(&rt->nodes.light_program);
     if (rt->nodes.rest_nodes)
         glDeleteBuffers(1, &rt->nodes.rest_nodes);
     rt->nodes.rest_nodes = 0;
@@ -58,23 +60,32 @@ uint32_t sam_runtime_node_count(const sam_runtime *rt)
 
 void sam_runtime_nodes_update(sam_runtime *rt)
 {
-    const sam_rt_nodes *t = &rt->nodes;
+    sam_rt_nodes *t = &rt->nodes;
     if (!t->node_count)
         return;
-    GLuint p = t->program;
+    /* At rest only L_d changes, once a full pass has summed the rest pose. */
+    const int light = !rt->deform.posed && t->rest_geometry;
+    GLuint p = light ? t->light_program : t->program;
     glUseProgram(p);
     glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
-    GLint first = glGetUniformLocation(p, "u_first"), count = glGetUniformLocation(p, "u_count");
+    GLint first = glGetUniformLocation(p, "u_first"), count = glGetUniformLocation(p, "u_count"),
+          band_end = glGetUniformLocation(p, "u_band_end");
     sam_runtime_bind_buffers(rt);
     sam_runtime_begin_timer(rt, SAM_PASS_NODES);
-    for (uint32_t l = t->level_count; l-- > 0;) {
-        const uint32_t n = t->level_offsets[l + 1] - t->level_offsets[l];
-        glUniform1ui(first, t->level_offsets[l]);
+    const uint32_t *lo = t->level_offsets, bands = (t->level_count + SAM_NODE_BAND_LEVELS - 1) / SAM_NODE_BAND_LEVELS;
+    for (uint32_t b = bands; b-- > 0;) {
+        const uint32_t top = b * SAM_NODE_BAND_LEVELS,
+                       end = top + SAM_NODE_BAND_LEVELS < t->level_count ? top + SAM_NODE_BAND_LEVELS : t->level_count;
+        const uint32_t n = lo[top + 1] - lo[top];
+        glUniform1ui(first, lo[top]);
         glUniform1ui(count, n);
+        glUniform1ui(band_end, lo[end]);
         glDispatchCompute((n + 63) / 64, 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
     sam_runtime_end_timer(rt, SAM_PASS_NODES);
+    if (!light)
+        t->rest_geometry = !rt->deform.posed;
 }
 
 sam_status sam_runtime_nodes_keep_rest(sam_runtime *rt, sam_error *err)

@@ -89,10 +89,12 @@ typedef struct samfile_data {
     uint32_t *adjacency;          /* ADJV: one-ring neighbours < vc, in fan order */
     /* The cluster tree (version 2); node_count 0 and both arrays NULL in a
      * flat map. Nodes are grouped by depth, root level first; a node's
-     * children come from deeper levels, so summing the levels deepest first
-     * has every child ready before its parent. */
+     * children are vertices or nodes of the next level, so summing the
+     * levels deepest first has every child ready before its parent. Every
+     * vertex and node is the child of at most one node, and every node
+     * below level 0 of exactly one. */
     uint32_t node_count;          /* NODE: tree nodes; vc + node_count < SAMFILE_NO_SAMPLE */
-    uint32_t *node_children;      /* NODE: 2*node_count sample indices: < vc a vertex, else a node of a
+    uint32_t *node_children;      /* NODE: 2*node_count sample indices: < vc a vertex, else a node of the
                                    * level after its parent's */
     uint32_t level_count;         /* NLVL: depth levels, >= 1 when node_count > 0 */
     uint32_t *level_offsets;      /* NLVL: level_count+1 node indices: [0] = 0, increasing,

@@ -204,9 +204,12 @@ static sam_status check_adjacency(const samfile_data *d, const char *name, sam_s
                                 name, (unsigned)d->adjacency[e], e, v, (unsigned)d->vertex_count);
     return SAM_OK;
 }
-/* The tree's rules (samfile.h): levels partition the nodes in order, and a
- * node's children are vertices or nodes of deeper levels, which also rules
- * out cycles. */
+/* The tree's rules (samfile.h): levels partition the nodes in order, a
+ * node's children are vertices or nodes of the next level, which also
+ * rules out cycles, and every vertex and node has at most one parent, every
+ * node below level 0 exactly one: the runtime sums a subtree of a few
+ * levels per invocation (shaders/nodes.comp), which a node shared by two
+ * parents or skipped by all would break. */
 static sam_status check_tree(const samfile_data *d, const char *name, sam_status bad, sam_error *err)
 {
     const uint32_t vc = d->vertex_count, nc = d->node_count, *lo = d->level_offsets;
@@ -221,18 +224,39 @@ static sam_status check_tree(const samfile_data *d, const char *name, sam_status
         if (lo[l + 1] <= lo[l])
             return sam_fail(err, bad, "%s: chunk NLVL: level %u is empty or reversed (nodes %u to %u)", name,
                             (unsigned)l, (unsigned)lo[l], (unsigned)lo[l + 1]);
-    for (uint32_t l = 0; l < d->level_count; ++l) {
-        for (uint32_t j = lo[l]; j < lo[l + 1]; ++j)
-            for (int c = 0; c < 2; ++c) {
+    uint32_t *parent = malloc(((size_t)vc + nc) * sizeof *parent);
+    if (!parent)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory to check a tree of %u nodes", name,
+                        (unsigned)nc);
+    for (size_t i = 0; i < (size_t)vc + nc; ++i)
+        parent[i] = SAMFILE_NO_SAMPLE;
+    sam_status st = SAM_OK;
+    for (uint32_t l = 0; l < d->level_count && st == SAM_OK; ++l) {
+        const uint32_t next_lo = lo[l + 1], next_hi = l + 2 <= d->level_count ? lo[l + 2] : nc;
+        for (uint32_t j = lo[l]; j < lo[l + 1] && st == SAM_OK; ++j)
+            for (int c = 0; c < 2 && st == SAM_OK; ++c) {
                 uint32_t child = d->node_children[2 * (size_t)j + c];
-                if (child >= vc && (child - vc >= nc || child - vc < lo[l + 1]))
-                    return sam_fail(err, bad,
-                                    "%s: chunk NODE: child %d of node %u (level %u) is %u, expected a vertex "
-                                    "< %u or a node of a deeper level (%u..%u)",
-                                    name, c, (unsigned)j, (unsigned)l, (unsigned)child, (unsigned)vc,
-                                    (unsigned)(vc + lo[l + 1]), (unsigned)(vc + nc - 1));
+                if (child >= vc && (child - vc >= nc || child - vc < next_lo || child - vc >= next_hi))
+                    st = sam_fail(err, bad,
+                                  "%s: chunk NODE: child %d of node %u (level %u) is %u, expected a vertex < %u or a "
+                                  "node of the next level (%u..%u)",
+                                  name, c, (unsigned)j, (unsigned)l, (unsigned)child, (unsigned)vc,
+                                  (unsigned)(vc + next_lo), (unsigned)(vc + next_hi - 1));
+                else if (parent[child] != SAMFILE_NO_SAMPLE)
+                    st = sam_fail(err, bad, "%s: chunk NODE: %s %u is a child of nodes %u and %u (a tree gives each "
+                                  "one parent)",
+                                  name, child < vc ? "vertex" : "node", (unsigned)(child < vc ? child : child - vc),
+                                  (unsigned)parent[child], (unsigned)j);
+                else
+                    parent[child] = j;
             }
     }
+    for (uint32_t j = lo[1]; j < nc && st == SAM_OK; ++j)
+        if (parent[(size_t)vc + j] == SAMFILE_NO_SAMPLE)
+            st = sam_fail(err, bad, "%s: chunk NODE: node %u is below level 0 but no node's child", name, (unsigned)j);
+    free(parent);
+    if (st != SAM_OK)
+        return st;
     const size_t n = (size_t)vc * d->samples_per_vertex;
     for (size_t i = 0; i < n; ++i)
         if (!(fabsf(d->sample_tau[i]) <= 1.0f))
