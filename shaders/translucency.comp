@@ -91,7 +91,7 @@ void store(uint v, vec3 sum)
     translucency[v] = vec4(u_alpha >= 1.0 ? sum : mix(translucency[v].rgb, sum, u_alpha), 1.0);
 }
 
-#if defined(SAM_REST_K) && !defined(SAM_POSED)
+#if !defined(SAM_POSED) && defined(SAM_REST_K)
 void main()
 {
     uint v = gl_GlobalInvocationID.x;
@@ -106,6 +106,25 @@ void main()
     }
     store(v, sum);
 }
+#elif !defined(SAM_POSED)
+void main()
+{
+    uint v = gl_GlobalInvocationID.x;
+    if (v >= u_vertex_count)
+        return;
+    vec3 p = positions[v].xyz;
+    vec3 sum = vec3(0.0);
+    for (uint k = 0u; k < u_samples; ++k) {
+        Sample s = samples[v * u_stride + k];
+        if (s.index == 0xFFFFFFFFu)
+            break;
+        vec4 q = s.index >= u_vertex_count ? nodes[s.index - u_vertex_count].centroid_area
+                                           : vec4(positions[s.index].xyz, fan_area[s.index]);
+        sum += sample_light(v, k, s.index) *
+               (vec3(s.kr, s.kg, s.kb) * q.w * profile_rd(u_mm_per_unit * distance(q.xyz, p)));
+    }
+    store(v, sum);
+}
 #else
 void main()
 {
@@ -114,52 +133,50 @@ void main()
         return;
     vec3 p = positions[v].xyz, n = normals[v].xyz;
     vec3 sum = vec3(0.0);
+    // Nodes first; the vertex samples' slots are noted and summed after, in
+    // a loop that runs only as often as this vertex has them. In one loop
+    // llvmpipe ran the carried K's quadrature for every node sample too
+    // (its branches run both ways under a mask), while a cut map's vertex
+    // samples are few: the walk's adoptions.
+    uvec2 vertex_slots = uvec2(0u); // up to SAMFILE_MAX_SAMPLES_PER_VERTEX = 64
     for (uint k = 0u; k < u_samples; ++k) {
         Sample s = samples[v * u_stride + k];
         if (s.index == 0xFFFFFFFFu)
             break;
-        vec3 q, m, L;
-        float area;
-        bool node = s.index >= u_vertex_count;
-        if (node) {
-            Node d = nodes[s.index - u_vertex_count];
-            q = d.centroid_area.xyz;
-            area = d.centroid_area.w;
-            L = sample_light(v, k, s.index);
-            m = d.normal.xyz;
-        } else {
-            q = positions[s.index].xyz;
-            area = fan_area[s.index];
-            L = irradiance[s.index].rgb;
-            m = normals[s.index].xyz;
-        }
-#ifdef SAM_POSED
-        if (!node && !(dot(q - p, n) < 0.0 && dot(m, n) < 0.0))
+        if (s.index < u_vertex_count) {
+            vertex_slots[k >> 5u] |= 1u << (k & 31u);
             continue;
-#endif
-#ifdef SAM_POSED
+        }
         vec3 kprime = vec3(s.kr, s.kg, s.kb);
-        if (node) {
+        vec4 q = nodes[s.index - u_vertex_count].centroid_area;
 #ifdef SAM_REST_K
-            // The walk never moves a node from its slot, so the slot's rest K is its own.
-            Sample r = rest_k[v * u_stride + k];
-            vec3 k_rest = vec3(r.kr, r.kg, r.kb);
+        // The walk never moves a node from its slot, so the slot's rest K is its own.
+        Sample r = rest_k[v * u_stride + k];
+        vec3 k_rest = vec3(r.kr, r.kg, r.kb);
 #else
-            vec4 rest = rest_nodes[s.index - u_vertex_count].centroid_area;
-            vec3 k_rest = kprime * rest.w * profile_rd(u_mm_per_unit * distance(rest.xyz, rest_positions[v].xyz));
+        vec4 rest = rest_nodes[s.index - u_vertex_count].centroid_area;
+        vec3 k_rest = kprime * rest.w * profile_rd(u_mm_per_unit * distance(rest.xyz, rest_positions[v].xyz));
 #endif
-            vec3 k_pose = kprime * area * profile_rd(u_mm_per_unit * distance(q, p));
-            vec3 change = clamp(k_pose / max(k_rest, vec3(1e-30)), vec3(0.25), vec3(4.0));
-            sum += L * k_rest * change;
-            continue;
-        }
-#endif
-#if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
-        sum += L * posed_form_factor(v, s.index, kprime);
-        continue;
-#endif
-        sum += L * (vec3(s.kr, s.kg, s.kb) * area * profile_rd(u_mm_per_unit * distance(q, p)));
+        vec3 k_pose = kprime * q.w * profile_rd(u_mm_per_unit * distance(q.xyz, p));
+        vec3 change = clamp(k_pose / max(k_rest, vec3(1e-30)), vec3(0.25), vec3(4.0));
+        sum += sample_light(v, k, s.index) * k_rest * change;
     }
+    for (uint w = 0u; w < 2u; ++w)
+        while (vertex_slots[w] != 0u) {
+            uint k = uint(findLSB(vertex_slots[w])) + 32u * w;
+            vertex_slots[w] &= vertex_slots[w] - 1u;
+            Sample s = samples[v * u_stride + k];
+            vec3 q = positions[s.index].xyz;
+            if (!(dot(q - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
+                continue;
+            vec3 kprime = vec3(s.kr, s.kg, s.kb);
+#ifdef SAM_POSED_EQ15
+            vec3 posed_k = kprime * fan_area[s.index] * profile_rd(u_mm_per_unit * distance(q, p));
+#else
+            vec3 posed_k = posed_form_factor(v, s.index, kprime);
+#endif
+            sum += irradiance[s.index].rgb * posed_k;
+        }
     store(v, sum);
 }
 #endif
