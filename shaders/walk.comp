@@ -89,42 +89,49 @@ void main()
         return;
     vec3 p = positions[v].xyz, n = normals[v].xyz;
     uint base = v * u_stride;
+    // The vertex samples' slots, up to MAX_SAMPLES: they alone are scored
+    // by R_d and walked from, each in a loop over these slots only. Loops
+    // over every slot with a branch made llvmpipe run the vertex work under
+    // a mask for a cut map's nodes too, which are nearly all its samples.
+    uvec2 vertex_slots = uvec2(0u);
     for (uint k = 0u; k < u_stride; ++k) {
         chosen[k] = samples[base + k];
         uint i = chosen[k].index;
-        score[k] = i == NO_SAMPLE ? -1.0
-                   : is_node(i)       ? 3.0e38
-                   : back_side(i, p, n) ? approximate_k(i, vec3(chosen[k].kr, chosen[k].kg, chosen[k].kb), p)
-                                        : 0.0;
+        score[k] = i == NO_SAMPLE ? -1.0 : is_node(i) ? 3.0e38 : 0.0;
+        if (i != NO_SAMPLE && !is_node(i))
+            vertex_slots[k >> 5u] |= 1u << (k & 31u);
     }
+    for (uint w = 0u; w < 2u; ++w)
+        for (uint bits = vertex_slots[w]; bits != 0u; bits &= bits - 1u) {
+            uint k = uint(findLSB(bits)) + 32u * w, i = chosen[k].index;
+            if (back_side(i, p, n))
+                score[k] = approximate_k(i, vec3(chosen[k].kr, chosen[k].kg, chosen[k].kb), p);
+        }
     // Walk from the samples as they were (read back from the buffer, which
     // this invocation has not written yet), not from this frame's adoptions:
     // one ring per frame.
-    for (uint k = 0u; k < u_stride; ++k) {
-        Sample from = samples[base + k];
-        if (from.index == NO_SAMPLE)
-            break;
-        if (is_node(from.index))
-            continue;
-        for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
-            uint c = adjacency[a];
-            uint worst = 0u;
-            bool taken = false;
-            for (uint j = 0u; j < u_stride; ++j) {
-                taken = taken || chosen[j].index == c;
-                if (score[j] < score[worst])
-                    worst = j;
-            }
-            if (taken || !back_side(c, p, n) || under_cut_node(c))
-                continue;
-            vec3 kp = vec3(1.0);
-            float s = approximate_k(c, kp, p);
-            if (s > score[worst]) {
-                chosen[worst] = Sample(c, kp.r, kp.g, kp.b);
-                score[worst] = s;
+    for (uint w = 0u; w < 2u; ++w)
+        for (uint bits = vertex_slots[w]; bits != 0u; bits &= bits - 1u) {
+            Sample from = samples[base + uint(findLSB(bits)) + 32u * w];
+            for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
+                uint c = adjacency[a];
+                uint worst = 0u;
+                bool taken = false;
+                for (uint j = 0u; j < u_stride; ++j) {
+                    taken = taken || chosen[j].index == c;
+                    if (score[j] < score[worst])
+                        worst = j;
+                }
+                if (taken || !back_side(c, p, n) || under_cut_node(c))
+                    continue;
+                vec3 kp = vec3(1.0);
+                float s = approximate_k(c, kp, p);
+                if (s > score[worst]) {
+                    chosen[worst] = Sample(c, kp.r, kp.g, kp.b);
+                    score[worst] = s;
+                }
             }
         }
-    }
     // Insertion sort, best first; empty slots (score -1) end up last, as
     // the translucency pass expects. A cut map's list stays in place: its
     // nodes' tau (STAU) belong to their slots, and adoptions fill the first
