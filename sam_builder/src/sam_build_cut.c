@@ -207,13 +207,13 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
 }
 
 /* Copies the tree's shape into the result. */
-static sam_status keep_tree(const sam_build_tree *tree, sam_build_result *r, sam_error *err)
+static sam_status keep_tree(const sam_build_tree *tree, uint32_t vertex_count, sam_build_result *r, sam_error *err)
 {
     r->node_count = tree->node_count;
     r->level_count = tree->level_count;
     r->node_children = malloc(((size_t)tree->node_count * 2 + 1) * sizeof *r->node_children);
     r->level_offsets = malloc(((size_t)tree->level_count + 1) * sizeof *r->level_offsets);
-    r->tau = calloc((size_t)r->topo_count * r->samples_per_vertex, sizeof *r->tau);
+    r->tau = calloc((size_t)vertex_count * r->samples_per_vertex, sizeof *r->tau); /* as sam_build_result_alloc's */
     if (!r->node_children || !r->level_offsets || !r->tau)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for the tree's %u nodes", tree->node_count);
     for (uint32_t j = 0; j < tree->node_count; ++j) {
@@ -232,7 +232,7 @@ sam_status sam_build_run_cut(const sam_build_context *ctx, sam_build_progress_fn
     sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, 1, result, err);
     if (st != SAM_OK)
         return st;
-    if ((st = sam_build_tree_create(ctx, &tree, err)) != SAM_OK || (st = keep_tree(&tree, result, err)) != SAM_OK) {
+    if ((st = sam_build_tree_create(ctx, &tree, err)) != SAM_OK || (st = keep_tree(&tree, ctx->mesh->vertex_count, result, err)) != SAM_OK) {
         sam_build_tree_destroy(&tree);
         sam_build_result_destroy(result);
         return st;

@@ -15,17 +15,20 @@ sam_status sam_build_result_alloc(const sam_build_context *ctx, uint32_t stride,
                                   sam_error *err)
 {
     memset(r, 0, sizeof *r);
-    size_t n = ctx->mesh->topo_count, s = stride;
+    /* The per-sample arrays get a row per render vertex (nv >= n) from the
+     * start: sam_build_move_to_samfile grows them to that in place, and a
+     * realloc that had to move one would hold it twice at the build's peak. */
+    size_t n = ctx->mesh->topo_count, nv = ctx->mesh->vertex_count, s = stride;
     r->topo_count = (uint32_t)n;
     r->samples_per_vertex = (uint32_t)s;
-    r->sample = malloc(n * s * sizeof *r->sample);
+    r->sample = malloc(nv * s * sizeof *r->sample);
     if (cut) {
         r->k_total = calloc(n * 3, sizeof *r->k_total);
     } else {
         r->k = calloc(n * s * 3, sizeof *r->k);
         r->k_error = calloc(n * s, sizeof *r->k_error);
     }
-    r->kprime = calloc(n * s * 3, sizeof *r->kprime);
+    r->kprime = calloc(nv * s * 3, sizeof *r->kprime);
     r->fan_area = malloc(n * sizeof *r->fan_area);
     if (!r->sample || (cut ? !r->k_total : !r->k || !r->k_error) || !r->kprime || !r->fan_area) {
         sam_build_result_destroy(r);

@@ -81,7 +81,10 @@ typedef int (*sam_build_progress_fn)(void *user, uint64_t done, uint64_t total);
 
 /* Per topological vertex results, N entries each, best first (N is the
  * budget of a cut map). A sample s < topo_count is a topo vertex, s >=
- * topo_count tree node s - topo_count. */
+ * topo_count tree node s - topo_count. sample, kprime and tau have room
+ * for the mesh's vertex_count rows (>= topo_count), so that
+ * sam_build_move_to_samfile turns them into render rows in place; rows
+ * past topo_count are scratch. */
 typedef struct sam_build_result {
     uint32_t topo_count;
     uint32_t samples_per_vertex;
