@@ -150,11 +150,20 @@ static void look(sam_render_view *view, uint32_t size, float fov, const float ey
     view->diffusion = 3;
 }
 
+/* Renders, and checks that the diffusion pass's timer does not read
+ * longer than the render took (llvmpipe answered texture-space diffusion's with the time since
+ * boot; the runtime reports such a time as missing, < 0). */
 static void render(sam_runtime *rt, const sam_render_view *view, sam_image *out)
 {
     sam_error err;
+    double start = sam_seconds();
     if (sam_runtime_render(rt, view, out, &err) != SAM_OK)
         fail_msg("%s", err.message);
+    double wall_ms = 1e3 * (sam_seconds() - start);
+    /* Only screen and texture space time a diffusion pass. */
+    double ms = view->diffusion == 1 || view->diffusion == 3 ? sam_runtime_pass_ms(rt, SAM_PASS_DIFFUSION) : -1;
+    if (ms > wall_ms)
+        fail_msg("texture-space diffusion's timer reads %.3f ms for a render of %.3f ms", ms, wall_ms);
 }
 
 /* A latitude band of the unit sphere (theta 20..160 degrees) with

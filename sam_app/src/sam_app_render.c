@@ -282,16 +282,23 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, in
         (job->dump && (st = dump_vertices(rt, chosen, job->dump, sam->vertex_count, err)) != SAM_OK))
         goto done;
     long frames = job->animate ? job->animate : job->turntable ? job->turntable : job->frames;
-    double diffusion_ms = sam_runtime_pass_ms(rt, SAM_PASS_DIFFUSION);
-    fprintf(stderr, "%s: %s: %ux%u, %u vertices, %ld frame%s; GPU ms: irradiance %.3f, translucency %.3f, "
-                    "shade %.3f, diffusion %.3f (%s)\n",
-            tool, job->out, view.width, view.height, sam->vertex_count, frames, frames == 1 ? "" : "s",
-            sam_runtime_pass_ms(rt, SAM_PASS_IRRADIANCE),
-            chosen == SAM_TECHNIQUE_SAM || chosen == SAM_TECHNIQUE_THICKNESS
-                ? sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY)
-                : 0.0,
-            sam_runtime_pass_ms(rt, SAM_PASS_SHADE), diffusion_ms > 0 ? diffusion_ms : 0.0,
-            sam_gl_context_info(gl)->renderer);
+    /* n/a where the driver gave no time (a pass that did not run, or a
+     * timer that cannot be right). */
+    const sam_pass timed[4] = {SAM_PASS_IRRADIANCE, SAM_PASS_TRANSLUCENCY, SAM_PASS_SHADE, SAM_PASS_DIFFUSION};
+    char ms[4][32];
+    for (int i = 0; i < 4; ++i) {
+        double t = sam_runtime_pass_ms(rt, timed[i]);
+        if (timed[i] == SAM_PASS_TRANSLUCENCY && chosen != SAM_TECHNIQUE_SAM && chosen != SAM_TECHNIQUE_THICKNESS)
+            t = -1;
+        if (t >= 0)
+            snprintf(ms[i], sizeof ms[i], "%.3f", t);
+        else
+            snprintf(ms[i], sizeof ms[i], "n/a");
+    }
+    fprintf(stderr, "%s: %s: %ux%u, %u vertices, %ld frame%s; GPU ms: irradiance %s, translucency %s, shade %s, "
+                    "diffusion %s (%s)\n",
+            tool, job->out, view.width, view.height, sam->vertex_count, frames, frames == 1 ? "" : "s", ms[0], ms[1],
+            ms[2], ms[3], sam_gl_context_info(gl)->renderer);
 done:
     sam_runtime_destroy(rt);
     return st;

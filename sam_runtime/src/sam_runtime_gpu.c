@@ -40,6 +40,7 @@ void sam_runtime_bind_buffers(const sam_runtime *rt)
 
 void sam_runtime_begin_timer(sam_runtime *rt, sam_pass pass)
 {
+    rt->query_begun[pass] = sam_seconds();
     glBeginQuery(GL_TIME_ELAPSED, rt->query[pass]);
 }
 

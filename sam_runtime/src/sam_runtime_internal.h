@@ -228,6 +228,7 @@ struct sam_runtime {
     /* Each pass's GPU time (sam_runtime_gpu.c). */
     GLuint query[SAM_PASS_COUNT];
     int query_used[SAM_PASS_COUNT];
+    double query_begun[SAM_PASS_COUNT]; /* sam_seconds() when each pass's query last began */
 
     sam_rt_lights lights;
     sam_rt_surface surface;

@@ -503,7 +503,9 @@ sam_status sam_runtime_read_translucency(sam_runtime *rt, float *rgb, sam_error 
 sam_status sam_runtime_read_thickness_translucency(sam_runtime *rt, float *rgb, sam_error *err);
 
 /* GPU time of the last run of `pass` in milliseconds (GL timer queries),
- * or a negative value when it has not run. Waits for the result. */
+ * or a negative value when it has not run or the driver's answer cannot be
+ * right (longer than the wall time since the query began: llvmpipe's for
+ * texture-space diffusion). Waits for the result. */
 double sam_runtime_pass_ms(sam_runtime *rt, sam_pass pass);
 
 /* ---- Embedding: an engine's own buffers in, a translucency buffer out.
