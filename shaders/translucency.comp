@@ -138,13 +138,16 @@ void main()
     // llvmpipe ran the carried K's quadrature for every node sample too
     // (its branches run both ways under a mask), while a cut map's vertex
     // samples are few: the walk's adoptions.
-    uvec2 vertex_slots = uvec2(0u); // up to SAMFILE_MAX_SAMPLES_PER_VERTEX = 64
+    uint slots_low = 0u, slots_high = 0u; // slots 0-31 and 32-63 (SAMFILE_MAX_SAMPLES_PER_VERTEX)
     for (uint k = 0u; k < u_samples; ++k) {
         Sample s = samples[v * u_stride + k];
         if (s.index == 0xFFFFFFFFu)
             break;
         if (s.index < u_vertex_count) {
-            vertex_slots[k >> 5u] |= 1u << (k & 31u);
+            if (k < 32u)
+                slots_low |= 1u << k;
+            else
+                slots_high |= 1u << (k - 32u);
             continue;
         }
         vec3 kprime = vec3(s.kr, s.kg, s.kb);
@@ -162,10 +165,8 @@ void main()
         sum += sample_light(v, k, s.index) * k_rest * change;
     }
     for (uint w = 0u; w < 2u; ++w)
-        while (vertex_slots[w] != 0u) {
-            uint k = uint(findLSB(vertex_slots[w])) + 32u * w;
-            vertex_slots[w] &= vertex_slots[w] - 1u;
-            Sample s = samples[v * u_stride + k];
+        for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
+            Sample s = samples[v * u_stride + uint(findLSB(bits)) + 32u * w];
             vec3 q = positions[s.index].xyz;
             if (!(dot(q - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
                 continue;

@@ -93,16 +93,20 @@ void main()
     // by R_d and walked from, each in a loop over these slots only. Loops
     // over every slot with a branch made llvmpipe run the vertex work under
     // a mask for a cut map's nodes too, which are nearly all its samples.
-    uvec2 vertex_slots = uvec2(0u);
+    uint slots_low = 0u, slots_high = 0u; // slots 0-31 and 32-63
     for (uint k = 0u; k < u_stride; ++k) {
         chosen[k] = samples[base + k];
         uint i = chosen[k].index;
         score[k] = i == NO_SAMPLE ? -1.0 : is_node(i) ? 3.0e38 : 0.0;
-        if (i != NO_SAMPLE && !is_node(i))
-            vertex_slots[k >> 5u] |= 1u << (k & 31u);
+        if (i != NO_SAMPLE && !is_node(i)) {
+            if (k < 32u)
+                slots_low |= 1u << k;
+            else
+                slots_high |= 1u << (k - 32u);
+        }
     }
     for (uint w = 0u; w < 2u; ++w)
-        for (uint bits = vertex_slots[w]; bits != 0u; bits &= bits - 1u) {
+        for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
             uint k = uint(findLSB(bits)) + 32u * w, i = chosen[k].index;
             if (back_side(i, p, n))
                 score[k] = approximate_k(i, vec3(chosen[k].kr, chosen[k].kg, chosen[k].kb), p);
@@ -111,7 +115,7 @@ void main()
     // this invocation has not written yet), not from this frame's adoptions:
     // one ring per frame.
     for (uint w = 0u; w < 2u; ++w)
-        for (uint bits = vertex_slots[w]; bits != 0u; bits &= bits - 1u) {
+        for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
             Sample from = samples[base + uint(findLSB(bits)) + 32u * w];
             for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
                 uint c = adjacency[a];
