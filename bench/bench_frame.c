@@ -15,9 +15,9 @@
  * glFinish (llvmpipe reports no timer-query time for compute); the
  * diffusion pass's GL timer query is printed too where the driver gives
  * one. The translucency pass is set against its bandwidth lower bound: the
- * bytes it must move per vertex (its own position and T, and per sample the
- * sample record, the back vertex's position, fan area and L_d) over the
- * memory bandwidth measured here with memcpy. Last, the per-frame update of
+ * bytes it must move per vertex (its T, and per sample the rest-K record
+ * and the back vertex's L_d) over the memory bandwidth measured here with
+ * memcpy. Last, the per-frame update of
  * a bending mesh (deform pass + sample walk) per vertex, next to the
  * translucency pass.
  *
@@ -336,8 +336,10 @@ static void mesh_study(const frame_config *cfg, int m, const sam_profile *skin, 
                                               &diffusion_gpu[t]);
     }
     view.diffusion = 0;
-    /* Bytes the translucency pass must move per vertex. */
-    double bytes = 16 + 16 + 16 + (double)d.samples_per_vertex * (16 + 16 + 4 + 16);
+    /* Bytes the rest pose's translucency pass must move per vertex, its
+     * rest K cached (the default): its T read and written, and per sample
+     * the rest-K record and the L_d it names. */
+    double bytes = 16 + 16 + (double)d.samples_per_vertex * (16 + 16);
     double bound = 1e3 * bytes * d.vertex_count / bandwidth;
     double share = tra / (irr + tra + sha);
     printf("%9u %9.3f ms %11.3f ms %8.2f ms %12.1f %13.3f %9.0f%% %10.1f%%\n", d.vertex_count, irr, tra, sha,
