@@ -231,8 +231,9 @@ typedef enum sam_rest_k {
      * (eq. 15), computed once at sam_runtime_create into a buffer of 16
      * bytes per stored sample (samples_per_vertex x vertex_count), so the
      * rest pass sums L_d K without evaluating R_d, and a posed frame reads
-     * a tree node's rest K from it. On llvmpipe the rest pass took a fifth
-     * to a seventh of its evaluated time (docs/performance.md). */
+     * a tree node's rest K from it. On llvmpipe the flat map's rest pass
+     * took a quarter to an eighth of its evaluated time
+     * (docs/performance.md). */
     SAM_REST_K_CACHED = 0,
     /* Eq. 15 evaluated per sample every frame, as the paper does: no
      * buffer, for a GL short of memory. sam_runtime_create falls back to
