@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "sam/sam_app_backlight.h"
 #include "sam/sam_app_cache.h"
@@ -199,9 +200,13 @@ static sam_status run_frames(const sam_app_render_job *job, const char *tool, co
         }
         st = sam_image_write_picture(&img, png_out ? NULL : out_path, png_out ? out_path : job->png ? png_path : NULL,
                                      curve, *exposure, err);
-        if (st == SAM_OK && numbered_out)
+        /* One line rewritten on a terminal; in a log, a line per tenth. */
+        const long tenth = pictures >= 10 ? pictures / 10 : 1;
+        if (st == SAM_OK && numbered_out && isatty(2))
             fprintf(stderr, "\r%s: picture %ld of %ld%s", tool, picture + 1, pictures,
                     picture + 1 == pictures ? "\n" : "");
+        else if (st == SAM_OK && numbered_out && ((picture + 1) % tenth == 0 || picture + 1 == pictures))
+            fprintf(stderr, "%s: picture %ld of %ld\n", tool, picture + 1, pictures);
     }
     sam_image_destroy(&img);
     return st;
