@@ -147,8 +147,7 @@ typedef struct sam_rt_translucency {
 /* sam_runtime_rest_k.c */
 typedef struct sam_rt_rest_k {
     GLuint program;
-    GLuint buffer;   /* {uint index; float K rgb} per stored sample, or 0 (SAM_REST_K_EVALUATED) */
-    sam_rest_k mode;
+    GLuint buffer; /* {uint index; float K rgb} per stored sample; 0 is the mode SAM_REST_K_EVALUATED */
 } sam_rt_rest_k;
 
 /* sam_runtime_nodes.c */

@@ -10,7 +10,7 @@ sam_status sam_runtime_rest_k_create(sam_runtime *rt, sam_error *err)
         return st;
     sam_runtime_set_profile_uniforms(rt->rest_k.program, &rt->profile);
     sam_error ignored;
-    rt->rest_k.mode = sam_runtime_rest_k_fill(rt, &ignored) == SAM_OK ? SAM_REST_K_CACHED : SAM_REST_K_EVALUATED;
+    (void)sam_runtime_rest_k_fill(rt, &ignored); /* failed: no buffer, so the evaluated mode */
     return SAM_OK;
 }
 

@@ -31,7 +31,7 @@ sam_status sam_runtime_translucency_create(sam_runtime *rt, sam_error *err)
     GLuint p;
     sam_status st = SAM_OK;
     for (int kind = 0; kind < TRANSLUCENCY_PROGRAMS && st == SAM_OK; ++kind)
-        st = program(rt, rt->rest_k.mode, kind, &p, err);
+        st = program(rt, sam_runtime_rest_k_mode(rt), kind, &p, err);
     return st;
 }
 
@@ -61,7 +61,7 @@ sam_status sam_runtime_set_rest_k(sam_runtime *rt, sam_rest_k mode, sam_error *e
 {
     if (mode != SAM_REST_K_CACHED && mode != SAM_REST_K_EVALUATED)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: unknown rest-K mode %d (expected 0 or 1)", (int)mode);
-    if (mode == rt->rest_k.mode)
+    if (mode == sam_runtime_rest_k_mode(rt))
         return SAM_OK;
     GLuint p;
     sam_status st = SAM_OK;
@@ -73,13 +73,12 @@ sam_status sam_runtime_set_rest_k(sam_runtime *rt, sam_rest_k mode, sam_error *e
         return st;
     if (mode == SAM_REST_K_EVALUATED)
         sam_runtime_rest_k_release(rt);
-    rt->rest_k.mode = mode;
     return SAM_OK;
 }
 
 sam_rest_k sam_runtime_rest_k_mode(const sam_runtime *rt)
 {
-    return rt->rest_k.mode;
+    return rt->rest_k.buffer ? SAM_REST_K_CACHED : SAM_REST_K_EVALUATED;
 }
 
 sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt, int reset, sam_error *err)
@@ -90,7 +89,7 @@ sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt,
     const int kind = !rt->deform.posed                                 ? TRANSLUCENCY_REST
                      : rt->translucency.posed_k == SAM_POSED_K_CARRIED ? TRANSLUCENCY_CARRIED
                                                                        : TRANSLUCENCY_EQ15;
-    GLuint p = rt->translucency.program[rt->rest_k.mode][kind]; /* compiled with its mode */
+    GLuint p = rt->translucency.program[sam_runtime_rest_k_mode(rt)][kind]; /* compiled with its mode */
     glUseProgram(p);
     glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
     glUniform1ui(glGetUniformLocation(p, "u_stride"), rt->stride);
