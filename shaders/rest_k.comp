@@ -29,6 +29,8 @@ uniform uint u_vertex_count;
 uniform uint u_stride; // samples stored per vertex
 uniform float u_mm_per_unit;
 
+#include "eq15_k.glsl"
+
 void main()
 {
     uint v = gl_GlobalInvocationID.x;
@@ -42,10 +44,7 @@ void main()
             rest_k[i] = Sample(s.index, 0.0, 0.0, 0.0);
             continue;
         }
-        vec4 q = s.index >= u_vertex_count ? nodes[s.index - u_vertex_count].centroid_area
-                                           : vec4(positions[s.index].xyz, fan_area[s.index]);
-        // The same expression, in the same order, as the evaluated pass's.
-        vec3 k_rest = vec3(s.kr, s.kg, s.kb) * q.w * profile_rd(u_mm_per_unit * distance(q.xyz, p));
+        vec3 k_rest = eq15_k(s.index, vec3(s.kr, s.kg, s.kb), p);
         rest_k[i] = Sample(s.index, k_rest.r, k_rest.g, k_rest.b);
     }
 }

@@ -73,6 +73,7 @@ uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 #include "fan_form_factor.glsl"
 #endif
+#include "eq15_k.glsl"
 
 // L_d where sample k of vertex v takes its light: a vertex's own, or a
 // node's to first order where the sample's light comes from (STAU).
@@ -118,10 +119,7 @@ void main()
         Sample s = samples[v * u_stride + k];
         if (s.index == 0xFFFFFFFFu)
             break;
-        vec4 q = s.index >= u_vertex_count ? nodes[s.index - u_vertex_count].centroid_area
-                                           : vec4(positions[s.index].xyz, fan_area[s.index]);
-        sum += sample_light(v, k, s.index) *
-               (vec3(s.kr, s.kg, s.kb) * q.w * profile_rd(u_mm_per_unit * distance(q.xyz, p)));
+        sum += sample_light(v, k, s.index) * eq15_k(s.index, vec3(s.kr, s.kg, s.kb), p);
     }
     store(v, sum);
 }

@@ -1,18 +1,28 @@
 /* GL helpers every pass of the runtime uses (sam_runtime_gpu.h). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "sam_runtime_gpu.h"
 
-sam_status sam_runtime_upload(sam_runtime *rt, int binding, const void *data, size_t bytes, sam_error *err)
+sam_status sam_runtime_check_block_size(const char *what, size_t bytes, sam_error *err)
 {
     GLint limit = 0;
     glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &limit);
     if (bytes > (size_t)limit)
-        return sam_fail(err, SAM_ERR_UNSUPPORTED,
-                        "runtime: buffer %d needs %zu bytes but the GL allows %d per storage block", binding, bytes,
-                        limit);
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "runtime: %s needs %zu bytes but the GL allows %d per storage block",
+                        what, bytes, limit);
+    return SAM_OK;
+}
+
+sam_status sam_runtime_upload(sam_runtime *rt, int binding, const void *data, size_t bytes, sam_error *err)
+{
+    char what[32];
+    snprintf(what, sizeof what, "buffer %d", binding);
+    sam_status st = sam_runtime_check_block_size(what, bytes, err);
+    if (st != SAM_OK)
+        return st;
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[binding]);
     glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)(bytes ? bytes : 16), data, GL_DYNAMIC_DRAW);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)binding, rt->buffer[binding]);

@@ -6,6 +6,10 @@
 
 #include "sam_runtime_internal.h"
 
+/* SAM_OK when `bytes` fit one storage block of the GL; else
+ * SAM_ERR_UNSUPPORTED naming `what`, its size and the limit. */
+sam_status sam_runtime_check_block_size(const char *what, size_t bytes, sam_error *err);
+
 /* (Re)allocates rt->buffer[binding] with `bytes` of `data` (NULL: undefined
  * contents; 0 bytes get 16) and binds it there. Errors: SAM_ERR_UNSUPPORTED
  * (more than the context's storage block limit), SAM_ERR_OUT_OF_MEMORY. */

@@ -30,13 +30,9 @@ void sam_runtime_rest_k_release(sam_runtime *rt)
 sam_status sam_runtime_rest_k_fill(sam_runtime *rt, sam_error *err)
 {
     const size_t bytes = (size_t)rt->vertex_count * rt->stride * 4 * sizeof(uint32_t);
-    GLint limit = 0;
-    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &limit);
-    if (bytes > (size_t)limit)
-        return sam_fail(err, SAM_ERR_UNSUPPORTED,
-                        "runtime: the rest K of %u x %u samples needs %zu bytes but the GL allows %d per storage "
-                        "block",
-                        rt->vertex_count, rt->stride, bytes, limit);
+    sam_status st = sam_runtime_check_block_size("the rest K of the samples", bytes, err);
+    if (st != SAM_OK)
+        return st;
     if (!rt->rest_k.buffer) {
         glGenBuffers(1, &rt->rest_k.buffer);
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->rest_k.buffer);
