@@ -1,4 +1,4 @@
-/* Headless GL contexts through EGL's surfaceless platform. */
+/* Headless GL contexts through EGL's surfaceless or device platform. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,13 +27,6 @@ static void APIENTRY debug_message(GLenum source, GLenum type, GLuint id, GLenum
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION)
         return;
     fprintf(stderr, "GL debug (%s): %s\n", type == GL_DEBUG_TYPE_ERROR ? "error" : "message", message);
-}
-
-static sam_status fail_egl(sam_gl_context *c, sam_error *err, const char *what)
-{
-    sam_status st = sam_fail(err, SAM_ERR_UNSUPPORTED, "GL: %s (EGL error 0x%04x)", what, (unsigned)eglGetError());
-    sam_gl_context_destroy(c);
-    return st;
 }
 
 sam_status sam_gl_check_current(int debug, sam_gl_info *info, sam_error *err)
@@ -123,37 +116,123 @@ int sam_gl_debug_requested(void)
 #endif
 }
 
+/* Initialises `display`, binds desktop GL and makes a configless 4.3 core
+ * context current on it. On failure terminates the display, leaves `c`
+ * without one, and writes the step and EGL error to `why`. */
+static int open_display(sam_gl_context *c, EGLDisplay display, int debug, char *why, size_t why_size)
+{
+    EGLint major, minor;
+    const char *step = NULL;
+    c->display = display;
+    c->context = EGL_NO_CONTEXT;
+    const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3,
+                              EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                              EGL_CONTEXT_OPENGL_DEBUG, debug ? EGL_TRUE : EGL_FALSE, EGL_NONE};
+    if (display == EGL_NO_DISPLAY)
+        step = "no display";
+    else if (!eglInitialize(display, &major, &minor))
+        step = "cannot initialise the display";
+    else if (!eglBindAPI(EGL_OPENGL_API))
+        step = "cannot bind desktop OpenGL";
+    else if ((c->context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs)) ==
+             EGL_NO_CONTEXT)
+        step = "no OpenGL 4.3 core context (the driver offers less)";
+    else if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, c->context))
+        step = "cannot make the surfaceless context current";
+    if (!step)
+        return 1;
+    snprintf(why, why_size, "%s (EGL error 0x%04x)", step, (unsigned)eglGetError());
+    if (display != EGL_NO_DISPLAY) {
+        if (c->context != EGL_NO_CONTEXT)
+            eglDestroyContext(display, c->context);
+        eglTerminate(display);
+    }
+    c->display = EGL_NO_DISPLAY;
+    c->context = EGL_NO_CONTEXT;
+    return 0;
+}
+
+/* SAM_EGL_DEVICE=i picks the i-th EGL device; unset, -1. */
+static sam_status requested_device(int *index, sam_error *err)
+{
+    const char *env = getenv("SAM_EGL_DEVICE");
+    *index = -1;
+    if (!env || !env[0])
+        return SAM_OK;
+    char *end = NULL;
+    long v = strtol(env, &end, 10);
+    if (*end != '\0' || v < 0 || v > 1000)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "GL: SAM_EGL_DEVICE is '%s'; it takes an EGL device index (0 for the first)", env);
+    *index = (int)v;
+    return SAM_OK;
+}
+
+#define MAX_EGL_DEVICES 16
+
 sam_status sam_gl_context_create_headless(sam_gl_context **out, sam_error *err)
 {
     *out = NULL;
+    int want_device;
+    sam_status st = requested_device(&want_device, err);
+    if (st != SAM_OK)
+        return st;
     sam_gl_context *c = calloc(1, sizeof *c);
     if (!c)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "GL: out of memory");
     c->display = EGL_NO_DISPLAY;
     c->context = EGL_NO_CONTEXT;
-    if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless") &&
-        !epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_platform_base")) {
+    int debug = sam_gl_debug_requested();
+    int have_surfaceless = epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless");
+    int have_devices = epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_platform_device") &&
+                       epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration");
+    char tried[512] = "", why[160];
+    size_t used = 0;
+    int opened = 0;
+    /* Mesa's surfaceless platform first: it is what every test runs on.
+     * GPU drivers without it (NVIDIA's, headless) offer their devices. */
+    if (want_device < 0 && have_surfaceless) {
+        opened = open_display(c, eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL),
+                              debug, why, sizeof why);
+        if (!opened)
+            used += (size_t)snprintf(tried + used, sizeof tried - used, "surfaceless platform: %s", why);
+    }
+    if (!opened && have_devices) {
+        EGLDeviceEXT devices[MAX_EGL_DEVICES];
+        EGLint count = 0;
+        if (!eglQueryDevicesEXT(MAX_EGL_DEVICES, devices, &count))
+            count = 0;
+        if (want_device >= count) {
+            sam_gl_context_destroy(c);
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                            "GL: SAM_EGL_DEVICE is %d but EGL lists %d device%s (0 to %d)", want_device, (int)count,
+                            count == 1 ? "" : "s", (int)count - 1);
+        }
+        for (EGLint i = want_device < 0 ? 0 : want_device; i < count && !opened; i++) {
+            opened = open_display(c, eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL), debug, why,
+                                  sizeof why);
+            if (!opened && used < sizeof tried)
+                used += (size_t)snprintf(tried + used, sizeof tried - used, "%sdevice %d: %s", used ? "; " : "",
+                                         (int)i, why);
+            if (want_device >= 0)
+                break;
+        }
+    } else if (!opened && want_device >= 0) {
         sam_gl_context_destroy(c);
         return sam_fail(err, SAM_ERR_UNSUPPORTED,
-                        "GL: EGL has no surfaceless platform (EGL_MESA_platform_surfaceless); install Mesa's "
-                        "libegl-mesa0 or a GPU driver with EGL");
+                        "GL: SAM_EGL_DEVICE is set but EGL has no device platform (EGL_EXT_platform_device)");
     }
-    c->display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
-    EGLint major, minor;
-    if (c->display == EGL_NO_DISPLAY || !eglInitialize(c->display, &major, &minor))
-        return fail_egl(c, err, "cannot open a surfaceless EGL display");
-    if (!eglBindAPI(EGL_OPENGL_API))
-        return fail_egl(c, err, "EGL cannot bind desktop OpenGL");
-    int debug = sam_gl_debug_requested();
-    const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3,
-                              EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                              EGL_CONTEXT_OPENGL_DEBUG, debug ? EGL_TRUE : EGL_FALSE, EGL_NONE};
-    c->context = eglCreateContext(c->display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
-    if (c->context == EGL_NO_CONTEXT)
-        return fail_egl(c, err, "no OpenGL 4.3 core context (the driver offers less)");
-    if (!eglMakeCurrent(c->display, EGL_NO_SURFACE, EGL_NO_SURFACE, c->context))
-        return fail_egl(c, err, "cannot make the surfaceless context current");
-    sam_status st = sam_gl_check_current(debug, &c->info, err);
+    if (!opened) {
+        sam_gl_context_destroy(c);
+        if (!have_surfaceless && !have_devices)
+            return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                            "GL: EGL has neither the surfaceless platform (EGL_MESA_platform_surfaceless) nor "
+                            "the device platform (EGL_EXT_platform_device); install Mesa's libegl-mesa0 or a GPU "
+                            "driver with EGL");
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "GL: no headless OpenGL 4.3 context: %s",
+                        used ? tried : "EGL lists no devices");
+    }
+    st = sam_gl_check_current(debug, &c->info, err);
     if (st != SAM_OK) {
         sam_gl_context_destroy(c);
         return st;

@@ -22,6 +22,16 @@ head -c 8 "$tmp/a.png" | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 1a 0a" || fail
 awk -F, 'NR > 1 && $5 > 0 { lit++ } END { exit !(lit > 0) }' "$tmp/a.csv" || fail "no vertex has translucency"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/b.exr" --passes 3 2>/dev/null || fail "second render"
 cmp -s "$tmp/a.exr" "$tmp/b.exr" || fail "two renders of the same scene differ"
+# The EGL device platform (what a headless NVIDIA driver offers) renders the same picture.
+SAM_EGL_DEVICE=0 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/dev.exr" --passes 3 2> "$tmp/dev.txt" \
+  || fail "SAM_EGL_DEVICE=0: $(cat "$tmp/dev.txt")"
+cmp -s "$tmp/a.exr" "$tmp/dev.exr" || fail "the EGL device's render differs from the surfaceless one"
+for bad in 99 x; do
+  SAM_EGL_DEVICE=$bad "$bin/sam_render" "$tmp/scene.json" -o "$tmp/bad.exr" 2> "$tmp/bad.txt" \
+    && fail "SAM_EGL_DEVICE=$bad rendered"
+  grep -q "SAM_EGL_DEVICE is" "$tmp/bad.txt" || fail "SAM_EGL_DEVICE=$bad: $(cat "$tmp/bad.txt")"
+  [ -e "$tmp/bad.exr" ] && fail "SAM_EGL_DEVICE=$bad left a file"
+done
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/none.exr" --technique none --passes 3 2>/dev/null || fail "technique none"
 cmp -s "$tmp/a.exr" "$tmp/none.exr" && fail "technique none looks the same as sam"
 "$bin/sam_render" "$tmp/scene.json" -o "$tmp/t.exr" --translucency-only 2>/dev/null || fail "--translucency-only"

@@ -2,9 +2,12 @@
  * sam_gl: the GL context and shader layer of the runtime.
  *
  * A sam_gl_context is an OpenGL 4.3 core context made current on the
- * calling thread. sam_gl_context_create_headless uses EGL's surfaceless
- * platform (EGL_MESA_platform_surfaceless): no display, no window, the same
- * code on Mesa llvmpipe and on a GPU driver. Surfaceless contexts have no
+ * calling thread. sam_gl_context_create_headless needs no display and no
+ * window: it opens EGL's surfaceless platform (EGL_MESA_platform_surfaceless,
+ * Mesa's llvmpipe and Mesa GPU drivers) and, where that is missing or fails,
+ * each EGL device in turn (EGL_EXT_platform_device: NVIDIA's driver on a
+ * headless server). SAM_EGL_DEVICE=i in the environment opens the i-th
+ * EGL device only (a GPU of several). Headless contexts have no
  * default framebuffer, so every render goes to an FBO. GL entry points come
  * from libepoxy. Creation checks the version and the limits the runtime
  * needs and fails with one line naming what is missing. Debug output is
@@ -41,10 +44,14 @@ typedef struct sam_gl_info {
     int debug_output;             /* 1 when GL debug output is on */
 } sam_gl_info;
 
-/* Creates a headless GL 4.3 core context and makes it current.
- * Errors: SAM_ERR_UNSUPPORTED naming the missing piece (no EGL display, no
- * surfaceless platform, no GL 4.3 core, a limit below what the runtime
- * needs), SAM_ERR_OUT_OF_MEMORY. */
+/* Creates a headless GL 4.3 core context and makes it current: the
+ * surfaceless platform, else the first EGL device that gives one, or the
+ * device SAM_EGL_DEVICE names.
+ * Errors: SAM_ERR_UNSUPPORTED naming the missing piece (no headless EGL
+ * platform, what each platform and device answered, no GL 4.3 core, a
+ * limit below what the runtime needs), SAM_ERR_INVALID_ARGUMENT
+ * (SAM_EGL_DEVICE not an index, or past the devices EGL lists),
+ * SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_gl_context_create_headless(sam_gl_context **ctx, sam_error *err);
 
 /* Checks the context current on this thread, made by anyone (a window
