@@ -9,8 +9,11 @@
 // its descendants inside the band, then the node itself, deepest first
 // (their children below the band are ready from the dispatch before). One
 // dispatch per level cost llvmpipe about 0.1 ms each, most of the pass on
-// small maps; a band of a few levels needs no barrier inside, and the
-// invocations of its lower levels were idle there anyway.
+// small maps; a band of a few levels needs no barrier inside. On a GPU each
+// node of a band is a chain of dependent memory reads for its invocation,
+// so wide bands lose there what they save in dispatches: two levels were
+// the fastest of one, two and four on an H200, and cost llvmpipe 0.25 ms
+// more than four on a 1.7k-vertex map, the same on an 18k one.
 //
 // With SAM_NODES_LIGHT only L_d is summed: at rest the centroids, areas
 // and normals a full pass wrote stay right (sam_runtime_nodes.c says when).
@@ -18,12 +21,7 @@
 
 layout(local_size_x = 64) in;
 
-struct Node {
-    vec4 centroid_area; // centroid (model units), area (mm^2)
-    vec4 ld;            // area-weighted mean L_d
-    vec4 normal;        // area-weighted mean normal (not unit)
-    vec4 ld_diff;       // L_d(child 1) - L_d(child 0): a sample moves along it by its tau
-};
+#include "node.glsl"
 
 layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = SAM_B_NORMALS) readonly buffer Normals { vec4 normals[]; };
@@ -60,7 +58,7 @@ Node read_child(uint c)
 {
     if (c >= u_vertex_count)
         return nodes[c - u_vertex_count];
-    return Node(vec4(positions[c].xyz, fan_area[c]), irradiance[c], normals[c], vec4(0.0));
+    return Node(irradiance[c], vec4(0.0), vec4(positions[c].xyz, fan_area[c]), normals[c]);
 }
 
 void sum_node(uint j)
@@ -70,9 +68,9 @@ void sum_node(uint j)
     // Members of zero area (degenerate fans) weigh nothing; a node of only
     // those sits between its children and carries no light.
     float fa = w > 0.0 ? wa / w : 0.5, fb = 1.0 - fa;
-    nodes[j] = Node(vec4(fa * a.centroid_area.xyz + fb * b.centroid_area.xyz, w),
-                    vec4(w > 0.0 ? fa * a.ld.rgb + fb * b.ld.rgb : vec3(0.0), 1.0),
-                    vec4(fa * a.normal.xyz + fb * b.normal.xyz, 0.0), vec4(b.ld.rgb - a.ld.rgb, 0.0));
+    nodes[j] = Node(vec4(w > 0.0 ? fa * a.ld.rgb + fb * b.ld.rgb : vec3(0.0), 1.0), vec4(b.ld.rgb - a.ld.rgb, 0.0),
+                    vec4(fa * a.centroid_area.xyz + fb * b.centroid_area.xyz, w),
+                    vec4(fa * a.normal.xyz + fb * b.normal.xyz, 0.0));
 }
 #endif
 

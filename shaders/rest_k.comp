@@ -11,13 +11,8 @@
 
 layout(local_size_x = 64) in;
 
-struct Sample {
-    uint index;       // back-side vertex or vertex_count + node, 0xFFFFFFFF for none
-    float kr, kg, kb; // in: K' (eq. 15); out: K
-};
-struct Node {
-    vec4 centroid_area, ld, normal, ld_diff; // nodes.comp
-};
+#include "sample.glsl"
+#include "node.glsl"
 
 layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = SAM_B_SAMPLES) readonly buffer Samples { Sample samples[]; };
@@ -38,7 +33,7 @@ void main()
         return;
     vec3 p = positions[v].xyz;
     for (uint k = 0u; k < u_stride; ++k) {
-        uint i = v * u_stride + k;
+        uint i = k * u_vertex_count + v;
         Sample s = samples[i];
         if (s.index == 0xFFFFFFFFu) {
             rest_k[i] = Sample(s.index, 0.0, 0.0, 0.0);

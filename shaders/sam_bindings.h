@@ -27,18 +27,20 @@
 #define SAM_B_NODES 15        /* per tree node {vec4 centroid, area; L_d; mean normal; L_d(child 1) - L_d(child 0)} */
 #define SAM_B_NODE_CHILDREN 16 /* uvec2 per tree node: sample indices of its children */
 #define SAM_B_NODE_PARENTS 17 /* uint per vertex and node: its parent node, 0xFFFFFFFF for the root */
-#define SAM_B_SAMPLE_TAU 18   /* float per sample: a node sample's L_d correction along its split */
+#define SAM_B_SAMPLE_TAU 18   /* float per sample, slot-major: a node sample's L_d correction along its split */
 #define SAM_B_COUNT 19
 
 /* Bound only by the passes that need them, after the shared ones. */
 #define SAM_B_REST_POSITIONS 19 /* the rest pose a posed K is carried from */
 #define SAM_B_BOUNDS 20         /* the posed box: 6 order-preserving uint keys */
 #define SAM_B_TRANSMISSION 21   /* vec4 per vertex: G(t) of the vertex's local thickness */
-#define SAM_B_REST_K 22         /* {uint index; float K rgb} x N per vertex: each sample's K at rest */
+#define SAM_B_REST_K 22         /* {uint index; float K rgb} per sample, slot-major: its K at rest */
 #define SAM_B_LIMIT 23          /* bindings a context must offer */
 
-/* Tree levels the node pass sums per dispatch (nodes.comp). */
-#define SAM_NODE_BAND_LEVELS 4
+/* Tree levels the node pass sums per dispatch (nodes.comp): 2 was the
+ * fastest of 1, 2 and 4 on an H200 and within 0.25 ms of 4 on llvmpipe
+ * (docs/performance.md). */
+#define SAM_NODE_BAND_LEVELS 2
 
 /* The deform pass reads its inputs where the normals and samples usually
  * are: it writes positions only, and the normals pass runs after it. */

@@ -29,10 +29,7 @@
 
 layout(local_size_x = 64) in;
 
-struct Sample {
-    uint index;       // back-side vertex, 0xFFFFFFFF for none
-    float kr, kg, kb; // K' (eq. 15), kept next to its index: one 16-byte read
-};
+#include "sample.glsl"
 
 layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = SAM_B_NORMALS) readonly buffer Normals { vec4 normals[]; };
@@ -40,9 +37,7 @@ layout(std430, binding = SAM_B_SAMPLES) readonly buffer Samples { Sample samples
 layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_area[]; };
 layout(std430, binding = SAM_B_IRRADIANCE) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = SAM_B_TRANSLUCENCY) buffer Translucency { vec4 translucency[]; };
-struct Node {
-    vec4 centroid_area, ld, normal, ld_diff; // nodes.comp
-};
+#include "node.glsl"
 layout(std430, binding = SAM_B_NODES) readonly buffer Nodes { Node nodes[]; };
 layout(std430, binding = SAM_B_SAMPLE_TAU) readonly buffer SampleTau { float sample_tau[]; };
 #ifdef SAM_POSED
@@ -58,7 +53,6 @@ layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjac
 #endif
 
 uniform uint u_vertex_count;
-uniform uint u_stride;        // samples stored per vertex
 uniform uint u_samples;       // samples used, <= u_stride
 uniform float u_mm_per_unit;
 uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
@@ -82,7 +76,7 @@ vec3 sample_light(uint v, uint k, uint index)
     if (index < u_vertex_count)
         return irradiance[index].rgb;
     Node d = nodes[index - u_vertex_count];
-    return max(d.ld.rgb + sample_tau[v * u_stride + k] * d.ld_diff.rgb, vec3(0.0));
+    return max(d.ld.rgb + sample_tau[k * u_vertex_count + v] * d.ld_diff.rgb, vec3(0.0));
 }
 
 void store(uint v, vec3 sum)
@@ -100,7 +94,7 @@ void main()
         return;
     vec3 sum = vec3(0.0);
     for (uint k = 0u; k < u_samples; ++k) {
-        Sample s = rest_k[v * u_stride + k];
+        Sample s = rest_k[k * u_vertex_count + v];
         if (s.index == 0xFFFFFFFFu)
             break;
         sum += sample_light(v, k, s.index) * vec3(s.kr, s.kg, s.kb);
@@ -116,7 +110,7 @@ void main()
     vec3 p = positions[v].xyz;
     vec3 sum = vec3(0.0);
     for (uint k = 0u; k < u_samples; ++k) {
-        Sample s = samples[v * u_stride + k];
+        Sample s = samples[k * u_vertex_count + v];
         if (s.index == 0xFFFFFFFFu)
             break;
         sum += sample_light(v, k, s.index) * eq15_k(s.index, vec3(s.kr, s.kg, s.kb), p);
@@ -138,7 +132,7 @@ void main()
     // samples are few: the walk's adoptions.
     uint slots_low = 0u, slots_high = 0u; // slots 0-31 and 32-63 (SAMFILE_MAX_SAMPLES_PER_VERTEX)
     for (uint k = 0u; k < u_samples; ++k) {
-        Sample s = samples[v * u_stride + k];
+        Sample s = samples[k * u_vertex_count + v];
         if (s.index == 0xFFFFFFFFu)
             break;
         if (s.index < u_vertex_count) {
@@ -152,7 +146,7 @@ void main()
         vec4 q = nodes[s.index - u_vertex_count].centroid_area;
 #ifdef SAM_REST_K
         // The walk never moves a node from its slot, so the slot's rest K is its own.
-        Sample r = rest_k[v * u_stride + k];
+        Sample r = rest_k[k * u_vertex_count + v];
         vec3 k_rest = vec3(r.kr, r.kg, r.kb);
 #else
         vec4 rest = rest_nodes[s.index - u_vertex_count].centroid_area;
@@ -164,7 +158,7 @@ void main()
     }
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
-            Sample s = samples[v * u_stride + uint(findLSB(bits)) + 32u * w];
+            Sample s = samples[(uint(findLSB(bits)) + 32u * w) * u_vertex_count + v];
             vec3 q = positions[s.index].xyz;
             if (!(dot(q - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
                 continue;

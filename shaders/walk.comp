@@ -33,10 +33,7 @@ layout(local_size_x = 64) in;
 #define MAX_SAMPLES 64
 #define NO_SAMPLE 0xFFFFFFFFu
 
-struct Sample {
-    uint index;
-    float kr, kg, kb;
-};
+#include "sample.glsl"
 
 layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = SAM_B_NORMALS) readonly buffer Normals { vec4 normals[]; };
@@ -88,14 +85,13 @@ void main()
     if (v >= u_vertex_count)
         return;
     vec3 p = positions[v].xyz, n = normals[v].xyz;
-    uint base = v * u_stride;
     // The vertex samples' slots, up to MAX_SAMPLES: they alone are scored
     // by R_d and walked from, each in a loop over these slots only. Loops
     // over every slot with a branch made llvmpipe run the vertex work under
     // a mask for a cut map's nodes too, which are nearly all its samples.
     uint slots_low = 0u, slots_high = 0u; // slots 0-31 and 32-63
     for (uint k = 0u; k < u_stride; ++k) {
-        chosen[k] = samples[base + k];
+        chosen[k] = samples[k * u_vertex_count + v];
         uint i = chosen[k].index;
         score[k] = i == NO_SAMPLE ? -1.0 : is_node(i) ? 3.0e38 : 0.0;
         if (i != NO_SAMPLE && !is_node(i)) {
@@ -116,7 +112,7 @@ void main()
     // one ring per frame.
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
-            Sample from = samples[base + uint(findLSB(bits)) + 32u * w];
+            Sample from = samples[(uint(findLSB(bits)) + 32u * w) * u_vertex_count + v];
             for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
                 uint c = adjacency[a];
                 uint worst = 0u;
@@ -153,5 +149,5 @@ void main()
             score[j - 1u] = f;
         }
     for (uint k = 0u; k < u_stride; ++k)
-        samples[base + k] = chosen[k];
+        samples[k * u_vertex_count + v] = chosen[k];
 }

@@ -29,7 +29,8 @@ static sam_status upload_mesh(sam_runtime *rt, const samfile_data *sam, sam_erro
     const size_t nv = sam->vertex_count, n = sam->samples_per_vertex;
     float *pos = sam_runtime_widen(sam->positions, sam->vertex_count, 1.0f);
     float *nrm = sam_runtime_widen(sam->normals, sam->vertex_count, 0.0f);
-    /* Samples interleave the index with its K' (the index's bits stored as a float slot). */
+    /* Samples interleave the index with its K' (the index's bits stored as a
+     * float slot), slot-major (shaders/sample.glsl): slot k of vertex v at k * nv + v. */
     uint32_t *samples = malloc(nv * n * 4 * sizeof *samples);
     float *zero = calloc(nv * 4, sizeof *zero);
     float *curvature = malloc(nv * sizeof *curvature);
@@ -38,10 +39,12 @@ static sam_status upload_mesh(sam_runtime *rt, const samfile_data *sam, sam_erro
         st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for %zu vertices", nv);
         goto done;
     }
-    for (size_t i = 0; i < nv * n; ++i) {
-        samples[4 * i] = sam->sample_index[i];
-        memcpy(samples + 4 * i + 1, sam->sample_kprime + 3 * i, 3 * sizeof(float));
-    }
+    for (size_t v = 0; v < nv; ++v)
+        for (size_t k = 0; k < n; ++k) {
+            const size_t from = v * n + k, to = k * nv + v;
+            samples[4 * to] = sam->sample_index[from];
+            memcpy(samples + 4 * to + 1, sam->sample_kprime + 3 * from, 3 * sizeof(float));
+        }
     /* Mean curvature in 1/mm from the .sam's own rings. */
     sam_mesh_ring_curvature(sam->vertex_count, sam->positions, NULL, sam->normals, sam->adjacency_offsets,
                             sam->adjacency, curvature);

@@ -11,15 +11,25 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
     const size_t nc = sam->node_count, total = (size_t)sam->vertex_count + nc;
     t->node_count = sam->node_count;
     /* A flat map binds one zeroed node so every buffer exists. */
+    const size_t nv = sam->vertex_count, stride = sam->samples_per_vertex, samples = nv * stride;
     float *zero = calloc((nc ? nc : 1) * 16, sizeof *zero);
+    float *tau = malloc((nc ? samples : 1) * sizeof *tau);
     uint32_t *parent = malloc(total * sizeof *parent);
     t->level_count = sam->level_count;
     t->level_offsets = malloc(((size_t)sam->level_count + 1) * sizeof *t->level_offsets);
-    if (!zero || !parent || !t->level_offsets) {
+    if (!zero || !tau || !parent || !t->level_offsets) {
         free(zero);
+        free(tau);
         free(parent);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for the tree of %zu nodes", nc);
     }
+    /* Slot-major on the GPU (translucency.comp): a warp's invocations read
+     * one slot of neighbouring vertices as one contiguous run. */
+    tau[0] = 0.0f;
+    if (nc)
+        for (size_t v = 0; v < nv; ++v)
+            for (size_t k = 0; k < stride; ++k)
+                tau[k * nv + v] = sam->sample_tau[v * stride + k];
     if (nc)
         memcpy(t->level_offsets, sam->level_offsets, ((size_t)sam->level_count + 1) * sizeof *t->level_offsets);
     for (size_t i = 0; i < total; ++i)
@@ -28,16 +38,15 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
         parent[sam->node_children[j]] = (uint32_t)(j / 2);
     const uint32_t none[2] = {SAMFILE_NO_SAMPLE, SAMFILE_NO_SAMPLE};
     sam_status st;
-    const size_t samples = (size_t)sam->vertex_count * sam->samples_per_vertex;
     if ((st = sam_runtime_upload(rt, SAM_B_NODES, zero, (nc ? nc : 1) * 16 * sizeof(float), err)) == SAM_OK &&
-        (st = sam_runtime_upload(rt, SAM_B_SAMPLE_TAU, nc ? (const void *)sam->sample_tau : zero,
-                                 (nc ? samples : 1) * sizeof(float), err)) == SAM_OK &&
+        (st = sam_runtime_upload(rt, SAM_B_SAMPLE_TAU, tau, (nc ? samples : 1) * sizeof(float), err)) == SAM_OK &&
         (st = sam_runtime_upload(rt, SAM_B_NODE_CHILDREN, nc ? (const void *)sam->node_children : none,
                                  (nc ? nc : 1) * 2 * sizeof(uint32_t), err)) == SAM_OK &&
         (st = sam_runtime_upload(rt, SAM_B_NODE_PARENTS, parent, total * sizeof(uint32_t), err)) == SAM_OK &&
         (st = sam_gl_compute_program("nodes.comp", NULL, &t->program, err)) == SAM_OK)
         st = sam_gl_compute_program("nodes.comp", "#define SAM_NODES_LIGHT 1\n", &t->light_program, err);
     free(zero);
+    free(tau);
     free(parent);
     return st;
 }

@@ -82,10 +82,14 @@ sam_status sam_runtime_read_samples(sam_runtime *rt, uint32_t *index, float *kpr
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[SAM_B_SAMPLES]);
     glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(count * 4 * sizeof *raw), raw);
-    for (size_t i = 0; i < count; ++i) {
-        index[i] = raw[4 * i];
-        memcpy(kprime + 3 * i, raw + 4 * i + 1, 3 * sizeof(float));
-    }
+    /* The GPU's slot-major order (shaders/sample.glsl) back to the .sam's rows. */
+    const size_t nv = rt->vertex_count, n = rt->stride;
+    for (size_t v = 0; v < nv; ++v)
+        for (size_t k = 0; k < n; ++k) {
+            const size_t to = v * n + k, from = k * nv + v;
+            index[to] = raw[4 * from];
+            memcpy(kprime + 3 * to, raw + 4 * from + 1, 3 * sizeof(float));
+        }
     free(raw);
     return SAM_OK;
 }

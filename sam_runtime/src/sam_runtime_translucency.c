@@ -92,7 +92,6 @@ sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt,
     GLuint p = rt->translucency.program[sam_runtime_rest_k_mode(rt)][kind]; /* compiled with its mode */
     glUseProgram(p);
     glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
-    glUniform1ui(glGetUniformLocation(p, "u_stride"), rt->stride);
     glUniform1ui(glGetUniformLocation(p, "u_samples"), samples && samples < rt->stride ? samples : rt->stride);
     glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
     glUniform1f(glGetUniformLocation(p, "u_alpha"), reset ? 1.0f : sam_runtime_smoothing_alpha(dt));

@@ -257,7 +257,8 @@ sam_rest_k sam_runtime_rest_k_mode(const sam_runtime *rt);
  * sam_runtime_samples_per_vertex) the back-side vertex of each sample (or
  * vertex_count + node for a cut map's tree node),
  * SAMFILE_NO_SAMPLE for an empty slot, and `kprime` (vertex_count * n * 3)
- * its K'. For tests and tools. Errors: SAM_ERR_OUT_OF_MEMORY. */
+ * its K'; row v holds vertex v's n samples, as in the .sam (the GPU keeps
+ * them slot-major). For tests and tools. Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_read_samples(sam_runtime *rt, uint32_t *index, float *kprime, sam_error *err);
 
 /* Testing aid. Reads the current positions (model units) or unit normals (3 *
