@@ -1,5 +1,6 @@
 /* Shadow maps (sam_runtime_shadows.h): a 512^2 cube of distances for point
- * and area lights, a 1024^2 depth map for spot and directional lights. */
+ * and area lights, a 1024^2 depth map for spot and directional lights;
+ * shaders/shadows.glsl filters both. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
