@@ -29,17 +29,23 @@ typedef struct cut_fixture {
     sam_build_result r;
 } cut_fixture;
 
+/* `shape`: a sam_shape name, or a mesh file (a path: it holds a '/'). */
 static void build_cut(cut_fixture *f, const char *shape, int resolution, double size, double thickness,
                       const char *material, float mm_per_unit, uint32_t budget, int threads)
 {
-    sam_test_shape_mesh(shape, resolution, size, thickness, 0, &f->mesh);
+    sam_error err;
+    if (strchr(shape, '/')) {
+        if (sam_mesh_load(shape, &f->mesh, NULL, &err) != SAM_OK)
+            fail_msg("%s", err.message);
+    } else {
+        sam_test_shape_mesh(shape, resolution, size, thickness, 0, &f->mesh);
+    }
     f->mm_per_unit = mm_per_unit;
     assert_int_equal(sam_profile_preset(material, &f->profile, NULL), SAM_OK);
     sam_build_settings s;
     sam_build_default_settings(&s);
     s.samples_per_vertex = budget;
     s.threads = threads;
-    sam_error err;
     if (sam_build_context_create(&f->mesh, &f->profile, mm_per_unit, &s, &f->ctx, &err) != SAM_OK ||
         sam_build_run(f->ctx, NULL, NULL, &f->r, &err) != SAM_OK)
         fail_msg("%s", err.message);
@@ -235,6 +241,79 @@ static void test_node_k_counts_only_back_side_members(void **state)
     }
 }
 
+/* L_d of topo vertex t under a directional light travelling along -z:
+ * max(0, n.z), the light the runtime would give a back side facing it. */
+static double one_sided_ld(const cut_fixture *f, uint32_t t)
+{
+    return fmax(0.0, f->mesh.topo_normals[3 * (size_t)t + 2]);
+}
+
+/* A sample's L_d as the runtime sums it: its members' area-weighted mean
+ * (tau's first-order move left out). Adds every member's fan area and
+ * area-weighted position (mm) to moment[4], as member_k does. */
+static double sample_ld(const cut_fixture *f, uint32_t id, double moment[4])
+{
+    const uint32_t n = f->mesh.topo_count;
+    if (id < n) {
+        float p[3];
+        topo_mm(f, id, p);
+        moment[0] += f->r.fan_area[id];
+        for (int c = 0; c < 3; ++c)
+            moment[1 + c] += (double)f->r.fan_area[id] * p[c];
+        return one_sided_ld(f, id);
+    }
+    double m[2][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}}, ld[2];
+    for (int c = 0; c < 2; ++c)
+        ld[c] = sample_ld(f, f->r.node_children[2 * (size_t)(id - n) + c], m[c]);
+    for (int i = 0; i < 4; ++i)
+        moment[i] += m[0][i] + m[1][i];
+    const double area = m[0][0] + m[1][0];
+    return area > 0 ? (m[0][0] * ld[0] + m[1][0] * ld[1]) / area : 0.0;
+}
+
+/* The bundled ear (a shell with a scan's uneven normals) in skin, lit
+ * from one side: the translucency the cut sums (eq. 12, samples at their
+ * members' mean L_d) against every back-side vertex's L_d K, one by one.
+ * Around a receiver, boxes cannot tell its front from its back side, and a
+ * node only partly behind it by its boxes lent its few back-side members
+ * the L_d of all its members: 1.8% off here, 25% on the Chinese dragon
+ * scan, before small such nodes were classified member by member (0.6%
+ * and 15%; the rest is tau's first-order move, left out here). */
+static void test_one_sided_light_matches_brute_force(void **state)
+{
+    (void)state;
+    cut_fixture f;
+    build_cut(&f, SAM_SOURCE_DIR "/meshes/ear.obj", 0, 0, 0, "skin", 60.0f, 32, 0);
+    const uint32_t n = f.mesh.topo_count, b = f.r.samples_per_vertex;
+    double err = 0, total = 0;
+    uint32_t lit = 0;
+    for (uint32_t o = 0; o < n; o += 3) {
+        double brute = 0, cut = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+            if (i == o || !sam_build_is_back_side(f.ctx, o, i))
+                continue;
+            float k[3], e;
+            sam_build_form_factor(f.ctx, o, i, 64, 1, k, &e);
+            brute += one_sided_ld(&f, i) * (k[0] + k[1] + k[2]) / 3.0;
+        }
+        for (uint32_t k = 0; k < b; ++k) {
+            const size_t at = (size_t)o * b + k;
+            if (f.r.sample[at] == SAM_BUILD_NO_SAMPLE)
+                break;
+            double moment[4] = {0, 0, 0, 0};
+            const double ld = sample_ld(&f, f.r.sample[at], moment);
+            cut += ld * stored_k(&f, o, f.r.kprime + 3 * at, moment);
+        }
+        err += fabs(cut - brute);
+        total += brute;
+        lit += brute > 0;
+    }
+    printf("ear.obj, skin, lit from one side: %u receivers lit, |T cut - T brute| / T brute %.4f\n", lit, err / total);
+    assert_true(lit > 100);
+    assert_true(err / total < 0.01);
+    destroy_cut(&f);
+}
+
 static void test_bit_identical_for_any_thread_count(void **state)
 {
     (void)state;
@@ -336,6 +415,7 @@ int main(void)
         cmocka_unit_test(test_total_matches_brute_force),
         cmocka_unit_test(test_uniform_slab_closed_form),
         cmocka_unit_test(test_node_k_counts_only_back_side_members),
+        cmocka_unit_test(test_one_sided_light_matches_brute_force),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
         cmocka_unit_test(test_samfile_rows_follow_render_vertices),
         cmocka_unit_test(test_samfile_versions),

@@ -63,7 +63,7 @@ static sam_status cache_path(const char *dir, const sam_scene *scene, const sam_
     if (st != SAM_OK)
         return st;
     char key[512];
-    snprintf(key, sizeof key, "%s\n%s\n%d %.9g\n%u %u %llu %d %.9g %u %.9g", mesh_hash,
+    snprintf(key, sizeof key, "%s\n%s\n%s\n%d %.9g\n%u %u %llu %d %.9g %u %.9g", SAM_BUILD_VERSION, mesh_hash,
              scene->material ? scene->material : "", (int)scene->scale_kind, scene->scale_value,
              sam_build_samples(set), set->mc_samples, (unsigned long long)set->seed, (int)set->map,
              set->cut_tolerance, set->candidates, set->radius_tolerance);

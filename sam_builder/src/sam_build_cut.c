@@ -19,6 +19,13 @@ typedef struct cut_entry {
     float tau;      /* node_tau; 0 for a vertex */
 } cut_entry;
 
+/* Nodes partly behind a receiver by their boxes, of at most this many
+ * members, are classified member by member: a few hundred back-side tests,
+ * about the work of one form factor's Monte Carlo. On the head and dragon
+ * scans in skin 16 members gained 0.1-1.6 dB, 64 up to 4 dB, 256 up to 8 dB
+ * (and halved the build); 1024 and 4096 gave the same scores, slower. */
+#define EXACT_MEMBERS 256u
+
 /* Classifies `id` for receiver o. Returns 0 when no member can contribute
  * (all in front, all facing o's way, or all beyond the search radius). */
 static int classify(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id, cut_entry *e)
@@ -41,7 +48,23 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
     }
     const sam_build_node *node = &tree->node[id - n];
     sam_bounds_range b;
-    const sam_build_side side = sam_build_node_side(ctx, node, o, &b);
+    sam_build_side side = sam_build_node_side(ctx, node, o, &b);
+    if (side == SAM_BUILD_SIDE_PARTLY && node->count <= EXACT_MEMBERS) {
+        /* Boxes cannot tell the receiver's own front from its back side:
+         * around it every node is "partly" behind. Such a node that holds
+         * no back-side member carried no K but took a slot, and one of a
+         * few back-side members lent them the L_d of all its members,
+         * front ones too: on a skin scan most of the cut was such nodes,
+         * and vertices with no back side in reach got light. A small
+         * node's members are asked one by one. */
+        uint32_t behind = 0;
+        for (uint32_t m = 0; m < node->count; ++m) {
+            const uint32_t v = tree->perm[node->first + m];
+            behind += v != o && sam_build_is_back_side(ctx, o, v) &&
+                      sam_build_distance(p, ctx->pos + 3 * (size_t)v) < radius;
+        }
+        side = behind == 0 ? SAM_BUILD_SIDE_OUT : behind == node->count ? SAM_BUILD_SIDE_BACK : side;
+    }
     if (side == SAM_BUILD_SIDE_OUT)
         return 0;
     const float near = sam_build_rd_mean(ctx, sqrtf(b.near2));

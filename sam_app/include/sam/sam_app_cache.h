@@ -3,7 +3,8 @@
  * sam_view and sam_compare, so a mesh's map is built once whichever tool
  * renders it first. A map is cached under a name from the mesh's SHA-256
  * and everything else the build depends on (material, scale, the build
- * settings), so a changed mesh, material or scale never reads a stale map.
+ * settings, the builder's SAM_BUILD_VERSION), so a changed mesh, material,
+ * scale or builder never reads a stale map.
  * Part of sam_app_build: a map missing from the cache is built.
  */
 #ifndef SAM_APP_CACHE_H

@@ -50,7 +50,11 @@
 extern "C" {
 #endif
 
-#define SAM_BUILD_VERSION "1.0"
+/* The builder's version, recorded in every .sam it writes; it changes
+ * whenever the same inputs give another map (1.1: cut nodes of up to 256
+ * members classified member by member), and the tools' map cache keys on
+ * it, so that no cached map outlives the builder that made it. */
+#define SAM_BUILD_VERSION "1.1"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
