@@ -158,6 +158,16 @@ static void topo_mm(const cut_fixture *f, uint32_t t, float out[3])
         out[c] = f->mesh.positions[3 * (size_t)f->mesh.topo_rep[t] + c] * f->mm_per_unit;
 }
 
+/* Adds topo vertex t's fan area and area-weighted position (mm) to moment[4]. */
+static void add_moment(const cut_fixture *f, uint32_t t, double moment[4])
+{
+    float p[3];
+    topo_mm(f, t, p);
+    moment[0] += f->r.fan_area[t];
+    for (int c = 0; c < 3; ++c)
+        moment[1 + c] += (double)f->r.fan_area[t] * p[c];
+}
+
 /* Sums the Monte Carlo K of the back-side members of `id` (mean RGB),
  * counts the members on either side, and adds every member's fan area and
  * area-weighted position (mm) to moment[4]. */
@@ -166,11 +176,7 @@ static double member_k(const cut_fixture *f, uint32_t o, uint32_t id, uint32_t *
 {
     const uint32_t n = f->mesh.topo_count;
     if (id < n) {
-        float p[3];
-        topo_mm(f, id, p);
-        moment[0] += f->r.fan_area[id];
-        for (int c = 0; c < 3; ++c)
-            moment[1 + c] += (double)f->r.fan_area[id] * p[c];
+        add_moment(f, id, moment);
         if (id == o || !sam_build_is_back_side(f->ctx, o, id)) {
             ++*front;
             return 0;
@@ -255,11 +261,7 @@ static double sample_ld(const cut_fixture *f, uint32_t id, double moment[4])
 {
     const uint32_t n = f->mesh.topo_count;
     if (id < n) {
-        float p[3];
-        topo_mm(f, id, p);
-        moment[0] += f->r.fan_area[id];
-        for (int c = 0; c < 3; ++c)
-            moment[1 + c] += (double)f->r.fan_area[id] * p[c];
+        add_moment(f, id, moment);
         return one_sided_ld(f, id);
     }
     double m[2][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}}, ld[2];
