@@ -2,7 +2,7 @@
  * sam_thickness (the local-thickness technique's precompute) against what
  * its estimator gives analytically: a slab's depth, a sphere's radius, the
  * cap on an open mesh; the ray rule; bit-identical results for any thread
- * count; and refused input.
+ * count; refused input; and the ring median that removes lone outliers.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -308,6 +308,45 @@ static void test_refused_input(void **state)
     print_message("%s\n", err.message);
 }
 
+/* The ring median on a chain of 12 vertices (ring: the two neighbours):
+ * a lone vertex that reads almost no thickness (a scan's crack behind it)
+ * takes its neighbours'; a thin part three vertices wide keeps its own; an
+ * end, with two values, takes their mean. Bad rings are refused. */
+static void test_ring_median(void **state)
+{
+    (void)state;
+    enum { N = 12 };
+    uint32_t offsets[N + 1], ring[2 * N], used = 0;
+    for (uint32_t v = 0; v < N; ++v) {
+        offsets[v] = used;
+        if (v > 0)
+            ring[used++] = v - 1;
+        if (v + 1 < N)
+            ring[used++] = v + 1;
+    }
+    offsets[N] = used;
+    float t[N], out[N];
+    for (int v = 0; v < N; ++v)
+        t[v] = 10.0f;
+    t[3] = 0.02f;
+    t[7] = t[8] = t[9] = 1.0f;
+    t[0] = 12.0f;
+    sam_error err;
+    assert_int_equal(sam_thickness_ring_median(N, offsets, ring, t, out, &err), SAM_OK);
+    assert_true(out[3] == 10.0f);
+    assert_true(out[7] == 1.0f && out[8] == 1.0f && out[9] == 1.0f);
+    assert_true(out[0] == 11.0f);
+    assert_true(out[5] == 10.0f);
+    assert_int_equal(sam_thickness_ring_median(N, offsets, ring, t, t, &err), SAM_ERR_INVALID_ARGUMENT);
+    ring[4] = N;
+    assert_int_equal(sam_thickness_ring_median(N, offsets, ring, t, out, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "names vertex 12"));
+    ring[4] = 3;
+    offsets[5] = offsets[6] + 1;
+    assert_int_equal(sam_thickness_ring_median(N, offsets, ring, t, out, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "fall"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -318,6 +357,7 @@ int main(void)
         cmocka_unit_test(test_misses_take_the_cap),
         cmocka_unit_test(test_threads_bit_identical),
         cmocka_unit_test(test_refused_input),
+        cmocka_unit_test(test_ring_median),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

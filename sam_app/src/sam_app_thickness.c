@@ -27,7 +27,15 @@ sam_status sam_app_thickness(const samfile_data *sam, float mm_per_unit, const c
     sam_app_progress_init(&bar, tool, tool == NULL, NULL);
     const sam_thickness_surface surface = {sam->vertex_count, sam->positions, sam->normals, sam->triangle_count,
                                            sam->triangles};
-    sam_status st = sam_thickness_compute(&surface, mm_per_unit, NULL, delayed_progress, &bar, *mm, err);
+    float *raw = malloc((size_t)sam->vertex_count * sizeof *raw);
+    sam_status st = raw ? sam_thickness_compute(&surface, mm_per_unit, NULL, delayed_progress, &bar, raw, err)
+                        : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory for the thickness of %u vertices",
+                                   sam->vertex_count);
+    /* Lone vertices over a crack of the scan read next to no thickness:
+     * fireflies (sam_thickness.h). */
+    if (st == SAM_OK)
+        st = sam_thickness_ring_median(sam->vertex_count, sam->adjacency_offsets, sam->adjacency, raw, *mm, err);
+    free(raw);
     if (st != SAM_OK) {
         free(*mm);
         *mm = NULL;
