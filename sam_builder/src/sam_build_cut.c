@@ -26,21 +26,26 @@ typedef struct cut_entry {
  * (and halved the build); 1024 and 4096 gave the same scores, slower. */
 #define EXACT_MEMBERS 256u
 
+/* Whether topo vertex v can send receiver o light: behind it (eq. 13-14)
+ * and within the search radius. Its distance (mm) into *d when it can. */
+static int reaches(const sam_build_context *ctx, uint32_t o, uint32_t v, float *d)
+{
+    if (v == o || !sam_build_is_back_side(ctx, o, v))
+        return 0;
+    *d = sam_build_distance(ctx->pos + 3 * (size_t)o, ctx->pos + 3 * (size_t)v);
+    return *d < ctx->search_radius;
+}
+
 /* Classifies `id` for receiver o. Returns 0 when no member can contribute
  * (all in front, all facing o's way, or all beyond the search radius). */
 static int classify(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id, cut_entry *e)
 {
     const uint32_t n = ctx->mesh->topo_count;
-    const float *p = ctx->pos + 3 * (size_t)o;
-    const float radius = ctx->search_radius;
     memset(e, 0, sizeof *e);
     e->id = id;
+    float d;
     if (id < n) {
-        if (id == o || !sam_build_is_back_side(ctx, o, id))
-            return 0;
-        const float *q = ctx->pos + 3 * (size_t)id;
-        const float d = sam_build_distance(p, q);
-        if (d >= radius)
+        if (!reaches(ctx, o, id, &d))
             return 0;
         e->back = 1;
         e->estimate = ctx->fan_area[id] * sam_build_rd_mean(ctx, d);
@@ -58,11 +63,8 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
          * and vertices with no back side in reach got light. A small
          * node's members are asked one by one. */
         uint32_t behind = 0;
-        for (uint32_t m = 0; m < node->count; ++m) {
-            const uint32_t v = tree->perm[node->first + m];
-            behind += v != o && sam_build_is_back_side(ctx, o, v) &&
-                      sam_build_distance(p, ctx->pos + 3 * (size_t)v) < radius;
-        }
+        for (uint32_t m = 0; m < node->count; ++m)
+            behind += (uint32_t)reaches(ctx, o, tree->perm[node->first + m], &d);
         side = behind == 0 ? SAM_BUILD_SIDE_OUT : behind == node->count ? SAM_BUILD_SIDE_BACK : side;
     }
     if (side == SAM_BUILD_SIDE_OUT)
@@ -72,7 +74,7 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
     if (e->back) {
         const float *c = node->centroid;
         e->priority = node->area * fmaxf(near - sam_build_rd_mean(ctx, sqrtf(b.far2)), 0.0f);
-        e->estimate = node->area * sam_build_rd_mean(ctx, sam_build_distance(p, c));
+        e->estimate = node->area * sam_build_rd_mean(ctx, sam_build_distance(ctx->pos + 3 * (size_t)o, c));
     } else {
         e->priority = node->area * near;
     }
