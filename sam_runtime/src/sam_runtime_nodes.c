@@ -10,8 +10,8 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
     sam_rt_nodes *t = &rt->nodes;
     const size_t nc = sam->node_count, total = (size_t)sam->vertex_count + nc;
     t->node_count = sam->node_count;
-    /* A flat map binds one zeroed node so every buffer exists. */
     const size_t nv = sam->vertex_count, stride = sam->samples_per_vertex, samples = nv * stride;
+    /* A flat map binds one zeroed node so every buffer exists. */
     float *zero = calloc((nc ? nc : 1) * 16, sizeof *zero);
     float *tau = malloc((nc ? samples : 1) * sizeof *tau);
     uint32_t *parent = malloc(total * sizeof *parent);
