@@ -33,7 +33,7 @@ void main()
         return;
     vec3 p = positions[v].xyz;
     for (uint k = 0u; k < u_stride; ++k) {
-        uint i = k * u_vertex_count + v;
+        uint i = sample_slot(v, k, u_vertex_count);
         Sample s = samples[i];
         if (s.index == 0xFFFFFFFFu) {
             rest_k[i] = Sample(s.index, 0.0, 0.0, 0.0);

@@ -12,3 +12,9 @@ struct Sample {
     uint index;
     float kr, kg, kb;
 };
+
+// Where slot k of vertex v lies in a per-sample buffer of vertex_count rows.
+uint sample_slot(uint v, uint k, uint vertex_count)
+{
+    return k * vertex_count + v;
+}

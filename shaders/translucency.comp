@@ -76,7 +76,7 @@ vec3 sample_light(uint v, uint k, uint index)
     if (index < u_vertex_count)
         return irradiance[index].rgb;
     Node d = nodes[index - u_vertex_count];
-    return max(d.ld.rgb + sample_tau[k * u_vertex_count + v] * d.ld_diff.rgb, vec3(0.0));
+    return max(d.ld.rgb + sample_tau[sample_slot(v, k, u_vertex_count)] * d.ld_diff.rgb, vec3(0.0));
 }
 
 void store(uint v, vec3 sum)
@@ -94,7 +94,7 @@ void main()
         return;
     vec3 sum = vec3(0.0);
     for (uint k = 0u; k < u_samples; ++k) {
-        Sample s = rest_k[k * u_vertex_count + v];
+        Sample s = rest_k[sample_slot(v, k, u_vertex_count)];
         if (s.index == 0xFFFFFFFFu)
             break;
         sum += sample_light(v, k, s.index) * vec3(s.kr, s.kg, s.kb);
@@ -110,7 +110,7 @@ void main()
     vec3 p = positions[v].xyz;
     vec3 sum = vec3(0.0);
     for (uint k = 0u; k < u_samples; ++k) {
-        Sample s = samples[k * u_vertex_count + v];
+        Sample s = samples[sample_slot(v, k, u_vertex_count)];
         if (s.index == 0xFFFFFFFFu)
             break;
         sum += sample_light(v, k, s.index) * eq15_k(s.index, vec3(s.kr, s.kg, s.kb), p);
@@ -132,7 +132,7 @@ void main()
     // samples are few: the walk's adoptions.
     uint slots_low = 0u, slots_high = 0u; // slots 0-31 and 32-63 (SAMFILE_MAX_SAMPLES_PER_VERTEX)
     for (uint k = 0u; k < u_samples; ++k) {
-        Sample s = samples[k * u_vertex_count + v];
+        Sample s = samples[sample_slot(v, k, u_vertex_count)];
         if (s.index == 0xFFFFFFFFu)
             break;
         if (s.index < u_vertex_count) {
@@ -146,7 +146,7 @@ void main()
         vec4 q = nodes[s.index - u_vertex_count].centroid_area;
 #ifdef SAM_REST_K
         // The walk never moves a node from its slot, so the slot's rest K is its own.
-        Sample r = rest_k[k * u_vertex_count + v];
+        Sample r = rest_k[sample_slot(v, k, u_vertex_count)];
         vec3 k_rest = vec3(r.kr, r.kg, r.kb);
 #else
         vec4 rest = rest_nodes[s.index - u_vertex_count].centroid_area;
@@ -158,7 +158,7 @@ void main()
     }
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
-            Sample s = samples[(uint(findLSB(bits)) + 32u * w) * u_vertex_count + v];
+            Sample s = samples[sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count)];
             vec3 q = positions[s.index].xyz;
             if (!(dot(q - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
                 continue;

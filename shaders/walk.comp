@@ -91,7 +91,7 @@ void main()
     // a mask for a cut map's nodes too, which are nearly all its samples.
     uint slots_low = 0u, slots_high = 0u; // slots 0-31 and 32-63
     for (uint k = 0u; k < u_stride; ++k) {
-        chosen[k] = samples[k * u_vertex_count + v];
+        chosen[k] = samples[sample_slot(v, k, u_vertex_count)];
         uint i = chosen[k].index;
         score[k] = i == NO_SAMPLE ? -1.0 : is_node(i) ? 3.0e38 : 0.0;
         if (i != NO_SAMPLE && !is_node(i)) {
@@ -112,7 +112,7 @@ void main()
     // one ring per frame.
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
-            Sample from = samples[(uint(findLSB(bits)) + 32u * w) * u_vertex_count + v];
+            Sample from = samples[sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count)];
             for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
                 uint c = adjacency[a];
                 uint worst = 0u;
@@ -149,5 +149,5 @@ void main()
             score[j - 1u] = f;
         }
     for (uint k = 0u; k < u_stride; ++k)
-        samples[k * u_vertex_count + v] = chosen[k];
+        samples[sample_slot(v, k, u_vertex_count)] = chosen[k];
 }

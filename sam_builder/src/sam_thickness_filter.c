@@ -1,6 +1,5 @@
 /* The ring median of per-vertex thickness (sam_thickness.h). */
 #include <stdlib.h>
-#include <string.h>
 
 #include "sam/sam_thickness.h"
 
