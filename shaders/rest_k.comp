@@ -15,10 +15,10 @@ layout(local_size_x = 64) in;
 #include "node.glsl"
 
 layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = SAM_B_SAMPLES) readonly buffer Samples { Sample samples[]; };
+layout(std430, binding = SAM_B_SAMPLES) readonly buffer Samples { uint samples[]; };
 layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_area[]; };
 layout(std430, binding = SAM_B_NODES) readonly buffer Nodes { Node nodes[]; };
-layout(std430, binding = SAM_B_REST_K) writeonly buffer RestK { Sample rest_k[]; };
+layout(std430, binding = SAM_B_REST_K) writeonly buffer RestK { uint rest_k[]; };
 
 uniform uint u_vertex_count;
 uniform uint u_stride; // samples stored per vertex
@@ -34,12 +34,12 @@ void main()
     vec3 p = positions[v].xyz;
     for (uint k = 0u; k < u_stride; ++k) {
         uint i = sample_slot(v, k, u_vertex_count);
-        Sample s = samples[i];
+        Sample s = SAMPLE_LOAD(samples, i);
         if (s.index == 0xFFFFFFFFu) {
-            rest_k[i] = Sample(s.index, 0.0, 0.0, 0.0);
+            SAMPLE_STORE(rest_k, i, Sample(s.index, uvec2(0u)));
             continue;
         }
-        vec3 k_rest = eq15_k(s.index, vec3(s.kr, s.kg, s.kb), p);
-        rest_k[i] = Sample(s.index, k_rest.r, k_rest.g, k_rest.b);
+        vec3 k_rest = eq15_k(s.index, sample_k(s), p);
+        SAMPLE_STORE(rest_k, i, make_sample(s.index, k_rest));
     }
 }

@@ -11,7 +11,7 @@
 
 #define SAM_B_POSITIONS 0     /* vec4 per vertex, model units */
 #define SAM_B_NORMALS 1       /* vec4 per vertex */
-#define SAM_B_SAMPLES 2       /* {uint index; float K'rgb} x N per vertex */
+#define SAM_B_SAMPLES 2       /* {uint index; uvec2 packed K'} x N per vertex, slot-major (sample.glsl) */
 #define SAM_B_FAN_AREAS 3     /* float per vertex, mm^2 */
 #define SAM_B_IRRADIANCE 4    /* vec4 per vertex: L_d */
 #define SAM_B_TRANSLUCENCY 5  /* vec4 per vertex: smoothed T */
@@ -34,7 +34,7 @@
 #define SAM_B_REST_POSITIONS 19 /* the rest pose a posed K is carried from */
 #define SAM_B_BOUNDS 20         /* the posed box: 6 order-preserving uint keys */
 #define SAM_B_TRANSMISSION 21   /* vec4 per vertex: G(t) of the vertex's local thickness */
-#define SAM_B_REST_K 22         /* {uint index; float K rgb} per sample, slot-major: its K at rest */
+#define SAM_B_REST_K 22         /* {uint index; uvec2 packed K} per sample, slot-major: its K at rest */
 #define SAM_B_LIMIT 23          /* bindings a context must offer */
 
 /* Tree levels the node pass sums per dispatch (nodes.comp): 2 was the

@@ -33,7 +33,7 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = SAM_B_NORMALS) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = SAM_B_SAMPLES) readonly buffer Samples { Sample samples[]; };
+layout(std430, binding = SAM_B_SAMPLES) readonly buffer Samples { uint samples[]; };
 layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_area[]; };
 layout(std430, binding = SAM_B_IRRADIANCE) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = SAM_B_TRANSLUCENCY) buffer Translucency { vec4 translucency[]; };
@@ -45,7 +45,7 @@ layout(std430, binding = SAM_B_REST_POSITIONS) readonly buffer RestPositions { v
 layout(std430, binding = SAM_B_REST_NODES) readonly buffer RestNodes { Node rest_nodes[]; };
 #endif
 #ifdef SAM_REST_K
-layout(std430, binding = SAM_B_REST_K) readonly buffer RestK { Sample rest_k[]; }; // K, not K'
+layout(std430, binding = SAM_B_REST_K) readonly buffer RestK { uint rest_k[]; }; // K, not K'
 #endif
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
@@ -94,10 +94,10 @@ void main()
         return;
     vec3 sum = vec3(0.0);
     for (uint k = 0u; k < u_samples; ++k) {
-        Sample s = rest_k[sample_slot(v, k, u_vertex_count)];
+        Sample s = SAMPLE_LOAD(rest_k, sample_slot(v, k, u_vertex_count));
         if (s.index == 0xFFFFFFFFu)
             break;
-        sum += sample_light(v, k, s.index) * vec3(s.kr, s.kg, s.kb);
+        sum += sample_light(v, k, s.index) * sample_k(s);
     }
     store(v, sum);
 }
@@ -110,10 +110,10 @@ void main()
     vec3 p = positions[v].xyz;
     vec3 sum = vec3(0.0);
     for (uint k = 0u; k < u_samples; ++k) {
-        Sample s = samples[sample_slot(v, k, u_vertex_count)];
+        Sample s = SAMPLE_LOAD(samples, sample_slot(v, k, u_vertex_count));
         if (s.index == 0xFFFFFFFFu)
             break;
-        sum += sample_light(v, k, s.index) * eq15_k(s.index, vec3(s.kr, s.kg, s.kb), p);
+        sum += sample_light(v, k, s.index) * eq15_k(s.index, sample_k(s), p);
     }
     store(v, sum);
 }
@@ -132,7 +132,7 @@ void main()
     // samples are few: the walk's adoptions.
     uint slots_low = 0u, slots_high = 0u; // slots 0-31 and 32-63 (SAMFILE_MAX_SAMPLES_PER_VERTEX)
     for (uint k = 0u; k < u_samples; ++k) {
-        Sample s = samples[sample_slot(v, k, u_vertex_count)];
+        Sample s = SAMPLE_LOAD(samples, sample_slot(v, k, u_vertex_count));
         if (s.index == 0xFFFFFFFFu)
             break;
         if (s.index < u_vertex_count) {
@@ -142,12 +142,12 @@ void main()
                 slots_high |= 1u << (k - 32u);
             continue;
         }
-        vec3 kprime = vec3(s.kr, s.kg, s.kb);
+        vec3 kprime = sample_k(s);
         vec4 q = nodes[s.index - u_vertex_count].centroid_area;
 #ifdef SAM_REST_K
         // The walk never moves a node from its slot, so the slot's rest K is its own.
-        Sample r = rest_k[sample_slot(v, k, u_vertex_count)];
-        vec3 k_rest = vec3(r.kr, r.kg, r.kb);
+        Sample r = SAMPLE_LOAD(rest_k, sample_slot(v, k, u_vertex_count));
+        vec3 k_rest = sample_k(r);
 #else
         vec4 rest = rest_nodes[s.index - u_vertex_count].centroid_area;
         vec3 k_rest = kprime * rest.w * profile_rd(u_mm_per_unit * distance(rest.xyz, rest_positions[v].xyz));
@@ -158,11 +158,11 @@ void main()
     }
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
-            Sample s = samples[sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count)];
+            Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count));
             vec3 q = positions[s.index].xyz;
             if (!(dot(q - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
                 continue;
-            vec3 kprime = vec3(s.kr, s.kg, s.kb);
+            vec3 kprime = sample_k(s);
 #ifdef SAM_POSED_EQ15
             vec3 posed_k = kprime * fan_area[s.index] * profile_rd(u_mm_per_unit * distance(q, p));
 #else

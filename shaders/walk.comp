@@ -37,7 +37,7 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = SAM_B_POSITIONS) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = SAM_B_NORMALS) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = SAM_B_SAMPLES) buffer Samples { Sample samples[]; };
+layout(std430, binding = SAM_B_SAMPLES) buffer Samples { uint samples[]; };
 layout(std430, binding = SAM_B_FAN_AREAS) readonly buffer FanAreas { float fan_area[]; };
 layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
 layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
@@ -91,7 +91,7 @@ void main()
     // a mask for a cut map's nodes too, which are nearly all its samples.
     uint slots_low = 0u, slots_high = 0u; // slots 0-31 and 32-63
     for (uint k = 0u; k < u_stride; ++k) {
-        chosen[k] = samples[sample_slot(v, k, u_vertex_count)];
+        chosen[k] = SAMPLE_LOAD(samples, sample_slot(v, k, u_vertex_count));
         uint i = chosen[k].index;
         score[k] = i == NO_SAMPLE ? -1.0 : is_node(i) ? 3.0e38 : 0.0;
         if (i != NO_SAMPLE && !is_node(i)) {
@@ -105,14 +105,14 @@ void main()
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
             uint k = uint(findLSB(bits)) + 32u * w, i = chosen[k].index;
             if (back_side(i, p, n))
-                score[k] = approximate_k(i, vec3(chosen[k].kr, chosen[k].kg, chosen[k].kb), p);
+                score[k] = approximate_k(i, sample_k(chosen[k]), p);
         }
     // Walk from the samples as they were (read back from the buffer, which
     // this invocation has not written yet), not from this frame's adoptions:
     // one ring per frame.
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
-            Sample from = samples[sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count)];
+            Sample from = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count));
             for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
                 uint c = adjacency[a];
                 uint worst = 0u;
@@ -127,7 +127,7 @@ void main()
                 vec3 kp = vec3(1.0);
                 float s = approximate_k(c, kp, p);
                 if (s > score[worst]) {
-                    chosen[worst] = Sample(c, kp.r, kp.g, kp.b);
+                    chosen[worst] = make_sample(c, kp);
                     score[worst] = s;
                 }
             }
@@ -149,5 +149,5 @@ void main()
             score[j - 1u] = f;
         }
     for (uint k = 0u; k < u_stride; ++k)
-        samples[sample_slot(v, k, u_vertex_count)] = chosen[k];
+        SAMPLE_STORE(samples, sample_slot(v, k, u_vertex_count), chosen[k]);
 }

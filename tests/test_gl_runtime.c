@@ -152,14 +152,16 @@ static void check_translucency(const char *material, int resolution)
         for (uint32_t i = 0; i < 3 * nv; ++i)
             peak = fmax(peak, fabs(cpu[i]));
         for (uint32_t i = 0; i < 3 * nv; ++i) {
-            /* Relative to the value, with a floor far below anything visible. */
+            /* Relative to the value, with a floor far below anything
+             * visible: K' and the cached K are packed, each channel within
+             * 2^-14 of itself (shaders/sample.glsl). */
             double rel = fabs(gpu[i] - cpu[i]) / fmax(fabs(cpu[i]), 1e-6 * peak);
             worst = fmax(worst, rel);
         }
         printf("%s, %u vertices, %u tree nodes, %u samples: worst relative error %.2e (peak T %.3g), %.3f ms\n",
                material, nv, d.node_count, used, worst, peak, sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY));
         assert_true(peak > 0);
-        assert_true(worst <= 1e-4);
+        assert_true(worst <= 2.5e-4);
         assert_true(sam_runtime_pass_ms(rt, SAM_PASS_TRANSLUCENCY) >= 0);
     }
     free(ld);
@@ -350,7 +352,7 @@ static void test_irradiance_matches_cpu(void **state)
         printf("irradiance%s: worst relative error %.2e over %u lit values (peak %.3g), %.3f ms\n",
                with_env ? " + environment" : "", worst, lit, peak, sam_runtime_pass_ms(rt, SAM_PASS_IRRADIANCE));
         assert_true(lit > nv);
-        assert_true(worst <= 1e-4);
+        assert_true(worst <= 2.5e-4);
     }
     /* The pass feeds the translucency pass on the GPU. */
     assert_int_equal(sam_runtime_translucency(rt, 0, 0.0f, 1, &err), SAM_OK);
@@ -530,7 +532,7 @@ static void test_diffusion_energy_and_blur(void **state)
                     worst = fmax(worst, fabs(b - a) / a);
                 }
         printf("%s diffusion, uniform light: worst relative change %.2e in the interior\n", names[mode], worst);
-        assert_true(worst <= 1e-4);
+        assert_true(worst <= 2.5e-4);
         assert_float_equal(blurred.pixels[3], 0.0f, 0.0f); /* corner: background */
         sam_image_destroy(&plain);
         sam_image_destroy(&blurred);

@@ -349,19 +349,34 @@ static void test_rest_walk_changes_nothing(void **state)
     memcpy(f->t_ref, f->t, f->nv * 3 * sizeof *f->t);
     check(sam_runtime_read_samples(f->rt, idx, kp, &err), &err);
     assert_memory_equal(idx, f->sam.sample_index, ns * sizeof *idx);
-    assert_memory_equal(kp, f->sam.sample_kprime, ns * 3 * sizeof *kp);
+    /* The GPU holds K' packed (shaders/sample.glsl): each channel within
+     * 2^-14 of itself. */
+    size_t exact = 0;
+    for (size_t i = 0; i < ns; ++i) {
+        const float *want = f->sam.sample_kprime + 3 * i;
+        for (int c = 0; c < 3; ++c) {
+            assert_true(fabsf(kp[3 * i + c] - want[c]) <= 0x1p-14f * want[c]);
+            exact += kp[3 * i + c] == want[c];
+        }
+    }
+    float *kp_rest = malloc(ns * 3 * sizeof *kp_rest);
+    assert_non_null(kp_rest);
+    memcpy(kp_rest, kp, ns * 3 * sizeof *kp);
     for (int i = 0; i < 5; ++i)
         step(f, 0.0f, 1);
     light_pose(f);
     check(sam_runtime_read_samples(f->rt, idx, kp, &err), &err);
     assert_memory_equal(idx, f->sam.sample_index, ns * sizeof *idx);
-    assert_memory_equal(kp, f->sam.sample_kprime, ns * 3 * sizeof *kp);
+    assert_memory_equal(kp, kp_rest, ns * 3 * sizeof *kp);
     assert_memory_equal(f->t, f->t_ref, f->nv * 3 * sizeof *f->t);
     printf("%zu of %zu samples moved during the bend; at rest samples, K' and T are bit-identical after 5 "
-           "walks\n", moved, ns);
+           "walks; %zu of %zu K' channels held exactly, the rest within 2^-14\n",
+           moved, ns, exact, 3 * ns);
     assert_true(moved > 0);
+    assert_true(exact < 3 * ns); /* packed, not copied */
     free(idx);
     free(kp);
+    free(kp_rest);
 }
 
 static void test_periodic_animation_does_not_drift(void **state)
@@ -543,7 +558,7 @@ static double max_relative_difference(const fixture *f, const float *a, const fl
 }
 
 /* A cut map (vertex and node samples) on the twisting ear: T with the rest
- * K cached equals T with it evaluated per frame up to float rounding, at
+ * K cached equals T with it evaluated per frame up to K's packing, at
  * rest and on a walked pose (where a node's rest K comes from the cache);
  * a cache refilled while posed comes from the rest pose, bit for bit. */
 static void test_cached_rest_k_matches_evaluated(void **state)
@@ -575,8 +590,10 @@ static void test_cached_rest_k_matches_evaluated(void **state)
     printf("cut map on the ear: T cached against evaluated rest K: largest difference %.2g of the largest T at "
            "rest, %.2g on a walked twist\n",
            rest, posed);
-    assert_true(rest < 1e-5);
-    assert_true(posed < 1e-5);
+    /* The cache holds K packed (shaders/sample.glsl), each channel within
+     * 2^-14 of itself; evaluated, K comes from the packed K'. */
+    assert_true(rest < 2e-4);
+    assert_true(posed < 2e-4);
     assert_true(memcmp(cached, first, bytes) != 0); /* the pose changed T */
     assert_memory_equal(f.t, first, bytes);
     assert_int_equal(sam_runtime_set_rest_k(f.rt, (sam_rest_k)5, &err), SAM_ERR_INVALID_ARGUMENT);

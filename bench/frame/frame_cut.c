@@ -114,7 +114,7 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
         return;
     }
     /* A GL may not hold the cut map's samples (llvmpipe: 128 MiB per
-     * storage block, passed near 260k vertices at N = 32): said, and the
+     * storage block, passed near 350k vertices at N = 32): said, and the
      * larger knots skipped, rather than the whole study lost. */
     sam_runtime *rt[3] = {NULL, NULL, NULL}; /* cut, flat, flat with its rest K evaluated */
     sam_error err;

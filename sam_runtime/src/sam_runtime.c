@@ -29,9 +29,9 @@ static sam_status upload_mesh(sam_runtime *rt, const samfile_data *sam, sam_erro
     const size_t nv = sam->vertex_count, n = sam->samples_per_vertex;
     float *pos = sam_runtime_widen(sam->positions, sam->vertex_count, 1.0f);
     float *nrm = sam_runtime_widen(sam->normals, sam->vertex_count, 0.0f);
-    /* Samples interleave the index with its K' (the index's bits stored as a
-     * float slot), slot-major (shaders/sample.glsl): slot k of vertex v at k * nv + v. */
-    uint32_t *samples = malloc(nv * n * 4 * sizeof *samples);
+    /* Samples pair the index with its packed K', slot-major
+     * (shaders/sample.glsl): slot k of vertex v at k * nv + v. */
+    uint32_t *samples = malloc(nv * n * 3 * sizeof *samples);
     float *zero = calloc(nv * 4, sizeof *zero);
     float *curvature = malloc(nv * sizeof *curvature);
     sam_status st = SAM_OK;
@@ -42,8 +42,8 @@ static sam_status upload_mesh(sam_runtime *rt, const samfile_data *sam, sam_erro
     for (size_t v = 0; v < nv; ++v)
         for (size_t k = 0; k < n; ++k) {
             const size_t from = v * n + k, to = k * nv + v;
-            samples[4 * to] = sam->sample_index[from];
-            memcpy(samples + 4 * to + 1, sam->sample_kprime + 3 * from, 3 * sizeof(float));
+            samples[3 * to] = sam->sample_index[from];
+            sam_runtime_pack_k(sam->sample_kprime + 3 * from, samples + 3 * to + 1);
         }
     /* Mean curvature in 1/mm from the .sam's own rings. */
     sam_mesh_ring_curvature(sam->vertex_count, sam->positions, NULL, sam->normals, sam->adjacency_offsets,
@@ -52,7 +52,7 @@ static sam_status upload_mesh(sam_runtime *rt, const samfile_data *sam, sam_erro
         curvature[v] /= rt->mm_per_unit;
     if ((st = sam_runtime_upload(rt, SAM_B_POSITIONS, pos, nv * 4 * sizeof(float), err)) != SAM_OK ||
         (st = sam_runtime_upload(rt, SAM_B_NORMALS, nrm, nv * 4 * sizeof(float), err)) != SAM_OK ||
-        (st = sam_runtime_upload(rt, SAM_B_SAMPLES, samples, nv * n * 4 * sizeof(uint32_t), err)) != SAM_OK ||
+        (st = sam_runtime_upload(rt, SAM_B_SAMPLES, samples, nv * n * 3 * sizeof(uint32_t), err)) != SAM_OK ||
         (st = sam_runtime_upload(rt, SAM_B_FAN_AREAS, sam->fan_area, nv * sizeof(float), err)) != SAM_OK ||
         (st = sam_runtime_upload(rt, SAM_B_IRRADIANCE, zero, nv * 4 * sizeof(float), err)) != SAM_OK ||
         (st = sam_runtime_upload(rt, SAM_B_TRANSLUCENCY, zero, nv * 4 * sizeof(float), err)) != SAM_OK ||

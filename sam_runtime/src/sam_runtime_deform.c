@@ -39,7 +39,7 @@ static void rest_sizes(const sam_runtime *rt, GLsizeiptr bytes[REST_COUNT])
 {
     bytes[REST_POSITIONS] = bytes[REST_NORMALS] = (GLsizeiptr)rt->vertex_count * 4 * sizeof(float);
     bytes[REST_FAN_AREAS] = bytes[REST_CURVATURE] = (GLsizeiptr)rt->vertex_count * sizeof(float);
-    bytes[REST_SAMPLES] = (GLsizeiptr)rt->vertex_count * rt->stride * 4 * sizeof(uint32_t);
+    bytes[REST_SAMPLES] = (GLsizeiptr)rt->vertex_count * rt->stride * 3 * sizeof(uint32_t);
 }
 
 /* Where each rest buffer's live copy is bound, in REST_* order. */

@@ -42,6 +42,28 @@ float *sam_runtime_widen(const float *xyz, uint32_t count, float w)
     return out;
 }
 
+void sam_runtime_pack_k(const float k[3], uint32_t packed[2])
+{
+    uint32_t c[3];
+    for (int i = 0; i < 3; ++i) {
+        const float x = k[i] > 0.0f ? fminf(k[i], 1.0e38f) : 0.0f; /* NaN fails k > 0 */
+        memcpy(&c[i], &x, sizeof x);
+        c[i] = (c[i] + 0x200u) >> 10;
+    }
+    packed[0] = c[0] | c[1] << 21;
+    packed[1] = c[1] >> 11 | c[2] << 10;
+}
+
+void sam_runtime_unpack_k(const uint32_t packed[2], float k[3])
+{
+    const uint32_t c[3] = {packed[0] & 0x1FFFFFu, (packed[0] >> 21 | packed[1] << 11) & 0x1FFFFFu,
+                           (packed[1] >> 10) & 0x1FFFFFu};
+    for (int i = 0; i < 3; ++i) {
+        const uint32_t bits = c[i] << 10;
+        memcpy(&k[i], &bits, sizeof bits);
+    }
+}
+
 void sam_runtime_bind_buffers(const sam_runtime *rt)
 {
     for (int b = 0; b < SAM_B_COUNT; ++b)

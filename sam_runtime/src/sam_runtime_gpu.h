@@ -19,6 +19,15 @@ sam_status sam_runtime_upload(sam_runtime *rt, int binding, const void *data, si
  * memory. The caller frees it. */
 float *sam_runtime_widen(const float *xyz, uint32_t count, float w);
 
+/* K (3 floats) packed into `packed` (2 words) as shaders/sample.glsl's
+ * make_sample packs it: each channel float's exponent and the top 13 bits
+ * of its mantissa, rounded, so each comes back within 2^-14 of itself;
+ * negative and NaN channels as 0, above 1e38 as 1e38. */
+void sam_runtime_pack_k(const float k[3], uint32_t packed[2]);
+
+/* The 3 channels of a packed K (sample_k in shaders/sample.glsl). */
+void sam_runtime_unpack_k(const uint32_t packed[2], float k[3]);
+
 /* Binds every shared storage buffer (SAM_B_0 .. SAM_B_COUNT - 1). */
 void sam_runtime_bind_buffers(const sam_runtime *rt);
 

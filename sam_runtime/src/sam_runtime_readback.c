@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sam_runtime_internal.h"
+#include "sam_runtime_gpu.h"
 
 /* The xyz of buffer `buffer`'s vec4 per vertex. */
 static sam_status read_buffer_vec4(const sam_runtime *rt, GLuint buffer, float *rgb, sam_error *err)
@@ -76,19 +76,19 @@ sam_status sam_runtime_read_thickness_translucency(sam_runtime *rt, float *rgb, 
 sam_status sam_runtime_read_samples(sam_runtime *rt, uint32_t *index, float *kprime, sam_error *err)
 {
     const size_t count = (size_t)rt->vertex_count * rt->stride;
-    uint32_t *raw = malloc(count * 4 * sizeof *raw);
+    uint32_t *raw = malloc(count * 3 * sizeof *raw);
     if (!raw)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for %zu samples", count);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->buffer[SAM_B_SAMPLES]);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(count * 4 * sizeof *raw), raw);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(count * 3 * sizeof *raw), raw);
     /* The GPU's slot-major order (shaders/sample.glsl) back to the .sam's rows. */
     const size_t nv = rt->vertex_count, n = rt->stride;
     for (size_t v = 0; v < nv; ++v)
         for (size_t k = 0; k < n; ++k) {
             const size_t to = v * n + k, from = k * nv + v;
-            index[to] = raw[4 * from];
-            memcpy(kprime + 3 * to, raw + 4 * from + 1, 3 * sizeof(float));
+            index[to] = raw[3 * from];
+            sam_runtime_unpack_k(raw + 3 * from + 1, kprime + 3 * to);
         }
     free(raw);
     return SAM_OK;

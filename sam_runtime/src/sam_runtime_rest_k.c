@@ -29,7 +29,7 @@ void sam_runtime_rest_k_release(sam_runtime *rt)
 
 sam_status sam_runtime_rest_k_fill(sam_runtime *rt, sam_error *err)
 {
-    const size_t bytes = (size_t)rt->vertex_count * rt->stride * 4 * sizeof(uint32_t);
+    const size_t bytes = (size_t)rt->vertex_count * rt->stride * 3 * sizeof(uint32_t);
     sam_status st = sam_runtime_check_block_size("the rest K of the samples", bytes, err);
     if (st != SAM_OK)
         return st;

@@ -1,6 +1,6 @@
 /* The rest-K pass: each stored sample's K at the rest pose, K = K' F'_b
  * R_d(|v_b - v|) (eq. 15), computed once into a buffer beside the samples
- * (16 bytes per stored sample) so that the rest pose's translucency pass
+ * (12 bytes per stored sample) so that the rest pose's translucency pass
  * reads K instead of evaluating R_d per sample every frame, and a posed
  * frame reads a tree node's rest K (state in rt->rest_k; the mode is
  * sam_runtime_set_rest_k's). Calls the node pass. Not installed.

@@ -57,9 +57,9 @@
  * sam_runtime_create uploads a .sam (samfile_data) as shader-storage
  * buffers laid out for the GPU (std430), at the binding points that
  * shaders/sam_bindings.h gives both the C code and the shaders: positions
- * and normals (vec4 per vertex, model units), samples ({uint index; float
- * K'r, K'g, K'b} x N per vertex: a sample's index and K' are one 16-byte
- * read), fan areas (mm^2), L_d and T (vec4 per vertex), the adjacency,
+ * and normals (vec4 per vertex, model units), samples ({uint index; K'
+ * packed into 2 words} x N per vertex, each channel of K' within 2^-14 of
+ * the .sam's: one 12-byte read; shaders/sample.glsl), fan areas (mm^2), L_d and T (vec4 per vertex), the adjacency,
  * the lights and the rho_dt table. The deform pass rewrites positions,
  * normals and fan areas for an animated pose, and the walk moves each
  * vertex's samples to better back-side vertices of that pose. The
@@ -257,7 +257,8 @@ sam_rest_k sam_runtime_rest_k_mode(const sam_runtime *rt);
  * sam_runtime_samples_per_vertex) the back-side vertex of each sample (or
  * vertex_count + node for a cut map's tree node),
  * SAMFILE_NO_SAMPLE for an empty slot, and `kprime` (vertex_count * n * 3)
- * its K'; row v holds vertex v's n samples, as in the .sam (the GPU keeps
+ * its K' as the GPU holds it, packed (each channel within 2^-14 of the
+ * .sam's); row v holds vertex v's n samples, as in the .sam (the GPU keeps
  * them slot-major). For tests and tools. Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_read_samples(sam_runtime *rt, uint32_t *index, float *kprime, sam_error *err);
 
