@@ -104,57 +104,6 @@ static float node_tau(const sam_build_context *ctx, const sam_build_tree *tree, 
     return (float)(tau < -1 ? -1 : tau > 1 ? 1 : tau);
 }
 
-/* The part of K (summed over channels) that K' = K / (F' R_d) of a sample
- * at distance d (mm) with area F' cannot hold: the channels where R_d
- * underflows, for which sam_build_kprime gives K' = 1. */
-static float kprime_loss(const sam_build_context *ctx, const float k[3], float area, float d)
-{
-    float rd[3], lost = 0.0f;
-    sam_profile_eval(ctx->profile, d, rd);
-    for (int c = 0; c < 3; ++c)
-        if (!(area * rd[c] > 1e-30f))
-            lost += k[c];
-    return lost;
-}
-
-/* The sample that carries node `id`'s K for receiver o: the node itself,
- * or, when its centroid lies so far out in R_d's tail that eq. 15 cannot
- * hold a thousandth of its K there, the back-side member nearest to where
- * its light comes from (`centre`, mm) among those that lose the least,
- * carrying the whole K. A node straddling a thin part, its centroid tens
- * of mm away while a few members touch the receiver, lost all its light
- * that way: 8% of the node samples' K on the head scan in skin, most of an
- * ear rim's. */
-static uint32_t stand_in(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id,
-                         const float k[3], const float centre[3])
-{
-    const uint32_t n = ctx->mesh->topo_count;
-    const sam_build_node *node = &tree->node[id - n];
-    const float *po = ctx->pos + 3 * (size_t)o;
-    const float negligible = 1e-3f * (k[0] + k[1] + k[2]);
-    float best_loss = kprime_loss(ctx, k, node->area, sam_build_distance(po, node->centroid)), best_d2 = INFINITY;
-    if (best_loss <= negligible)
-        return id;
-    uint32_t best = id;
-    for (uint32_t m = 0; m < node->count; ++m) {
-        /* Any member on the back side: one beyond the search radius can
-         * still hold the K its fan brought within it. */
-        const uint32_t v = tree->perm[node->first + m];
-        if (v == o || !sam_build_is_back_side(ctx, o, v))
-            continue;
-        const float *q = ctx->pos + 3 * (size_t)v;
-        const float d2 = (q[0] - centre[0]) * (q[0] - centre[0]) + (q[1] - centre[1]) * (q[1] - centre[1]) +
-                         (q[2] - centre[2]) * (q[2] - centre[2]);
-        const float loss = fmaxf(kprime_loss(ctx, k, ctx->fan_area[v], sam_build_distance(po, q)), negligible);
-        if (loss < best_loss || (loss == best_loss && d2 < best_d2)) {
-            best_loss = loss;
-            best_d2 = d2;
-            best = v;
-        }
-    }
-    return best;
-}
-
 static int entry_better(const cut_entry *a, const cut_entry *b)
 {
     float ka = a->k[0] + a->k[1] + a->k[2], kb = b->k[0] + b->k[1] + b->k[2];
@@ -262,12 +211,8 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         memcpy(e[c].k, sc->k + 3 * (size_t)c, sizeof e[c].k);
         for (int ch = 0; ch < 3; ++ch)
             r->k_total[3 * (size_t)o + ch] += e[c].k[ch];
-        if (e[c].id >= n) {
+        if (e[c].id >= n)
             e[c].tau = node_tau(ctx, tree, e[c].id - n, sc->centre + 3 * (size_t)c);
-            e[c].id = stand_in(ctx, tree, o, e[c].id, e[c].k, sc->centre + 3 * (size_t)c);
-            if (e[c].id < n)
-                e[c].tau = 0.0f;
-        }
     }
     *form_factors += kept;
     qsort(e, kept, sizeof *e, cmp_entry);

@@ -54,7 +54,7 @@ extern "C" {
  * whenever the same inputs give another map (1.1: cut nodes of up to 256
  * members classified member by member), and the tools' map cache keys on
  * it, so that no cached map outlives the builder that made it. */
-#define SAM_BUILD_VERSION "1.2"
+#define SAM_BUILD_VERSION "1.1"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
