@@ -26,7 +26,8 @@ struct Sample {
 };
 
 #define SAMPLE_LOAD(buf, i) Sample(buf[3u * (i)], uvec2(buf[3u * (i) + 1u], buf[3u * (i) + 2u]))
-#define SAMPLE_STORE(buf, i, s) { Sample s_ = (s); buf[3u * (i)] = s_.index; buf[3u * (i) + 1u] = s_.k.x; buf[3u * (i) + 2u] = s_.k.y; }
+#define SAMPLE_STORE(buf, i, s) \
+    { Sample s_ = (s); buf[3u * (i)] = s_.index; buf[3u * (i) + 1u] = s_.k.x; buf[3u * (i) + 2u] = s_.k.y; }
 
 // Which sample of a per-sample buffer of vertex_count rows is slot k of vertex v.
 uint sample_slot(uint v, uint k, uint vertex_count)
@@ -40,7 +41,7 @@ vec3 sample_k(Sample s)
     return uintBitsToFloat(c << 10);
 }
 
-// Channels below 0 (and NaN) pack as 0; above 1e38 as 1e38, where rounding
+// Channels below 0 pack as 0; above 1e38 as 1e38, where rounding
 // cannot carry into infinity.
 Sample make_sample(uint index, vec3 k)
 {

@@ -59,10 +59,11 @@
  * shaders/sam_bindings.h gives both the C code and the shaders: positions
  * and normals (vec4 per vertex, model units), samples ({uint index; K'
  * packed into 2 words} x N per vertex, each channel of K' within 2^-14 of
- * the .sam's: one 12-byte read; shaders/sample.glsl), fan areas (mm^2), L_d and T (vec4 per vertex), the adjacency,
- * the lights and the rho_dt table. The deform pass rewrites positions,
- * normals and fan areas for an animated pose, and the walk moves each
- * vertex's samples to better back-side vertices of that pose. The
+ * the .sam's: one 12-byte read; shaders/sample.glsl), fan areas (mm^2),
+ * L_d and T (vec4 per vertex), the adjacency, the lights and the rho_dt
+ * table. The deform pass rewrites positions, normals and fan areas for an
+ * animated pose, and the walk moves each vertex's samples to better
+ * back-side vertices of that pose. The
  * irradiance pass computes L_d (eq. 4): each light's irradiance by the
  * formulas of sam_light_irradiance times rho_dt(N.L) = 1 - k (1 -
  * table(N.L, m)) (d'Eon Sec. 6; k = pi rho_s, the specular lobe's scale),
