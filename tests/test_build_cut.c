@@ -316,6 +316,91 @@ static void test_one_sided_light_matches_brute_force(void **state)
     destroy_cut(&f);
 }
 
+/* Every sample holds its K in K' (eq. 15): K' F' R_d(d) at the sample's
+ * position, as the runtime evaluates it, sums to the cut's total for every
+ * receiver. A node whose centroid lay so far out in R_d's tail that R_d
+ * underflowed kept K' = 1 and lost its light: the head scan in skin lost 8%
+ * of its node samples' K that way, the ear rims' most. Such a node now
+ * hands its K to a descendant node (sam_build_cut.c's carrier). */
+static void test_samples_hold_the_cut_total(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *shape;
+        float mm_per_unit;
+        uint32_t budget;
+    } cases[] = {{"ear", 60.0f, 8}, {"ear", 100.0f, 8}, {"ear", 200.0f, 4}, {"knot", 40.0f, 4}};
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; ++c) {
+        cut_fixture f;
+        build_cut(&f, cases[c].shape, 24, 0, 0, "skin", cases[c].mm_per_unit, cases[c].budget, 0);
+        const uint32_t n = f.mesh.topo_count, b = f.r.samples_per_vertex;
+        double held = 0, total = 0, worst = 1;
+        for (uint32_t o = 0; o < n; ++o) {
+            double row = 0;
+            for (uint32_t k = 0; k < b; ++k) {
+                const size_t at = (size_t)o * b + k;
+                if (f.r.sample[at] == SAM_BUILD_NO_SAMPLE)
+                    break;
+                double moment[4] = {0, 0, 0, 0};
+                sample_ld(&f, f.r.sample[at], moment);
+                row += stored_k(&f, o, f.r.kprime + 3 * at, moment);
+            }
+            const double want = cut_total(&f.r, o);
+            held += row;
+            total += want;
+            if (want > 0)
+                worst = fmin(worst, row / want);
+        }
+        printf("%s in skin at %.0f mm per unit, N = %u: samples hold %.6f of the cuts' K, the worst receiver %.4f\n",
+               cases[c].shape, cases[c].mm_per_unit, cases[c].budget, held / total, worst);
+        /* Builder 1.1: the ear at 60 and 100 mm held 0.969 and 0.993, its
+         * worst receivers 0.55 and 0.72. */
+        assert_true(total > 0);
+        assert_true(held / total > 0.9995);
+        assert_true(worst > 0.99);
+        destroy_cut(&f);
+    }
+}
+
+/* Where the budget's best vertices carry nearly all the light (skin on a
+ * small ear), a row is those vertices: no tree node, each vertex once,
+ * each with K, and together they carry the cut's whole total. Where they
+ * do not (marble, whose light comes from far across a slab), the row is a
+ * cut through the tree. */
+static void test_rows_list_vertices_where_they_hold_the_light(void **state)
+{
+    (void)state;
+    cut_fixture f;
+    build_cut(&f, "ear", 24, 0, 0, "skin", 60.0f, 0, 0);
+    const uint32_t n = f.mesh.topo_count, b = f.r.samples_per_vertex;
+    assert_true(sam_test_node_share(f.r.sample, n, b, n) == 0.0);
+    uint32_t rows = 0;
+    for (uint32_t o = 0; o < n; ++o) {
+        double held = 0;
+        for (uint32_t k = 0; k < b && f.r.sample[(size_t)o * b + k] != SAM_BUILD_NO_SAMPLE; ++k) {
+            const size_t at = (size_t)o * b + k;
+            for (uint32_t j = 0; j < k; ++j)
+                assert_int_not_equal(f.r.sample[(size_t)o * b + j], f.r.sample[at]);
+            double moment[4] = {0, 0, 0, 0};
+            sample_ld(&f, f.r.sample[at], moment);
+            const double k_mean = stored_k(&f, o, f.r.kprime + 3 * at, moment);
+            assert_true(k_mean > 0);
+            held += k_mean;
+        }
+        const double want = cut_total(&f.r, o);
+        rows += want > 0;
+        assert_true(fabs(held - want) <= 1e-4 * want);
+    }
+    printf("skin ear: %u of %u rows hold light, every one of them vertices only\n", rows, n);
+    assert_true(rows > n / 2);
+    destroy_cut(&f);
+    build_cut(&f, "slab", 40, 2.0, 0.05, "marble", 50.0f, 0, 0);
+    const double share = sam_test_node_share(f.r.sample, f.mesh.topo_count, f.r.samples_per_vertex, f.mesh.topo_count);
+    printf("marble slab, 2.5 mm: %.1f%% of the samples are tree nodes\n", 100.0 * share);
+    assert_true(share > 0.5);
+    destroy_cut(&f);
+}
+
 static void test_bit_identical_for_any_thread_count(void **state)
 {
     (void)state;
@@ -342,7 +427,8 @@ static void test_samfile_versions(void **state)
 {
     (void)state;
     cut_fixture f;
-    build_cut(&f, "ear", 24, 0, 0, "skin", 60.0f, 0, 0);
+    build_cut(&f, "ear", 24, 0, 0, "marble", 60.0f, 8, 0); /* half its samples nodes; a skin ear's rows are vertices */
+    assert_true(sam_test_node_share(f.r.sample, f.mesh.topo_count, f.r.samples_per_vertex, f.mesh.topo_count) > 0.25);
     samfile_data d, back;
     sam_error err;
     char path[512];
@@ -418,6 +504,8 @@ int main(void)
         cmocka_unit_test(test_uniform_slab_closed_form),
         cmocka_unit_test(test_node_k_counts_only_back_side_members),
         cmocka_unit_test(test_one_sided_light_matches_brute_force),
+        cmocka_unit_test(test_samples_hold_the_cut_total),
+        cmocka_unit_test(test_rows_list_vertices_where_they_hold_the_light),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
         cmocka_unit_test(test_samfile_rows_follow_render_vertices),
         cmocka_unit_test(test_samfile_versions),

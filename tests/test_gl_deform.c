@@ -50,6 +50,8 @@ static int fixture_setup(void **state)
         printf("setup: %s\n", err.message);
         return -1;
     }
+    printf("%.1f%% of the map's samples are tree nodes\n",
+           100.0 * sam_test_node_share(f.sam.sample_index, f.sam.vertex_count, 4, f.sam.vertex_count));
     sam_mesh_bounds(&f.mesh, f.lo, f.hi);
     f.size = (float)sam_mesh_diagonal(&f.mesh);
     size_t nv = f.sam.vertex_count;

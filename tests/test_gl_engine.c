@@ -83,6 +83,8 @@ static int fixture_setup(void **state)
     }
     free(tri);
     sam_shape_mesh_destroy(&s);
+    printf("%.1f%% of the map's samples are tree nodes\n",
+           100.0 * sam_test_node_share(f.sam.sample_index, f.sam.vertex_count, 8, f.sam.vertex_count));
     sam_light light = {.type = SAM_LIGHT_POINT, .color = {1, 1, 1}, .intensity = 3, .position = {0.2f, 0.1f, -1}};
     if (sam_runtime_set_lights(f.rt, &light, 1, &err) || sam_runtime_set_lights(f.own, &light, 1, &err))
         return -1;

@@ -91,6 +91,8 @@ static void build_sam_at(const char *material, int resolution, samfile_data *out
     sam_build_default_settings(&set);
     set.samples_per_vertex = 4;
     assert_int_equal(sam_build_samfile(&mesh, profile, 60.0f, &set, NULL, NULL, NULL, out, NULL, &err), SAM_OK);
+    printf("%s ear at resolution %d: %.1f%% of the map's samples are tree nodes\n", material, resolution,
+           100.0 * sam_test_node_share(out->sample_index, out->vertex_count, 4, out->vertex_count));
     sam_mesh_destroy(&mesh);
 }
 

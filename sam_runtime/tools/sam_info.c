@@ -106,11 +106,11 @@ static int info_sam(const char *path)
         return 1;
     }
     uint32_t n = d.samples_per_vertex, empty = 0;
-    uint64_t valid = 0;
+    uint64_t valid = 0, nodes = 0;
     for (uint32_t v = 0; v < d.vertex_count; ++v) {
         uint32_t k = 0;
-        while (k < n && d.sample_index[(size_t)v * n + k] != SAMFILE_NO_SAMPLE)
-            ++k;
+        for (; k < n && d.sample_index[(size_t)v * n + k] != SAMFILE_NO_SAMPLE; ++k)
+            nodes += d.sample_index[(size_t)v * n + k] >= d.vertex_count;
         valid += k;
         empty += k == 0;
     }
@@ -119,6 +119,9 @@ static int info_sam(const char *path)
     printf("  triangles:         %u\n", d.triangle_count);
     printf("  samples per vertex: %u (mean %.2f used; %u vertices without back-side samples)\n", n,
            d.vertex_count ? (double)valid / d.vertex_count : 0.0, empty);
+    if (d.node_count)
+        printf("  tree nodes:        %u (%.1f%% of the samples used; the rest are vertices)\n", d.node_count,
+               valid ? 100.0 * (double)nodes / (double)valid : 0.0);
     printf("  attributes:        %s\n", d.uvs ? "UVs" : "no UVs");
     printf("  adjacency entries: %u\n", d.adjacency_count);
     if (d.unknown_chunk_count)

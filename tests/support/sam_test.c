@@ -79,3 +79,14 @@ void sam_test_shape_mesh(const char *name, int resolution, double size, double t
     if (st != SAM_OK)
         fail_msg("%s", err.message);
 }
+
+double sam_test_node_share(const uint32_t *sample, uint32_t rows, uint32_t stride, uint32_t first_node)
+{
+    uint64_t used = 0, nodes = 0;
+    for (size_t at = 0; at < (size_t)rows * stride; ++at)
+        if (sample[at] != UINT32_MAX) {
+            ++used;
+            nodes += sample[at] >= first_node;
+        }
+    return used ? (double)nodes / (double)used : 0.0;
+}

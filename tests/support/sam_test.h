@@ -24,6 +24,14 @@ int sam_test_count_temp_files(const char *name);
 /* Returns 1 when `path` exists. */
 int sam_test_file_exists(const char *path);
 
+/* The share of a map's used samples that are tree nodes: `sample` holds
+ * `rows` rows of `stride` entries, an entry >= first_node names a node,
+ * UINT32_MAX ends a row. 0 when no sample is used. A cut map stores its
+ * budget's best vertices instead where they hold nearly all the light
+ * (skin on small meshes), so a test of the node paths checks that its map
+ * has nodes at all. */
+double sam_test_node_share(const uint32_t *sample, uint32_t rows, uint32_t stride, uint32_t first_node);
+
 struct sam_mesh;
 
 /* The built-in shape `name` (sam_shape_generate, with its UVs) as a mesh:

@@ -52,9 +52,12 @@ extern "C" {
 
 /* The builder's version, recorded in every .sam it writes; it changes
  * whenever the same inputs give another map (1.1: cut nodes of up to 256
- * members classified member by member), and the tools' map cache keys on
- * it, so that no cached map outlives the builder that made it. */
-#define SAM_BUILD_VERSION "1.1"
+ * members classified member by member; 1.2: a row is the budget's best
+ * vertices where they hold nearly all the light, and a cut node whose
+ * centroid cannot hold its K hands it to a descendant node that can), and
+ * the tools' map cache keys on it, so that no cached map outlives the
+ * builder that made it. */
+#define SAM_BUILD_VERSION "1.2"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
