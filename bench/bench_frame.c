@@ -38,13 +38,18 @@
  * (deform, walk, irradiance, node, translucency), target <= 1.5; wall-clock
  * medians, and GL timer queries where the driver's mean something. A summary
  * line per ratio says PASS or MISS. A cut build that passes --cut-limit is
- * stopped, and larger knots are not measured.
+ * stopped, and larger knots are not measured. The same study runs on the
+ * skin scans (dragon, head) where meshes/fetch_scans.sh has fetched them:
+ * their cut maps' rows are mostly vertices, which cost a deforming mesh
+ * more than nodes do; their verdicts are printed apart.
  *
  * Usage: bench_frame [--quick] [--optimizations] [--cut-only] [--cut-limit S] [--json FILE] [--scenes DIR]
+ *                    [--scans DIR]
  *   --cut-only   the cut study alone
  *   --cut-limit  seconds a cut build may take, 0 for no limit (default 300; 30 with --quick)
  *   --json    default bench/results/frame.json
  *   --scenes  where compare_knot.json is (default scenes)
+ *   --scans   where the scans are (default meshes/scans)
  *   --quick   two small knots, 320x180, a 256 atlas, one or three runs
  *             per median: a check that everything runs, not a measurement
  */
@@ -316,7 +321,7 @@ static void mesh_study(const frame_config *cfg, int m, const sam_profile *skin, 
      * (docs/performance.md); the cut study below sets the builder's default
      * cut map against it. */
     samfile_data d;
-    frame_knot_map(&mesh, skin, SAM_BUILD_MAP_FLAT, NULL, &d, NULL);
+    frame_knot_map(&mesh, skin, 40.0f, SAM_BUILD_MAP_FLAT, NULL, &d, NULL);
     sam_runtime *rt = frame_knot_runtime(&d, skin);
     sam_render_view view;
     memset(&view, 0, sizeof view);
@@ -406,14 +411,15 @@ static void mesh_study(const frame_config *cfg, int m, const sam_profile *skin, 
 static void usage(FILE *out)
 {
     fprintf(out, "usage: bench_frame [--quick] [--optimizations] [--cut-only] [--cut-limit SECONDS] [--json FILE]\n"
-                 "                   [--scenes DIR]\n"
+                 "                   [--scenes DIR] [--scans DIR]\n"
                  "\n"
                  "Times the frame passes on knots of growing size, every technique x diffusion at 1080p, and the\n"
                  "animated update; then the default cut map against the flat N = 3 map on the same knots, with\n"
-                 "the targets' PASS or MISS. Writes FILE (default bench/results/frame.json). --quick: smaller\n"
-                 "frames and meshes, for the tests. --cut-only: the cut study alone. --cut-limit: stop a cut\n"
-                 "build after this long, 0 for none (default 300; 30 with --quick). scripts/bench.sh runs it\n"
-                 "with the other benchmarks.\n"
+                 "the targets' PASS or MISS, and on the skin scans in DIR (default meshes/scans, fetched by\n"
+                 "meshes/fetch_scans.sh) where they are. Writes FILE (default bench/results/frame.json).\n"
+                 "--quick: smaller frames and meshes, no scans, for the tests. --cut-only: the cut study alone.\n"
+                 "--cut-limit: stop a cut build after this long, 0 for none (default 300; 30 with --quick).\n"
+                 "scripts/bench.sh runs it with the other benchmarks.\n"
                  "\n"
                  "examples:\n"
                  "  bench_frame --quick --json /tmp/frame.json\n"
@@ -423,7 +429,7 @@ static void usage(FILE *out)
 
 int main(int argc, char **argv)
 {
-    const char *json_path = "bench/results/frame.json", *scenes = "scenes";
+    const char *json_path = "bench/results/frame.json", *scenes = "scenes", *scans = "meshes/scans";
     const frame_config *cfg = &frame_full_config;
     int optimizations = 0, quick = 0, cut_only = 0;
     double cut_limit = -1;
@@ -434,6 +440,7 @@ int main(int argc, char **argv)
         {"--cut-limit", SAM_ARG_DOUBLE, &cut_limit, .lo = 0, .hi = 1e6, .value = "SECONDS"},
         {"--json", SAM_ARG_STRING, &json_path, .value = "FILE"},
         {"--scenes", SAM_ARG_STRING, &scenes, .value = "DIR"},
+        {"--scans", SAM_ARG_STRING, &scans, .value = "DIR"},
     };
     const sam_args_spec spec = {"bench_frame", args, sizeof args / sizeof *args, NULL, 0, 0, NULL, usage};
     int r = sam_args_parse(&spec, argc, argv);
@@ -482,7 +489,7 @@ int main(int argc, char **argv)
     /* llvmpipe's and softpipe's timer queries read about 0 for compute
      * passes and time the submission of the others: no ratio of theirs. */
     const int timers = !strstr(info->renderer, "llvmpipe") && !strstr(info->renderer, "softpipe");
-    frame_cut_section(cfg, &skin, cut_limit, timers, quick, json);
+    frame_cut_section(cfg, &skin, scans, cut_limit, timers, quick, json);
     fprintf(json, "}\n");
     bench_json_commit("bench_frame", &out);
     sam_gl_context_destroy(gl);

@@ -66,6 +66,16 @@ uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
 // for the posed path it never took.
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 #include "fan_form_factor.glsl"
+// The vertex samples in a row's first QUADRATURE_SLOTS slots, the best
+// (rows are sorted by K), carry K by the fans' quadrature, about 25 R_d
+// each; the rest by eq. 15's change in distance, two. A cut map's row can
+// be 32 vertices (sam_build_cut.c lists them where they carry the light),
+// and the quadrature for all of them cost an animated frame 5 to 8 times
+// the paper's map of 3 on llvmpipe; with 3, about twice, and on a twisted
+// skin ear T erred by 0.059 against a fresh build where the quadrature for
+// every sample gave 0.056 and eq. 15's change for every one 0.075
+// (tests/test_gl_walk.c).
+#define QUADRATURE_SLOTS 3u
 #endif
 #include "eq15_k.glsl"
 
@@ -158,7 +168,8 @@ void main()
     }
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
-            Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count));
+            uint slot_k = uint(findLSB(bits)) + 32u * w;
+            Sample s = SAMPLE_LOAD(samples, sample_slot(v, slot_k, u_vertex_count));
             vec3 q = positions[s.index].xyz;
             if (!(dot(q - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
                 continue;
@@ -166,7 +177,16 @@ void main()
 #ifdef SAM_POSED_EQ15
             vec3 posed_k = kprime * fan_area[s.index] * profile_rd(u_mm_per_unit * distance(q, p));
 #else
-            vec3 posed_k = posed_form_factor(v, s.index, kprime);
+            vec3 posed_k;
+            if (slot_k < QUADRATURE_SLOTS) {
+                posed_k = posed_form_factor(v, s.index, kprime);
+            } else {
+                // Eq. 15's change in distance, held within [1/4, 4] as a node's.
+                vec3 k_rest = kprime * fan_area[s.index] *
+                              profile_rd(u_mm_per_unit * distance(rest_positions[s.index].xyz, rest_positions[v].xyz));
+                vec3 k_pose = kprime * fan_area[s.index] * profile_rd(u_mm_per_unit * distance(q, p));
+                posed_k = k_rest * clamp(k_pose / max(k_rest, vec3(1e-30)), vec3(0.25), vec3(4.0));
+            }
 #endif
             sum += irradiance[s.index].rgb * posed_k;
         }

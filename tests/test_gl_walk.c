@@ -471,18 +471,34 @@ static void fan_quadrature(const fixture *f, const float *pos, uint32_t o, uint3
         q[c] = 0.5 * (from_i[c] + (area_o > 0 ? from_o[c] * *area_i / area_o : 0.0));
 }
 
-/* K of sample i of vertex o at the pose f->pos, its K' holding at the rest
- * pose (the .sam's positions), as the translucency pass carries it. */
-static void posed_k(const fixture *f, uint32_t o, uint32_t i, const float *kprime, double k[3])
+/* The distance (mm) between vertices o and i at `pos`. */
+static double distance_mm(const fixture *f, const float *pos, uint32_t o, uint32_t i)
 {
-    double q_rest[3], q_pose[3], rest_area, area, dist = 0;
-    fan_quadrature(f, f->sam.positions, o, i, q_rest, &rest_area);
-    fan_quadrature(f, f->pos, o, i, q_pose, &area);
+    double d2 = 0;
     for (int c = 0; c < 3; ++c)
-        dist += ((double)f->sam.positions[3 * i + c] - f->sam.positions[3 * o + c]) *
-                (f->sam.positions[3 * i + c] - f->sam.positions[3 * o + c]);
-    float rd[3];
-    sam_profile_eval(&f->profile, (float)(sqrt(dist) * f->mm_per_unit), rd);
+        d2 += ((double)pos[3 * i + c] - pos[3 * o + c]) * ((double)pos[3 * i + c] - pos[3 * o + c]);
+    return sqrt(d2) * f->mm_per_unit;
+}
+
+/* K of sample i of vertex o in slot `slot` at the pose f->pos, its K'
+ * holding at the rest pose (the .sam's positions), as the translucency
+ * pass carries it: by the fans' quadrature in the first 3 slots, by eq.
+ * 15's change in distance (held within [1/4, 4]) after them. */
+static void posed_k(const fixture *f, uint32_t o, uint32_t i, uint32_t slot, const float *kprime, double k[3])
+{
+    double q_rest[3], q_pose[3], rest_area, area;
+    float rd[3], rd_pose[3];
+    fan_quadrature(f, f->pos, o, i, q_pose, &area);
+    sam_profile_eval(&f->profile, (float)distance_mm(f, f->sam.positions, o, i), rd);
+    if (slot >= 3) {
+        sam_profile_eval(&f->profile, (float)distance_mm(f, f->pos, o, i), rd_pose);
+        for (int c = 0; c < 3; ++c) {
+            const double k_rest = kprime[c] * area * rd[c], k_pose = kprime[c] * area * rd_pose[c];
+            k[c] = k_rest * fmin(fmax(k_pose / fmax(k_rest, 1e-30), 0.25), 4.0);
+        }
+        return;
+    }
+    fan_quadrature(f, f->sam.positions, o, i, q_rest, &rest_area);
     for (int c = 0; c < 3; ++c)
         k[c] = q_rest[c] > 0 ? kprime[c] * rest_area * rd[c] * q_pose[c] / q_rest[c] : 0.0;
 }
@@ -509,7 +525,7 @@ static size_t check_back_side_only(fixture *f, uint32_t *idx, float *kp)
             if (b == SAMFILE_NO_SAMPLE)
                 break;
             double kk[3];
-            posed_k(f, v, b, kp + ((size_t)v * f->n + k) * 3, kk);
+            posed_k(f, v, b, k, kp + ((size_t)v * f->n + k) * 3, kk);
             int ok = back_side(f->pos, f->nrm, v, b);
             off += !ok;
             for (int c = 0; c < 3; ++c) {

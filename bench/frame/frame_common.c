@@ -1,5 +1,6 @@
 /* bench_frame's shared timing and knot helpers (frame_common.h). */
 #define _POSIX_C_SOURCE 200809L
+#include <stdlib.h>
 #include <string.h>
 
 #include "sam/sam_shape.h"
@@ -140,18 +141,47 @@ void frame_knot_mesh(int resolution, sam_mesh *mesh)
     sam_shape_mesh_destroy(&s);
 }
 
-int frame_knot_map(const sam_mesh *mesh, const sam_profile *skin, sam_build_map map, bench_deadline *deadline,
-                    samfile_data *d, double *seconds)
+int frame_knot_map(const sam_mesh *mesh, const sam_profile *skin, float mm_per_unit, sam_build_map map,
+                   bench_deadline *deadline, samfile_data *d, double *seconds)
 {
     sam_build_settings settings;
     sam_build_default_settings(&settings);
     settings.map = map;
     sam_error err;
-    sam_status st = sam_build_samfile(mesh, skin, 40.0f, &settings, NULL, deadline ? bench_deadline_progress : NULL,
-                                      deadline, d, seconds, &err);
+    sam_status st = sam_build_samfile(mesh, skin, mm_per_unit, &settings, NULL,
+                                      deadline ? bench_deadline_progress : NULL, deadline, d, seconds, &err);
     if (st != SAM_OK && !(deadline && deadline->cancelled))
         frame_die("build", &err);
     return st == SAM_OK;
+}
+
+int frame_scan_mesh(const char *path, float size_mm, sam_mesh *mesh, float *mm_per_unit)
+{
+    sam_mesh scan, knot;
+    sam_error err;
+    if (sam_mesh_load(path, &scan, NULL, &err) != SAM_OK)
+        return 0;
+    frame_knot_mesh(64, &knot);
+    float lo[3], hi[3], knot_lo[3], knot_hi[3];
+    sam_mesh_bounds(&scan, lo, hi);
+    sam_mesh_bounds(&knot, knot_lo, knot_hi);
+    const double scale = sam_mesh_diagonal(&knot) / sam_mesh_diagonal(&scan);
+    float *pos = malloc(3 * (size_t)scan.vertex_count * sizeof *pos);
+    if (!pos)
+        frame_die("scan positions", NULL);
+    for (size_t i = 0; i < 3 * (size_t)scan.vertex_count; ++i) {
+        const int c = (int)(i % 3);
+        pos[i] = (float)((scan.positions[i] - 0.5 * (lo[c] + hi[c])) * scale + 0.5 * (knot_lo[c] + knot_hi[c]));
+    }
+    sam_mesh_input in = {.name = path, .vertex_count = scan.vertex_count, .positions = pos,
+                         .triangle_count = scan.triangle_count, .triangles = scan.triangles};
+    if (sam_mesh_create(&in, mesh, NULL, &err) != SAM_OK)
+        frame_die("scan", &err);
+    *mm_per_unit = (float)(size_mm / sam_mesh_diagonal(mesh));
+    free(pos);
+    sam_mesh_destroy(&knot);
+    sam_mesh_destroy(&scan);
+    return 1;
 }
 
 sam_runtime *frame_knot_runtime(const samfile_data *d, const sam_profile *skin)

@@ -74,12 +74,19 @@ extern const sam_deformer frame_knot_bend;
  * space), welded, into `mesh` (caller destroys). */
 void frame_knot_mesh(int resolution, sam_mesh *mesh);
 
-/* The knot's map of kind `map` (its default N) in skin at 40 mm per unit,
- * into `d` (caller frees), and its build seconds in `*seconds` (may be
- * NULL). Returns 0, with `d` empty, when `deadline` (may be NULL) cancelled
- * the build; dies on any other failure. */
-int frame_knot_map(const sam_mesh *mesh, const sam_profile *skin, sam_build_map map, bench_deadline *deadline,
-                   samfile_data *d, double *seconds);
+/* The mesh's map of kind `map` (its default N) in skin at `mm_per_unit`
+ * (the knots: 40), into `d` (caller frees), and its build seconds in
+ * `*seconds` (may be NULL). Returns 0, with `d` empty, when `deadline` (may
+ * be NULL) cancelled the build; dies on any other failure. */
+int frame_knot_map(const sam_mesh *mesh, const sam_profile *skin, float mm_per_unit, sam_build_map map,
+                   bench_deadline *deadline, samfile_data *d, double *seconds);
+
+/* The scan at `path` moved and scaled onto the knots' box (centre and
+ * diagonal), so that their light and bend fit it, into `mesh` (caller
+ * destroys), and the scale that keeps its diagonal `size_mm` into
+ * *mm_per_unit. Returns 0 when the file does not load (a scan not fetched:
+ * meshes/fetch_scans.sh); dies on any other failure. */
+int frame_scan_mesh(const char *path, float size_mm, sam_mesh *mesh, float *mm_per_unit);
 
 /* One shadowed point light behind the knot (translucency shows) and a
  * white environment, on `rt`. */
@@ -88,12 +95,14 @@ void frame_light_knot(sam_runtime *rt);
 /* A runtime on `d` (caller destroys), lit by frame_light_knot. */
 sam_runtime *frame_knot_runtime(const samfile_data *d, const sam_profile *skin);
 
-/* The default cut map against the flat N = 3 map on every knot of `cfg`:
- * a table on stdout with PASS or MISS against the cost targets, and the
+/* The default cut map against the flat N = 3 map on every knot of `cfg`
+ * and, but with `quick`, on the skin scans (dragon, head) in the folder
+ * `scans` where they are: a table on stdout with PASS or MISS against the
+ * cost targets, the knots' and the scans' apart, and the
  * "cut_against_flat" member of the JSON object being written to `json`.
  * A cut build stops after limit_s seconds (0: none); timers says whether
  * the GL's timer queries mean something. */
-void frame_cut_section(const frame_config *cfg, const sam_profile *skin, double limit_s, int timers, int quick,
-                       FILE *json);
+void frame_cut_section(const frame_config *cfg, const sam_profile *skin, const char *scans, double limit_s,
+                       int timers, int quick, FILE *json);
 
 #endif

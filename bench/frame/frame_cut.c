@@ -71,8 +71,8 @@ static void skip_knot(cut_summary *sum, uint32_t nv)
     sum->unbuilt++;
 }
 
-/* The default cut map (its default N) against the flat map (N = 3) on the knot of
- * cfg->resolutions[m], side by side (frame_median_ms_side_by_side):
+/* The default cut map (its default N) against the flat map (N = 3) on
+ * `mesh` (destroyed here) in skin at `mm_per_unit`, side by side (frame_median_ms_side_by_side):
  * sam_runtime_translucency, which runs a cut map's node pass before the
  * translucency pass, on the cut map and on the flat map with its rest K
  * cached and evaluated, and an animated frame's whole SAM work on the cut
@@ -80,13 +80,11 @@ static void skip_knot(cut_summary *sum, uint32_t nv)
  * stops at `limit_s` (bench_deadline): such a knot is reported with the
  * build's estimate, and larger knots, whose builds take longer still, are
  * not built. A row on stdout, an object in `json`. */
-static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, double limit_s, int timers,
-                      cut_summary *sum, FILE *json)
+static void cut_study(const frame_config *cfg, const char *label, sam_mesh *mesh, float mm_per_unit, int first,
+                      const sam_profile *skin, double limit_s, int timers, cut_summary *sum, FILE *json)
 {
-    sam_mesh mesh;
-    frame_knot_mesh(cfg->resolutions[m], &mesh);
-    const uint32_t nv = mesh.vertex_count;
-    fprintf(json, "%s      {\"vertices\": %u", m ? ",\n" : "", nv);
+    const uint32_t nv = mesh->vertex_count;
+    fprintf(json, "%s      {\"mesh\": \"%s\", \"vertices\": %u", first ? "" : ",\n", label, nv);
     if (sum->unbuilt) {
         printf("%9u  not measured: a smaller knot's cut map was not built within the limit or not loaded\n", nv);
         fprintf(json, ", \"skipped\": \"a smaller knot's cut map was not built within the limit or not loaded\"}");
@@ -96,9 +94,9 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
     bench_deadline deadline;
     bench_deadline_start(&deadline, limit_s);
     if (!sum->unbuilt) {
-        frame_knot_map(&mesh, skin, SAM_BUILD_MAP_FLAT, NULL, &d[1], &build_s[1]);
+        frame_knot_map(mesh, skin, mm_per_unit, SAM_BUILD_MAP_FLAT, NULL, &d[1], &build_s[1]);
         fprintf(json, ", \"flat_build_s\": %.3f", build_s[1]);
-        if (!frame_knot_map(&mesh, skin, SAM_BUILD_MAP_CUT, &deadline, &d[0], &build_s[0])) {
+        if (!frame_knot_map(mesh, skin, mm_per_unit, SAM_BUILD_MAP_CUT, &deadline, &d[0], &build_s[0])) {
             char how[128];
             bench_deadline_describe(&deadline, how, sizeof how);
             printf("%9u  not measured: the cut build passed the limit: %s (flat %.1f s)\n", nv, how, build_s[1]);
@@ -110,7 +108,7 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
     }
     if (sum->unbuilt || deadline.cancelled) {
         skip_knot(sum, nv);
-        sam_mesh_destroy(&mesh);
+        sam_mesh_destroy(mesh);
         return;
     }
     /* A GL may not hold the cut map's samples (llvmpipe: 128 MiB per
@@ -119,7 +117,7 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
     sam_runtime *rt[3] = {NULL, NULL, NULL}; /* cut, flat, flat with its rest K evaluated */
     sam_error err;
     for (int r = 0; r < 3; ++r) {
-        if (sam_runtime_create(&d[r ? 1 : 0], skin, 40.0f, &rt[r], &err) != SAM_OK) {
+        if (sam_runtime_create(&d[r ? 1 : 0], skin, mm_per_unit, &rt[r], &err) != SAM_OK) {
             printf("%9u  not measured: the %s map does not load: %s\n", nv, r ? "flat" : "cut", err.message);
             fprintf(json, ", \"skipped\": \"the %s map does not load on this GL\"}", r ? "flat" : "cut");
             for (int k = 0; k < 3; ++k)
@@ -127,7 +125,7 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
             for (int k = 0; k < 2; ++k)
                 samfile_free(&d[k]);
             skip_knot(sum, nv);
-            sam_mesh_destroy(&mesh);
+            sam_mesh_destroy(mesh);
             return;
         }
         frame_light_knot(rt[r]);
@@ -161,7 +159,7 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
            ratio[CUT_TRANSLUCENCY_CACHED], ani[0], ani[1], ratio[CUT_ANIMATED]);
     if (ratio[CUT_TRANSLUCENCY_GPU] > 0 || ratio[CUT_ANIMATED_GPU] > 0)
         printf("   GPU %.2fx, %.2fx", ratio[CUT_TRANSLUCENCY_GPU], ratio[CUT_ANIMATED_GPU]);
-    printf("\n");
+    printf("   %s\n", label);
     fprintf(json,
             ", \"cut_build_s\": %.3f, \"cut_samples_per_vertex\": %u, \"cut_nodes\": %u, "
             "\"cut_samples_filled_per_vertex\": %.3f, "
@@ -194,22 +192,23 @@ static void cut_study(const frame_config *cfg, int m, const sam_profile *skin, d
         sam_runtime_destroy(rt[r]);
     for (int r = 0; r < 2; ++r)
         samfile_free(&d[r]);
-    sam_mesh_destroy(&mesh);
+    sam_mesh_destroy(mesh);
 }
 
-/* One ratio's summary line against its target, and its JSON fields. */
-static void cut_verdict(const cut_summary *sum, int k, const char *key, const char *what, double target,
-                        double limit_s, int quick, FILE *json)
+/* One ratio's summary line against its target over the meshes of `sum`
+ * (`meshes`: what they are, plural), and its JSON fields. */
+static void cut_verdict(const cut_summary *sum, const char *meshes, int k, const char *key, const char *what,
+                        double target, double limit_s, int quick, FILE *json)
 {
     const double worst = sum->worst[k];
     const char *verdict = !(worst > 0) ? "NOT MEASURED" : worst <= target ? "PASS" : "MISS";
     printf("cut against flat N = 3, %s: ", what);
     if (worst > 0)
-        printf("worst %.2fx on knots of %u to %u vertices", worst, sum->smallest, sum->largest);
+        printf("worst %.2fx on %s of %u to %u vertices", worst, meshes, sum->smallest, sum->largest);
     else if (sum->measured)
         printf("no GL timer-query times (a CPU rasteriser times submission, not execution)");
     else
-        printf("no knot measured");
+        printf("no %s measured", meshes);
     printf("; target <= %.1f: %s", target, verdict);
     if (sum->unbuilt)
         printf(" (not measured at %s vertices: no cut map built within the %g s limit, or loaded by the GL)",
@@ -220,10 +219,48 @@ static void cut_verdict(const cut_summary *sum, int k, const char *key, const ch
     fprintf(json, ", \"%s_target\": %.1f, \"%s_verdict\": \"%s\"", key, target, key, verdict);
 }
 
-/* The cut study on every knot of `cfg`, with its summary lines and the
+/* The five verdict lines of `sum`; JSON keys start with `prefix`. */
+static void cut_verdicts(const cut_summary *sum, const char *meshes, const char *prefix, double limit_s, int quick,
+                         FILE *json)
+{
+    static const struct {
+        int k;
+        const char *key, *what;
+    } lines[] = {
+        {CUT_TRANSLUCENCY, "translucency_ratio_worst",
+         "node + translucency pass / translucency pass with K evaluated per sample (wall)"},
+        {CUT_TRANSLUCENCY_CACHED, "translucency_ratio_cached_worst",
+         "node + translucency pass / translucency pass with its rest K cached too (wall)"},
+        {CUT_TRANSLUCENCY_GPU, "translucency_gpu_ratio_worst",
+         "node + translucency pass / translucency pass with K evaluated (GL timer queries)"},
+        {CUT_ANIMATED, "animated_ratio_worst",
+         "animated frame's deform + walk + irradiance + node + translucency (wall)"},
+        {CUT_ANIMATED_GPU, "animated_gpu_ratio_worst",
+         "animated frame's deform + walk + irradiance + node + translucency (GL timer queries)"},
+    };
+    for (size_t i = 0; i < sizeof lines / sizeof *lines; ++i) {
+        char key[96];
+        snprintf(key, sizeof key, "%s%s", prefix, lines[i].key);
+        const double target =
+            lines[i].k == CUT_ANIMATED || lines[i].k == CUT_ANIMATED_GPU ? CUT_ANIMATED_TARGET : CUT_TRANSLUCENCY_TARGET;
+        cut_verdict(sum, meshes, lines[i].k, key, lines[i].what, target, limit_s, quick, json);
+    }
+}
+
+/* The skin scans of the study, at the sizes of their comparison scenes:
+ * where a few vertices carry nearly all of a receiver's light, a cut map's
+ * row is those vertices (sam_build_cut.c), and on a deforming mesh a
+ * vertex sample costs more than a node. */
+static const struct {
+    const char *file, *label;
+    float size_mm;
+} cut_scans[] = {{"dragon.off", "dragon scan, skin", 89.7f}, {"head.off", "head scan, skin", 280.0f}};
+
+/* The cut study on every knot of `cfg` and, but with `quick`, on the skin
+ * scans found in `scans`, with their summary lines and the
  * "cut_against_flat" JSON object. */
-void frame_cut_section(const frame_config *cfg, const sam_profile *skin, double limit_s, int timers, int quick,
-                        FILE *json)
+void frame_cut_section(const frame_config *cfg, const sam_profile *skin, const char *scans, double limit_s,
+                       int timers, int quick, FILE *json)
 {
     sam_build_settings defaults;
     sam_build_default_settings(&defaults);
@@ -239,26 +276,31 @@ void frame_cut_section(const frame_config *cfg, const sam_profile *skin, double 
            "flat frame", "ratio");
     fprintf(json, "  \"cut_against_flat\": {\n    \"build_limit_s\": %g, \"runs\": %d, \"knots\": [\n", limit_s,
             cfg->pass_runs);
-    cut_summary sum;
-    memset(&sum, 0, sizeof sum);
-    for (int m = 0; m < cfg->mesh_count; ++m)
-        cut_study(cfg, m, skin, limit_s, timers, &sum, json);
+    cut_summary knots, scanned;
+    memset(&knots, 0, sizeof knots);
+    memset(&scanned, 0, sizeof scanned);
+    for (int m = 0; m < cfg->mesh_count; ++m) {
+        sam_mesh mesh;
+        frame_knot_mesh(cfg->resolutions[m], &mesh);
+        cut_study(cfg, "knot", &mesh, 40.0f, m == 0, skin, limit_s, timers, &knots, json);
+    }
+    fprintf(json, "\n    ],\n    \"scans\": [\n");
+    int first = 1;
+    for (size_t i = 0; !quick && i < sizeof cut_scans / sizeof *cut_scans; ++i) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", scans, cut_scans[i].file);
+        sam_mesh mesh;
+        float mm_per_unit;
+        if (!frame_scan_mesh(path, cut_scans[i].size_mm, &mesh, &mm_per_unit)) {
+            printf("%9s  not measured: no %s (meshes/fetch_scans.sh)   %s\n", "-", path, cut_scans[i].label);
+            continue;
+        }
+        cut_study(cfg, cut_scans[i].label, &mesh, mm_per_unit, first, skin, limit_s, timers, &scanned, json);
+        first = 0;
+    }
     fprintf(json, "\n    ]");
-    cut_verdict(&sum, CUT_TRANSLUCENCY, "translucency_ratio_worst",
-                "node + translucency pass / translucency pass with K evaluated per sample (wall)",
-                CUT_TRANSLUCENCY_TARGET, limit_s, quick, json);
-    cut_verdict(&sum, CUT_TRANSLUCENCY_CACHED, "translucency_ratio_cached_worst",
-                "node + translucency pass / translucency pass with its rest K cached too (wall)",
-                CUT_TRANSLUCENCY_TARGET, limit_s, quick, json);
-    cut_verdict(&sum, CUT_TRANSLUCENCY_GPU, "translucency_gpu_ratio_worst",
-                "node + translucency pass / translucency pass with K evaluated (GL timer queries)",
-                CUT_TRANSLUCENCY_TARGET, limit_s,
-                quick, json);
-    cut_verdict(&sum, CUT_ANIMATED, "animated_ratio_worst",
-                "animated frame's deform + walk + irradiance + node + translucency (wall)", CUT_ANIMATED_TARGET,
-                limit_s, quick, json);
-    cut_verdict(&sum, CUT_ANIMATED_GPU, "animated_gpu_ratio_worst",
-                "animated frame's deform + walk + irradiance + node + translucency (GL timer queries)",
-                CUT_ANIMATED_TARGET, limit_s, quick, json);
+    cut_verdicts(&knots, "knots", "", limit_s, quick, json);
+    if (scanned.measured)
+        cut_verdicts(&scanned, "skin scans", "scans_", limit_s, quick, json);
     fprintf(json, "\n  }\n");
 }
