@@ -112,7 +112,7 @@ static float kprime_loss(const sam_build_context *ctx, const float k[3], float a
     float rd[3], lost = 0.0f;
     sam_profile_eval(ctx->profile, d, rd);
     for (int c = 0; c < 3; ++c)
-        if (!(area * rd[c] > 1e-30f))
+        if (!(area * rd[c] > SAM_BUILD_KPRIME_MIN_DENOM))
             lost += k[c];
     return lost;
 }

@@ -160,6 +160,10 @@ sam_status sam_build_progress_finish(sam_build_progress *p, sam_build_result *r,
 /* OpenMP threads the settings ask for. */
 int sam_build_thread_count(const sam_build_context *ctx);
 
+/* The smallest F' R_d (eq. 15's denominator) that holds a K': below it
+ * sam_build_kprime gives K' = 1 and that channel's K is lost. */
+#define SAM_BUILD_KPRIME_MIN_DENOM 1e-30f
+
 /* K' of eq. 15 for a sample of K `k` at `distance` mm from the receiver,
  * standing for `area` mm^2: against the exact profile, which is what the
  * runtime evaluates. */

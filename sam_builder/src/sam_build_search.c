@@ -67,7 +67,7 @@ void sam_build_kprime(const sam_build_context *ctx, const float k[3], float area
          * A node's centroid can lie where one channel's R_d is denormal
          * while a nearer member still carries a little K: the same limit
          * keeps K' finite (and that channel's sliver of light is lost). */
-        out[c] = denom > 1e-30f ? k[c] / denom : 1.0f;
+        out[c] = denom > SAM_BUILD_KPRIME_MIN_DENOM ? k[c] / denom : 1.0f;
     }
 }
 
