@@ -66,7 +66,7 @@ uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
 // for the posed path it never took.
 #if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 #include "fan_form_factor.glsl"
-// The vertex samples in a row's first QUADRATURE_SLOTS slots, the best
+// The vertex samples in a row's first 3 slots (QUADRATURE_MASK), the best
 // (rows are sorted by K), carry K by the fans' quadrature, about 25 R_d
 // each; the rest by eq. 15's change in distance, two. A cut map's row can
 // be 32 vertices (sam_build_cut.c lists them where they carry the light),
@@ -75,7 +75,7 @@ uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
 // skin ear T erred by 0.059 against a fresh build where the quadrature for
 // every sample gave 0.056 and eq. 15's change for every one 0.075
 // (tests/test_gl_walk.c).
-#define QUADRATURE_SLOTS 3u
+#define QUADRATURE_MASK 7u // slots 0, 1 and 2
 #endif
 #include "eq15_k.glsl"
 
@@ -88,6 +88,14 @@ vec3 sample_light(uint v, uint k, uint index)
     Node d = nodes[index - u_vertex_count];
     return max(d.ld.rgb + sample_tau[sample_slot(v, k, u_vertex_count)] * d.ld_diff.rgb, vec3(0.0));
 }
+
+#ifdef SAM_POSED
+// Eq. 13-14 at the pose for back-side vertex i at q, receiver at p with normal n.
+bool on_back_side(uint i, vec3 q, vec3 p, vec3 n)
+{
+    return dot(q - p, n) < 0.0 && dot(normals[i].xyz, n) < 0.0;
+}
+#endif
 
 void store(uint v, vec3 sum)
 {
@@ -166,30 +174,34 @@ void main()
         vec3 change = clamp(k_pose / max(k_rest, vec3(1e-30)), vec3(0.25), vec3(4.0));
         sum += sample_light(v, k, s.index) * k_rest * change;
     }
+#ifdef SAM_POSED_EQ15
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
-            uint slot_k = uint(findLSB(bits)) + 32u * w;
-            Sample s = SAMPLE_LOAD(samples, sample_slot(v, slot_k, u_vertex_count));
+            Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count));
             vec3 q = positions[s.index].xyz;
-            if (!(dot(q - p, n) < 0.0 && dot(normals[s.index].xyz, n) < 0.0))
-                continue;
-            vec3 kprime = sample_k(s);
-#ifdef SAM_POSED_EQ15
-            vec3 posed_k = kprime * fan_area[s.index] * profile_rd(u_mm_per_unit * distance(q, p));
-#else
-            vec3 posed_k;
-            if (slot_k < QUADRATURE_SLOTS) {
-                posed_k = posed_form_factor(v, s.index, kprime);
-            } else {
-                // Eq. 15's change in distance, held within [1/4, 4] as a node's.
-                vec3 k_rest = kprime * fan_area[s.index] *
-                              profile_rd(u_mm_per_unit * distance(rest_positions[s.index].xyz, rest_positions[v].xyz));
-                vec3 k_pose = kprime * fan_area[s.index] * profile_rd(u_mm_per_unit * distance(q, p));
-                posed_k = k_rest * clamp(k_pose / max(k_rest, vec3(1e-30)), vec3(0.25), vec3(4.0));
-            }
-#endif
-            sum += irradiance[s.index].rgb * posed_k;
+            if (on_back_side(s.index, q, p, n))
+                sum += irradiance[s.index].rgb * sample_k(s) * fan_area[s.index] *
+                       profile_rd(u_mm_per_unit * distance(q, p));
         }
+#else
+    // The quadrature's slots in a loop of their own, then the others: in one
+    // loop the invocations of a SIMD group reach the two kinds in different
+    // iterations, and llvmpipe ran both under a mask.
+    for (uint bits = slots_low & QUADRATURE_MASK; bits != 0u; bits &= bits - 1u) {
+        Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)), u_vertex_count));
+        if (on_back_side(s.index, positions[s.index].xyz, p, n))
+            sum += irradiance[s.index].rgb * posed_form_factor(v, s.index, sample_k(s));
+    }
+    for (uint w = 0u; w < 2u; ++w)
+        for (uint bits = w == 0u ? slots_low & ~QUADRATURE_MASK : slots_high; bits != 0u; bits &= bits - 1u) {
+            Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count));
+            vec3 q = positions[s.index].xyz;
+            if (!on_back_side(s.index, q, p, n))
+                continue;
+            // Eq. 15's change in distance, held within [1/4, 4] as a node's.
+            sum += irradiance[s.index].rgb * sample_k(s) * fan_area[s.index] * profile_rd(u_mm_per_unit * distance(q, p));
+        }
+#endif
     store(v, sum);
 }
 #endif

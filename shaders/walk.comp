@@ -39,6 +39,9 @@ layout(local_size_x = 64) in;
 // skin ear the walked T's error against a fresh build went from 0.045 to
 // 0.048 (tests/test_gl_walk.c).
 #define WALK_FROM 3u
+// Ring vertices a row lacks, kept per walk: three rings of valence up to
+// 16 hold all of theirs; past that the rest wait for the next frame.
+#define MAX_CANDIDATES 48u
 
 #include "sample.glsl"
 
@@ -86,6 +89,35 @@ float approximate_k(uint i, vec3 kprime, vec3 p)
     return (k.r + k.g + k.b) / 3.0;
 }
 
+// Scores every vertex slot of the row (score[] holds the others' already):
+// eq. 15's K at the pose, or 0 off the back side.
+void score_vertex_slots(uint slots_low, uint slots_high, vec3 p, vec3 n)
+{
+    for (uint w = 0u; w < 2u; ++w)
+        for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
+            uint k = uint(findLSB(bits)) + 32u * w, i = chosen[k].index;
+            if (back_side(i, p, n))
+                score[k] = approximate_k(i, sample_k(chosen[k]), p);
+        }
+}
+
+bool taken(uint c)
+{
+    bool found = false;
+    for (uint j = 0u; j < u_stride; ++j)
+        found = found || chosen[j].index == c;
+    return found;
+}
+
+uint worst_slot()
+{
+    uint worst = 0u;
+    for (uint j = 1u; j < u_stride; ++j)
+        if (score[j] < score[worst])
+            worst = j;
+    return worst;
+}
+
 void main()
 {
     uint v = gl_GlobalInvocationID.x;
@@ -110,41 +142,47 @@ void main()
                 slots_high |= 1u << (k - 32u);
         }
     }
-    for (uint w = 0u; w < 2u; ++w)
-        for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
-            uint k = uint(findLSB(bits)) + 32u * w, i = chosen[k].index;
-            if (back_side(i, p, n))
-                score[k] = approximate_k(i, sample_k(chosen[k]), p);
-        }
-    // Walk from the samples as they were (read back from the buffer, which
-    // this invocation has not written yet), not from this frame's adoptions:
-    // one ring per frame; from the first WALK_FROM vertex slots only.
+    // First the ring vertices the row lacks, then, only if there are any,
+    // the row's scores (an R_d per vertex sample) and the adoptions. A row
+    // the builder listed (32 vertices) mostly holds its best samples' rings
+    // already, and scoring it was most of the walk there; such a row keeps
+    // its order until the walk adopts into it. Scoring inside the ring
+    // loop, where the first candidate came, made llvmpipe score a SIMD
+    // group's rows once per lane that found one.
+    uint candidates[MAX_CANDIDATES];
+    uint candidate_count = 0u;
+    // Walk from the samples as they were, not from this frame's adoptions
+    // (the candidates are all found before any): one ring per frame; from
+    // the first WALK_FROM vertex slots only.
     uint walked = 0u;
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u && walked++ < WALK_FROM; bits &= bits - 1u) {
-            Sample from = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count));
-            for (uint a = adj_offsets[from.index]; a < adj_offsets[from.index + 1u]; ++a) {
+            uint from = chosen[uint(findLSB(bits)) + 32u * w].index;
+            for (uint a = adj_offsets[from]; a < adj_offsets[from + 1u] && candidate_count < MAX_CANDIDATES; ++a) {
                 uint c = adjacency[a];
-                uint worst = 0u;
-                bool taken = false;
-                for (uint j = 0u; j < u_stride; ++j) {
-                    taken = taken || chosen[j].index == c;
-                    if (score[j] < score[worst])
-                        worst = j;
-                }
                 // A row of vertices only (the builder listed its best
                 // ones) has no node to ask: the ancestors' loop over every
                 // slot was most of the walk there.
-                if (taken || !back_side(c, p, n) || (cut && under_cut_node(c)))
-                    continue;
-                vec3 kp = vec3(1.0);
-                float s = approximate_k(c, kp, p);
-                if (s > score[worst]) {
-                    chosen[worst] = make_sample(c, kp);
-                    score[worst] = s;
-                }
+                if (!taken(c) && back_side(c, p, n) && !(cut && under_cut_node(c)))
+                    candidates[candidate_count++] = c;
             }
         }
+    if (candidate_count == 0u)
+        return; // nothing adopted: the row stays as stored
+    score_vertex_slots(slots_low, slots_high, p, n);
+    uint worst = worst_slot();
+    for (uint j = 0u; j < candidate_count; ++j) {
+        uint c = candidates[j];
+        if (taken(c)) // in two rings
+            continue;
+        vec3 kp = vec3(1.0);
+        float s = approximate_k(c, kp, p);
+        if (s > score[worst]) {
+            chosen[worst] = make_sample(c, kp);
+            score[worst] = s;
+            worst = worst_slot();
+        }
+    }
     // Insertion sort, best first; empty slots (score -1) end up last, as
     // the translucency pass expects. A cut map's list stays in place: its
     // nodes' tau (STAU) belong to their slots, and adoptions fill the first

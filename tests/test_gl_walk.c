@@ -483,21 +483,19 @@ static double distance_mm(const fixture *f, const float *pos, uint32_t o, uint32
 /* K of sample i of vertex o in slot `slot` at the pose f->pos, its K'
  * holding at the rest pose (the .sam's positions), as the translucency
  * pass carries it: by the fans' quadrature in the first 3 slots, by eq.
- * 15's change in distance (held within [1/4, 4]) after them. */
+ * 15 at the pose after them. */
 static void posed_k(const fixture *f, uint32_t o, uint32_t i, uint32_t slot, const float *kprime, double k[3])
 {
     double q_rest[3], q_pose[3], rest_area, area;
-    float rd[3], rd_pose[3];
+    float rd[3];
     fan_quadrature(f, f->pos, o, i, q_pose, &area);
-    sam_profile_eval(&f->profile, (float)distance_mm(f, f->sam.positions, o, i), rd);
     if (slot >= 3) {
-        sam_profile_eval(&f->profile, (float)distance_mm(f, f->pos, o, i), rd_pose);
-        for (int c = 0; c < 3; ++c) {
-            const double k_rest = kprime[c] * area * rd[c], k_pose = kprime[c] * area * rd_pose[c];
-            k[c] = k_rest * fmin(fmax(k_pose / fmax(k_rest, 1e-30), 0.25), 4.0);
-        }
+        sam_profile_eval(&f->profile, (float)distance_mm(f, f->pos, o, i), rd);
+        for (int c = 0; c < 3; ++c)
+            k[c] = kprime[c] * area * rd[c];
         return;
     }
+    sam_profile_eval(&f->profile, (float)distance_mm(f, f->sam.positions, o, i), rd);
     fan_quadrature(f, f->sam.positions, o, i, q_rest, &rest_area);
     for (int c = 0; c < 3; ++c)
         k[c] = q_rest[c] > 0 ? kprime[c] * rest_area * rd[c] * q_pose[c] / q_rest[c] : 0.0;

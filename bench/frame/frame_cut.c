@@ -25,6 +25,48 @@ static sam_status run_animated_frame(sam_runtime *rt, void *user, sam_error *err
     return st == SAM_OK ? frame_run_translucency(rt, NULL, err) : st;
 }
 
+/* An animated frame's SAM work pass by pass, on `count` runtimes side by
+ * side (the rounds of frame_median_ms_side_by_side): each pass closed by
+ * glFinish, so that ms[r][p] is runtime r's median wall time of deform,
+ * walk, irradiance, and the node and translucency passes (p = 0..3). Its
+ * sum exceeds the whole frame's time by the three waits. */
+enum { SPLIT_DEFORM, SPLIT_WALK, SPLIT_IRRADIANCE, SPLIT_TRANSLUCENCY, SPLIT_PASSES };
+static void animated_frame_split(sam_runtime *const *rt, int count, int *frames, int runs,
+                                 double (*ms)[SPLIT_PASSES])
+{
+    double t[FRAME_SIDE_MAX][SPLIT_PASSES][32];
+    sam_error err;
+    for (int i = 0; i < runs; ++i)
+        for (int j = 0; j < count; ++j) {
+            const int r = (i + j) % count;
+            double mark[SPLIT_PASSES + 1];
+            glFinish();
+            mark[0] = sam_seconds();
+            sam_status st = sam_runtime_deform(rt[r], (float)++frames[r] / 30.0f, &err);
+            glFinish();
+            mark[1] = sam_seconds();
+            if (st == SAM_OK)
+                st = sam_runtime_walk(rt[r], &err);
+            glFinish();
+            mark[2] = sam_seconds();
+            if (st == SAM_OK)
+                st = frame_run_irradiance(rt[r], NULL, &err);
+            glFinish();
+            mark[3] = sam_seconds();
+            if (st == SAM_OK)
+                st = frame_run_translucency(rt[r], NULL, &err);
+            glFinish();
+            mark[4] = sam_seconds();
+            if (st != SAM_OK)
+                frame_die("animated frame", &err);
+            for (int p = 0; p < SPLIT_PASSES; ++p)
+                t[r][p][i] = 1e3 * (mark[p + 1] - mark[p]);
+        }
+    for (int r = 0; r < count; ++r)
+        for (int p = 0; p < SPLIT_PASSES; ++p)
+            ms[r][p] = bench_median(t[r][p], runs);
+}
+
 /* Samples per vertex that name something (the translucency pass skips
  * empty slots, so its cost follows these, not N). */
 static double filled_samples(const samfile_data *d)
@@ -150,6 +192,8 @@ static void cut_study(const frame_config *cfg, const char *label, sam_mesh *mesh
     void *const frame_user[2] = {&frames[0], &frames[1]};
     double ani[2], ani_gpu[2][SAM_PASS_COUNT];
     frame_median_ms_side_by_side(rt, 2, run_animated_frame, frame_user, cfg->pass_runs, passes, 5, ani, ani_gpu);
+    double split[2][SPLIT_PASSES];
+    animated_frame_split(rt, 2, frames, cfg->pass_runs, split);
     const double ratio[CUT_RATIOS] = {
         tra[0] / tra[2], tra[0] / tra[1], timers ? ratio_or_zero(gpu_sum(tra_gpu[0], 2), gpu_sum(tra_gpu[2], 1)) : 0,
         ani[0] / ani[1], timers ? ratio_or_zero(gpu_sum(ani_gpu[0], 5), gpu_sum(ani_gpu[1], 4)) : 0};
@@ -160,6 +204,11 @@ static void cut_study(const frame_config *cfg, const char *label, sam_mesh *mesh
     if (ratio[CUT_TRANSLUCENCY_GPU] > 0 || ratio[CUT_ANIMATED_GPU] > 0)
         printf("   GPU %.2fx, %.2fx", ratio[CUT_TRANSLUCENCY_GPU], ratio[CUT_ANIMATED_GPU]);
     printf("   %s\n", label);
+    printf("%9s  animated frame by pass, cut | flat: deform %.1f | %.1f, walk %.1f | %.1f, irradiance %.1f | %.1f, "
+           "node + translucency %.1f | %.1f ms\n",
+           "", split[0][SPLIT_DEFORM], split[1][SPLIT_DEFORM], split[0][SPLIT_WALK], split[1][SPLIT_WALK],
+           split[0][SPLIT_IRRADIANCE], split[1][SPLIT_IRRADIANCE], split[0][SPLIT_TRANSLUCENCY],
+           split[1][SPLIT_TRANSLUCENCY]);
     fprintf(json,
             ", \"cut_build_s\": %.3f, \"cut_samples_per_vertex\": %u, \"cut_nodes\": %u, "
             "\"cut_samples_filled_per_vertex\": %.3f, "
@@ -182,6 +231,10 @@ static void cut_study(const frame_config *cfg, const char *label, sam_mesh *mesh
     frame_json_positive(json, "flat_animated_frame_gpu_ms", timers ? gpu_sum(ani_gpu[1], 4) : 0);
     fprintf(json, ", ");
     frame_json_positive(json, "animated_gpu_ratio", ratio[CUT_ANIMATED_GPU]);
+    static const char *const split_names[SPLIT_PASSES] = {"deform", "walk", "irradiance", "translucency"};
+    for (int r = 0; r < 2; ++r)
+        for (int p = 0; p < SPLIT_PASSES; ++p)
+            fprintf(json, ", \"%s_animated_%s_ms\": %.4f", r ? "flat" : "cut", split_names[p], split[r][p]);
     fprintf(json, "}");
     for (int k = 0; k < CUT_RATIOS; ++k)
         sum->worst[k] = fmax(sum->worst[k], ratio[k]);
