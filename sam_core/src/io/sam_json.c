@@ -203,7 +203,7 @@ sam_status sam_json_vec3(const sam_json_ctx *ctx, const cJSON *item, const char 
 sam_status sam_json_enum(const sam_json_ctx *ctx, const cJSON *item, const char *path, const char *what,
                          const char *const *names, size_t count, int *out)
 {
-    const char *s;
+    const char *s = NULL; /* set when it succeeds; GCC's -O3 cannot tell */
     sam_status st = sam_json_string(ctx, item, path, &s);
     if (st != SAM_OK)
         return st;
