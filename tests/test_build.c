@@ -57,6 +57,17 @@ static sam_build_context *context(const sam_mesh *mesh, const sam_profile *profi
     return ctx;
 }
 
+/* A flat-map context on `mesh` at 1 mm per unit in the material preset
+ * `preset`, whose profile goes into *profile (it must outlive the context). */
+static sam_build_context *flat_context(const sam_mesh *mesh, const char *preset, sam_profile *profile)
+{
+    assert_int_equal(sam_profile_preset(preset, profile, NULL), SAM_OK);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
+    return context(mesh, profile, 1.0f, &s);
+}
+
 static float mean3(const float *k)
 {
     return (k[0] + k[1] + k[2]) / 3.0f;
@@ -69,11 +80,7 @@ static void test_far_small_fans(void **state)
     sam_mesh mesh;
     two_fans(0.02f, 3.0f, &mesh);
     sam_profile marble;
-    assert_int_equal(sam_profile_preset("marble", &marble, NULL), SAM_OK);
-    sam_build_settings s;
-    sam_build_default_settings(&s);
-    s.map = SAM_BUILD_MAP_FLAT;
-    sam_build_context *ctx = context(&mesh, &marble, 1.0f, &s);
+    sam_build_context *ctx = flat_context(&mesh, "marble", &marble);
     uint32_t o = mesh.topo_of[0], i = mesh.topo_of[7];
     float k[3], e, rd[3];
     sam_build_form_factor(ctx, o, i, 256, 7, k, &e);
@@ -91,7 +98,8 @@ static void test_far_small_fans(void **state)
 }
 
 /* A constant profile (one Gaussian far wider than the fans) gives K = F'_i
- * times that constant, exactly, whatever the samples. */
+ * times that constant, exactly, whatever the samples, where F'_i is behind
+ * o's fan; and 0 from o's own side (no point of it is behind another). */
 static void test_constant_profile(void **state)
 {
     (void)state;
@@ -106,41 +114,37 @@ static void test_constant_profile(void **state)
     sam_build_context *ctx = context(&mesh, &flat, 1.0f, &s);
     float rd0[3];
     sam_profile_eval(&flat, 0.0f, rd0);
+    int behind = 0, beside = 0;
     for (uint32_t i = 0; i < mesh.topo_count; i += 3) {
         float k[3], e;
         sam_build_form_factor(ctx, mesh.topo_of[0], i, 16, 3, k, &e);
-        for (int c = 0; c < 3; ++c)
-            assert_float_equal(k[c] / (sam_build_fan_area(ctx, i) * rd0[c]), 1.0, 1e-5);
+        const int back = sam_build_is_back_side(ctx, mesh.topo_of[0], i);
+        behind += back;
+        beside += !back;
+        for (int c = 0; c < 3; ++c) {
+            if (back)
+                assert_float_equal(k[c] / (sam_build_fan_area(ctx, i) * rd0[c]), 1.0, 1e-5);
+            else
+                assert_true(k[c] == 0.0f);
+        }
         assert_true(e <= 1e-6f * mean3(k));
     }
+    assert_true(behind > 0 && beside > 0);
     sam_build_context_destroy(ctx);
     sam_mesh_destroy(&mesh);
 }
 
-/* A fan and itself under the skin sum of Gaussians against a midpoint
- * quadrature of the double integral over both reduced fans. */
-static void test_self_form_factor_against_quadrature(void **state)
+/* Midpoint quadrature of topo vertex t's reduced fan: each of its
+ * half-quads (vertex, edge midpoint, centroid) split into QUAD_L^2
+ * sub-triangles, one point at each centroid. Returns the point count. */
+enum { QUAD_L = 12, QUAD_MAX = 12 * QUAD_L * QUAD_L };
+static int fan_quadrature_points(const sam_mesh *mesh, uint32_t t, float (*qp)[3], float *qw)
 {
-    (void)state;
-    sam_mesh mesh;
-    two_fans(0.3f, 5.0f, &mesh);
-    sam_profile skin;
-    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
-    sam_build_settings s;
-    sam_build_default_settings(&s);
-    s.map = SAM_BUILD_MAP_FLAT;
-    sam_build_context *ctx = context(&mesh, &skin, 1.0f, &s);
-    uint32_t o = mesh.topo_of[0];
-    /* Quadrature points: each of the 12 half-quads (vertex, edge midpoint,
-     * centroid) split into L^2 sub-triangles, one point at each centroid. */
-    enum { L = 12 };
-    static float qp[12 * L * L][3];
-    static float qw[12 * L * L];
     int nq = 0;
-    const float *v = mesh.positions + 3 * mesh.topo_rep[o];
-    for (uint32_t k = mesh.ring_offsets[o] + 1; k < mesh.ring_offsets[o + 1]; ++k) {
-        const float *a = mesh.positions + 3 * mesh.topo_rep[mesh.ring[k - 1]];
-        const float *b = mesh.positions + 3 * mesh.topo_rep[mesh.ring[k]];
+    const float *v = mesh->positions + 3 * mesh->topo_rep[t];
+    for (uint32_t k = mesh->ring_offsets[t] + 1; k < mesh->ring_offsets[t + 1]; ++k) {
+        const float *a = mesh->positions + 3 * mesh->topo_rep[mesh->ring[k - 1]];
+        const float *b = mesh->positions + 3 * mesh->topo_rep[mesh->ring[k]];
         for (int half = 0; half < 2; ++half) {
             float p0[3], p1[3], p2[3];
             for (int c = 0; c < 3; ++c) {
@@ -153,38 +157,127 @@ static void test_self_form_factor_against_quadrature(void **state)
                 e1[c] = p1[c] - p0[c], e2[c] = p2[c] - p0[c];
             double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
                    cz = e1[0] * e2[1] - e1[1] * e2[0];
-            double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz) / (L * L);
+            double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz) / (QUAD_L * QUAD_L);
             /* Sub-triangles of a regular L x L subdivision, by barycentric centroids. */
-            for (int i = 0; i < L; ++i)
-                for (int j = 0; j < L - i; ++j)
-                    for (int up = 0; up < 2 && (up == 0 || i + j + 1 < L); ++up) {
-                        double u = up ? (i + 2.0 / 3) / L : (i + 1.0 / 3) / L;
-                        double w = up ? (j + 2.0 / 3) / L : (j + 1.0 / 3) / L;
+            for (int i = 0; i < QUAD_L; ++i)
+                for (int j = 0; j < QUAD_L - i; ++j)
+                    for (int up = 0; up < 2 && (up == 0 || i + j + 1 < QUAD_L); ++up) {
+                        double u = up ? (i + 2.0 / 3) / QUAD_L : (i + 1.0 / 3) / QUAD_L;
+                        double w = up ? (j + 2.0 / 3) / QUAD_L : (j + 1.0 / 3) / QUAD_L;
                         for (int c = 0; c < 3; ++c)
                             qp[nq][c] = (float)(p0[c] + u * e1[c] + w * e2[c]);
                         qw[nq++] = (float)area;
                     }
         }
     }
-    double quad[3] = {0, 0, 0}, total_area = 0;
-    for (int i = 0; i < nq; ++i) {
-        total_area += qw[i];
-        for (int j = 0; j < nq; ++j) {
-            float dx = qp[i][0] - qp[j][0], dy = qp[i][1] - qp[j][1], dz = qp[i][2] - qp[j][2], rd[3];
-            sam_profile_eval(&skin, sqrtf(dx * dx + dy * dy + dz * dz), rd);
+    return nq;
+}
+
+/* K_oi by the quadrature of both fans (mm per unit 1) over the pairs whose
+ * point on F'_i has z above `z_behind` (-INFINITY: every pair), in k, and
+ * F'_o in *area_o. */
+static void quadrature_k(const sam_mesh *mesh, const sam_profile *p, uint32_t o, uint32_t i, float z_behind,
+                         double k[3], double *area_o)
+{
+    static float qo[QUAD_MAX][3], wo[QUAD_MAX], qi[QUAD_MAX][3], wi[QUAD_MAX];
+    const int no = fan_quadrature_points(mesh, o, qo, wo), ni = fan_quadrature_points(mesh, i, qi, wi);
+    k[0] = k[1] = k[2] = *area_o = 0;
+    for (int a = 0; a < no; ++a) {
+        *area_o += wo[a];
+        for (int b = 0; b < ni; ++b) {
+            if (!(qi[b][2] > z_behind))
+                continue;
+            float dx = qo[a][0] - qi[b][0], dy = qo[a][1] - qi[b][1], dz = qo[a][2] - qi[b][2], rd[3];
+            sam_profile_eval(p, sqrtf(dx * dx + dy * dy + dz * dz), rd);
             for (int c = 0; c < 3; ++c)
-                quad[c] += (double)qw[i] * qw[j] * rd[c];
+                k[c] += (double)wo[a] * wi[b] * rd[c];
         }
     }
-    assert_float_equal(total_area, sam_build_fan_area(ctx, o), 1e-6);
+    for (int c = 0; c < 3; ++c)
+        k[c] /= *area_o;
+}
+
+/* quadrature_k against sam_build_form_factor with 20000 pairs: within 4
+ * standard errors and 1% (the quadrature's own error is well under 1% at
+ * QUAD_L = 12). Returns the quadrature's mean-RGB K. */
+static double check_against_quadrature(const sam_build_context *ctx, const sam_mesh *mesh, const sam_profile *p,
+                                       uint32_t o, uint32_t i, float z_behind)
+{
+    double quad[3], area_o;
+    quadrature_k(mesh, p, o, i, z_behind, quad, &area_o);
+    assert_float_equal(area_o, sam_build_fan_area(ctx, o), 1e-6);
     float k[3], e;
-    sam_build_form_factor(ctx, o, o, 20000, 11, k, &e);
-    for (int c = 0; c < 3; ++c) {
-        double expected = quad[c] / total_area;
-        /* The quadrature's own error is well under 1% at L = 12. */
-        if (fabs(k[c] - expected) > 4 * e + 0.01 * expected)
-            fail_msg("channel %d: Monte Carlo %g +- %g, quadrature %g", c, k[c], e, expected);
+    sam_build_form_factor(ctx, o, i, 20000, 11, k, &e);
+    for (int c = 0; c < 3; ++c)
+        if (fabs(k[c] - quad[c]) > 4 * e + 0.01 * quad[c])
+            fail_msg("channel %d: Monte Carlo %g +- %g, quadrature %g", c, k[c], e, quad[c]);
+    return (quad[0] + quad[1] + quad[2]) / 3;
+}
+
+/* Two fans 0.2 mm apart, facing away from each other, under the skin sum
+ * of Gaussians (which falls steeply across them) against a midpoint
+ * quadrature of the double integral over both reduced fans: every point of
+ * the one is behind every point of the other. A fan against itself gives
+ * 0 (no point of it is behind another). */
+static void test_near_form_factor_against_quadrature(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    two_fans(0.3f, 0.2f, &mesh);
+    sam_profile skin;
+    sam_build_context *ctx = flat_context(&mesh, "skin", &skin);
+    uint32_t o = mesh.topo_of[0];
+    float k[3], e;
+    sam_build_form_factor(ctx, o, o, 64, 11, k, &e);
+    assert_true(k[0] == 0.0f && k[1] == 0.0f && k[2] == 0.0f);
+    check_against_quadrature(ctx, &mesh, &skin, o, mesh.topo_of[7], -INFINITY);
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
+/* A fold, as on a scan's rim: a flat fan facing -z at z = 0 and, 0.15 mm
+ * to its side, a fan tilted 70 degrees whose centre is 0.02 mm behind the
+ * first's tangent plane. The two centres pass eq. 13-14, but half of the
+ * second fan is in front of the plane; K counts only the part behind (z >
+ * 0), as the ground truth does point by point, and that part sends much
+ * less light than the whole fan would. */
+static void test_fold_form_factor_against_quadrature(void **state)
+{
+    (void)state;
+    const float r = 0.3f, tilt = 70.0f * (float)PI / 180.0f;
+    const float centre[2][3] = {{0, 0, 0}, {0.15f, 0, 0.02f}};
+    /* In-plane axes of each fan; fan 1's normal is (sin tilt, 0, cos tilt). */
+    const float axis_u[2][3] = {{1, 0, 0}, {cosf(tilt), 0, -sinf(tilt)}}, axis_v[3] = {0, 1, 0};
+    float pos[14 * 3];
+    uint32_t tri[12 * 3];
+    for (int f = 0; f < 2; ++f) {
+        float *c = pos + 3 * 7 * f;
+        memcpy(c, centre[f], sizeof centre[f]);
+        for (int k = 0; k < 6; ++k)
+            for (int d = 0; d < 3; ++d)
+                c[3 + 3 * k + d] = centre[f][d] + r * ((float)cos(k * PI / 3) * axis_u[f][d] +
+                                                       (float)sin(k * PI / 3) * axis_v[d]);
+        for (int k = 0; k < 6; ++k) {
+            uint32_t a = 7 * f + 1 + k, b = 7 * f + 1 + (k + 1) % 6, o = 7 * f;
+            uint32_t t[3] = {o, f ? a : b, f ? b : a}; /* fan 0 faces -z, fan 1 along its normal */
+            memcpy(tri + 3 * (6 * f + k), t, sizeof t);
+        }
     }
+    sam_mesh_input in = {.name = "fold", .vertex_count = 14, .positions = pos, .triangle_count = 12,
+                         .triangles = tri};
+    sam_mesh mesh;
+    assert_int_equal(sam_mesh_create(&in, &mesh, NULL, NULL), SAM_OK);
+    sam_profile skin;
+    sam_build_context *ctx = flat_context(&mesh, "skin", &skin);
+    const uint32_t o = mesh.topo_of[0], i = mesh.topo_of[7];
+    assert_true(sam_build_is_back_side(ctx, o, i));
+    const double behind = check_against_quadrature(ctx, &mesh, &skin, o, i, 0.0f);
+    /* The whole fan, as the vertex test alone counted it, by the same quadrature. */
+    double all[3], area_o;
+    quadrature_k(&mesh, &skin, o, i, -INFINITY, all, &area_o);
+    const double whole = (all[0] + all[1] + all[2]) / 3;
+    printf("fold: K of the part behind %.4g, of the whole fan %.4g (%.2f)\n", behind, whole, behind / whole);
+    assert_true(behind < 0.7 * whole);
     sam_build_context_destroy(ctx);
     sam_mesh_destroy(&mesh);
 }
@@ -346,11 +439,7 @@ static void test_thin_slab(void **state)
     /* 20 x 20 mm, 1 mm thick, 0.5 mm spacing (mm_per_unit 1). */
     sam_test_shape_mesh("slab", 40, 20.0, 1.0, 0, &mesh);
     sam_profile skin;
-    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
-    sam_build_settings s;
-    sam_build_default_settings(&s);
-    s.map = SAM_BUILD_MAP_FLAT;
-    sam_build_context *ctx = context(&mesh, &skin, 1.0f, &s);
+    sam_build_context *ctx = flat_context(&mesh, "skin", &skin);
     sam_build_result r;
     assert_int_equal(sam_build_run(ctx, NULL, NULL, &r, NULL), SAM_OK);
     const float spacing = 0.5f, top = 0.5f;
@@ -574,7 +663,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_far_small_fans),
         cmocka_unit_test(test_constant_profile),
-        cmocka_unit_test(test_self_form_factor_against_quadrature),
+        cmocka_unit_test(test_near_form_factor_against_quadrature),
+        cmocka_unit_test(test_fold_form_factor_against_quadrature),
         cmocka_unit_test(test_matches_reference_ear),
         cmocka_unit_test(test_matches_reference_knot),
         cmocka_unit_test(test_matches_reference_blobs),

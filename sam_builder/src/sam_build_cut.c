@@ -210,7 +210,7 @@ typedef struct listed {
 
 typedef struct cut_scratch {
     cut_entry *entry;                 /* N + 1 */
-    float *points;                    /* 3 * mc_samples */
+    float *points;                    /* SAM_BUILD_POINT_FLOATS * mc_samples */
     uint32_t *ids;                    /* N */
     float *k, *centre;                /* 3N, 3N */
     uint32_t *stack;                  /* the tree's levels + 2 */
@@ -235,7 +235,7 @@ static int cut_scratch_alloc(const sam_build_context *ctx, const sam_build_tree 
 {
     const size_t n = ctx->settings.samples_per_vertex;
     sc->entry = malloc((n + 1) * sizeof *sc->entry);
-    sc->points = malloc((size_t)ctx->settings.mc_samples * 3 * sizeof *sc->points);
+    sc->points = malloc((size_t)ctx->settings.mc_samples * SAM_BUILD_POINT_FLOATS * sizeof *sc->points);
     sc->ids = malloc(n * sizeof *sc->ids);
     sc->k = malloc(3 * n * sizeof *sc->k);
     sc->centre = malloc(3 * n * sizeof *sc->centre);

@@ -88,8 +88,11 @@ static void straddle_estimate(const sam_build_context *ctx, const sam_build_tree
          * area over the node, and so the estimate is unbiased where R_d
          * is not flat across a fan either. */
         float q[3], rd[4];
-        sam_build_sample_fan(ctx, i, rng, q);
-        sam_build_rd(ctx, sam_build_distance(points + 3 * (size_t)(j % ctx->settings.mc_samples), q), rd);
+        sam_build_sample_fan(ctx, i, rng, q, NULL);
+        const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)(j % ctx->settings.mc_samples);
+        if (!sam_build_point_behind(xo, xo + 3, q))
+            continue; /* as in sam_build_form_factor_from */
+        sam_build_rd(ctx, sam_build_distance(xo, q), rd);
         const float kv[3] = {weight * rd[0], weight * rd[1], weight * rd[2]};
         k_add(s, q, kv);
     }

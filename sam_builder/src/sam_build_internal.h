@@ -41,17 +41,27 @@ float sam_build_rd_mean(const sam_build_context *ctx, float r);
  * `threshold`; table_radius when none is. */
 float sam_build_bound_radius(const sam_build_context *ctx, float threshold);
 
-/* A uniform point on the reduced fan of topo vertex t, from `rng`. */
-void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3]);
+/* A uniform point on the reduced fan of topo vertex t, from `rng`, and in
+ * `normal` (may be NULL) the vertex normals interpolated there, not of unit
+ * length (only its direction is asked). */
+void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3], float normal[3]);
 
-/* The `samples` points (3 floats each) on vertex o's reduced fan that every
- * form factor of o shares: drawn from the stream (seed, o), so each K_oi is
- * the same whichever caller computes it, and candidates of one vertex are
- * ranked with common random numbers. */
+/* Whether the point x_i is behind the tangent plane of the point x_o with
+ * normal n_o (of any length): eq. 13 between two points of two fans. */
+int sam_build_point_behind(const float xo[3], const float no[3], const float xi[3]);
+
+/* The `samples` points on vertex o's reduced fan that every form factor of
+ * o shares, SAM_BUILD_POINT_FLOATS floats each: the position, then the
+ * interpolated normal (sam_build_sample_fan). Drawn from the stream (seed,
+ * o), so each K_oi is the same whichever caller computes it, and
+ * candidates of one vertex are ranked with common random numbers. */
+#define SAM_BUILD_POINT_FLOATS 6
 void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_t samples, uint64_t seed,
                                float *points);
 
-/* K_oi from o's shared points and a stream (seed, o, i) for points on F'_i. */
+/* K_oi from o's shared points and a stream (seed, o, i) for points on F'_i:
+ * eq. 11 over the pairs of points of which the one on F'_i is behind the
+ * tangent plane of the one on o's fan (sam_build_point_behind). */
 void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
                                 uint32_t samples, uint64_t seed, float k[3], float *k_error);
 

@@ -139,7 +139,7 @@ static int scratch_alloc(scratch *s, size_t candidates, uint32_t mc_samples)
     s->cand = malloc(candidates * sizeof *s->cand);
     s->k = malloc(candidates * sizeof *s->k);
     s->kerr = malloc(candidates * sizeof *s->kerr);
-    s->points = malloc((size_t)mc_samples * 3 * sizeof *s->points);
+    s->points = malloc((size_t)mc_samples * SAM_BUILD_POINT_FLOATS * sizeof *s->points);
     return s->cand && s->k && s->kerr && s->points;
 }
 

@@ -54,10 +54,12 @@ extern "C" {
  * whenever the same inputs give another map (1.1: cut nodes of up to 256
  * members classified member by member; 1.2: a row is the budget's best
  * vertices where they hold nearly all the light, and a cut node whose
- * centroid cannot hold its K hands it to a descendant node that can), and
- * the tools' map cache keys on it, so that no cached map outlives the
- * builder that made it. */
-#define SAM_BUILD_VERSION "1.2"
+ * centroid cannot hold its K hands it to a descendant node that can; 1.3:
+ * the fans' Monte Carlo counts a pair of points only where the one is
+ * behind the other's tangent plane, eq. 13 point by point), and the tools'
+ * map cache keys on it, so that no cached map outlives the builder that
+ * made it. */
+#define SAM_BUILD_VERSION "1.3"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
@@ -149,9 +151,11 @@ void sam_build_context_destroy(sam_build_context *ctx);
 /* Monte Carlo estimate of K_oi (eq. 11) between topo vertices o and i with
  * `samples` point pairs: points on F'_o from a stream seeded by (seed, o)
  * (shared by all of o's candidates), points on F'_i from one seeded by
- * (seed, o, i). K in RGB, and the standard error of its mean-RGB value
- * (NaN when out of memory). The builders compute exactly these values.
- * Thread-safe. */
+ * (seed, o, i); a pair counts only where its point on F'_i is behind the
+ * tangent plane of its point on F'_o (eq. 13, the vertex normals
+ * interpolated there), so a fan against itself or beside o gives 0. K in
+ * RGB, and the standard error of its mean-RGB value (NaN when out of
+ * memory). The builders compute exactly these values. Thread-safe. */
 void sam_build_form_factor(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples,
                            uint64_t seed, float k[3], float *k_error);
 
