@@ -68,13 +68,13 @@ uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
 #include "fan_form_factor.glsl"
 // The vertex samples in a row's first 3 slots (QUADRATURE_MASK), the best
 // (rows are sorted by K), carry K by the fans' quadrature, about 25 R_d
-// each; the rest by eq. 15's change in distance, two. A cut map's row can
-// be 32 vertices (sam_build_cut.c lists them where they carry the light),
-// and the quadrature for all of them cost an animated frame 5 to 8 times
-// the paper's map of 3 on llvmpipe; with 3, about twice, and on a twisted
-// skin ear T erred by 0.059 against a fresh build where the quadrature for
-// every sample gave 0.056 and eq. 15's change for every one 0.075
-// (tests/test_gl_walk.c).
+// each; the rest take eq. 15 at the pose, one. A cut map's row can be 32
+// vertices (sam_build_cut.c lists them where they carry the light), and
+// the quadrature for all of them cost an animated frame 5 to 8 times the
+// paper's map of 3 on llvmpipe; with 3, 1.2 to 1.3 times. On a twisted
+// skin ear (builder 1.2) T erred by 0.059 against a fresh build, where the
+// quadrature for every sample gave 0.056 and eq. 15's change in distance
+// for every one 0.075 (tests/test_gl_walk.c, docs/runtime.md).
 #define QUADRATURE_MASK 7u // slots 0, 1 and 2
 #endif
 #include "eq15_k.glsl"
@@ -195,11 +195,14 @@ void main()
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low & ~QUADRATURE_MASK : slots_high; bits != 0u; bits &= bits - 1u) {
             Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count));
+            // Eq. 15 at the pose: a vertex's K' is the builder's for one
+            // pair of fans, not a far centroid's, and does not blow up as a
+            // node's would (docs/deformation.md). Written out rather than
+            // eq15_k, whose node branch this loop never needs.
             vec3 q = positions[s.index].xyz;
-            if (!on_back_side(s.index, q, p, n))
-                continue;
-            // Eq. 15's change in distance, held within [1/4, 4] as a node's.
-            sum += irradiance[s.index].rgb * sample_k(s) * fan_area[s.index] * profile_rd(u_mm_per_unit * distance(q, p));
+            if (on_back_side(s.index, q, p, n))
+                sum += irradiance[s.index].rgb * sample_k(s) * fan_area[s.index] *
+                       profile_rd(u_mm_per_unit * distance(q, p));
         }
 #endif
     store(v, sum);
