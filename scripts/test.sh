@@ -25,7 +25,7 @@ for fuzzer in "$root"/build-fuzz/fuzz/fuzz_*; do
   rm -rf "$corpus" && mkdir -p "$corpus"
   cp "$root/fuzz/corpus/${name#fuzz_}/"* "$corpus/" 2>/dev/null || true
   echo "fuzz: $name for ${seconds}s"
-  (cd "$root/build-fuzz" && "$fuzzer" -max_total_time="$seconds" -rss_limit_mb=4096 \
+  (cd "$root/build-fuzz" && "$fuzzer" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=4096 \
      -print_final_stats=0 "$corpus" > "$root/build-fuzz/$name.log" 2>&1) \
     || { tail -50 "$root/build-fuzz/$name.log"; echo "fuzz: $name FAILED"; exit 1; }
   grep -E "^Done|^#[0-9]+.*DONE" "$root/build-fuzz/$name.log" | tail -1 || true

@@ -155,7 +155,9 @@ static void test_same_cube_in_every_format(void **state)
     (void)state;
     static const char *off = "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
                              "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 3 7 6 2\n4 0 4 7 3\n4 1 2 6 5\n";
-    static const char *ply = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\n"
+    /* Comments and obj_info lines (without header keywords) are read past. */
+    static const char *ply = "ply\nformat ascii 1.0\ncomment made by hand\nobj_info scanner 3, units mm\n"
+                             "element vertex 8\nproperty float x\n"
                              "property float y\nproperty float z\nelement face 6\n"
                              "property list uchar int vertex_indices\nend_header\n"
                              "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
@@ -526,6 +528,16 @@ static void test_bad_inputs_give_one_clear_error(void **state)
     expect_error("lone_cr.ply",
                  "ply\nformat ascii 1.0\nelement vev\r\rx 3\nproperty float x\nend_header\n0\n0\n0\n",
                  SAM_ERR_FORMAT, "line 3 contains the control character 0x0d");
+    /* OpenMesh's header parser takes a keyword inside obj_info for an
+     * entry; "x" then stood where a count was read, and it looped forever. */
+    expect_error("obj_info_keyword.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 1\nproperty list uchar int vertex_indices\nobj_info element\nend_header\nx\n",
+                 SAM_ERR_UNSUPPORTED, "line 9: obj_info holds the keyword \"element\"");
+    expect_error("obj_info_end.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nobj_info made by end_header\nproperty float x\n"
+                 "end_header\n0\n0\n0\n",
+                 SAM_ERR_UNSUPPORTED, "line 4: obj_info holds the keyword \"end_header\"");
     expect_error("bad_format.ply", "ply\nformat ascii 1.facement vertex 4\nend_header\n", SAM_ERR_FORMAT,
                  "expected \"format");
     expect_error("huge.off", "OFF\n3 999999999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", SAM_ERR_FORMAT,

@@ -71,6 +71,25 @@ static int tokenize(const char *line, const char *eol, const char **tok, int *le
     }
 }
 
+/* A stream of whitespace-separated tokens, as C++ stream extraction (and
+ * so OpenMesh) reads them. */
+typedef struct token_stream {
+    const char *p, *end;
+} token_stream;
+
+static int next_token(token_stream *ts, const char **tok, int *len)
+{
+    while (ts->p < ts->end && isspace((unsigned char)*ts->p))
+        ts->p++;
+    if (ts->p >= ts->end)
+        return 0;
+    *tok = ts->p;
+    while (ts->p < ts->end && !isspace((unsigned char)*ts->p))
+        ts->p++;
+    *len = (int)(ts->p - *tok);
+    return 1;
+}
+
 static int token_is(const char *tok, int len, const char *word)
 {
     return len == (int)strlen(word) && !strncmp(tok, word, (size_t)len);
@@ -258,23 +277,6 @@ static sam_status ply_body_binary(const char *path, const ply_element *el, int e
 }
 
 /* ASCII bodies are read as a stream of tokens, as OpenMesh does. */
-typedef struct token_stream {
-    const char *p, *end;
-} token_stream;
-
-static int next_token(token_stream *ts, const char **tok, int *len)
-{
-    while (ts->p < ts->end && isspace((unsigned char)*ts->p))
-        ts->p++;
-    if (ts->p >= ts->end)
-        return 0;
-    *tok = ts->p;
-    while (ts->p < ts->end && !isspace((unsigned char)*ts->p))
-        ts->p++;
-    *len = (int)(ts->p - *tok);
-    return 1;
-}
-
 static sam_status ply_body_ascii(const char *path, const ply_element *el, int elements, const char *body,
                                  size_t size, sam_error *err)
 {
@@ -346,7 +348,27 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                               path, s, line);
                 goto done;
             }
-        } else if (count == 0 || token_is(tok[0], len[0], "comment") || token_is(tok[0], len[0], "obj_info")) {
+        } else if (count == 0 || token_is(tok[0], len[0], "comment")) {
+            continue;
+        } else if (token_is(tok[0], len[0], "obj_info")) {
+            /* OpenMesh reads the header word by word and skips only the
+             * words it does not know, so a keyword inside an obj_info line
+             * would start an element or property there (its count taken
+             * from the next line; a word that is no count sent the parser
+             * into an endless loop). */
+            static const char *const keywords[] = {"element", "property", "end_header"};
+            token_stream words = {line, eol};
+            const char *word;
+            int n;
+            while (next_token(&words, &word, &n))
+                for (int k = 0; k < 3; ++k)
+                    if (token_is(word, n, keywords[k])) {
+                        st = sam_fail(err, SAM_ERR_UNSUPPORTED,
+                                      "%s: PLY header line %d: obj_info holds the keyword \"%s\", which the PLY reader "
+                                      "would take for a header entry: \"%.*s\"",
+                                      path, c.line_no, keywords[k], s, line);
+                        goto done;
+                    }
             continue;
         } else if (count == 1 && token_is(tok[0], len[0], "end_header")) {
             if (!elements) {
