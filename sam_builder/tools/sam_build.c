@@ -113,6 +113,9 @@ int main(int argc, char **argv)
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
+    /* The flag is read between build steps only; a second signal ends the
+     * program at once (loading a large mesh takes a while too). */
+    sa.sa_flags = SA_RESETHAND;
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     job.cancel = &interrupted;
