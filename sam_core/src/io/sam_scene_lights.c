@@ -22,13 +22,13 @@ static sam_status check_polygon(const sam_scene_parser *p, const char *path, sam
 {
     const uint32_t n = light->vertex_count;
     double v[SAM_AREA_LIGHT_MAX_VERTICES][3];
-    double centre[3] = {0, 0, 0}, lo[3], hi[3];
+    double centre[3] = {0, 0, 0}, lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (uint32_t i = 0; i < n; ++i) {
         for (int k = 0; k < 3; ++k) {
             v[i][k] = light->vertices[i][k];
             centre[k] += v[i][k] / n;
-            lo[k] = i ? fmin(lo[k], v[i][k]) : v[i][k];
-            hi[k] = i ? fmax(hi[k], v[i][k]) : v[i][k];
+            lo[k] = fmin(lo[k], v[i][k]);
+            hi[k] = fmax(hi[k], v[i][k]);
         }
     }
     double extent[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};

@@ -65,7 +65,7 @@ static sam_status info_number(const cJSON *root, const char *key, double *value,
 static sam_status check_info_fields(const cJSON *root, const samfile_data *d, const char *name,
                                     sam_status bad, sam_error *err)
 {
-    double v;
+    double v = 0;
     sam_status st = info_number(root, "vertex_count", &v, name, bad, err);
     if (st != SAM_OK)
         return st;

@@ -236,7 +236,7 @@ static sam_status record_count(const chunk_ref *c, int tag, size_t elem, const c
 static sam_status check_sizes(const chunk_ref *k, const char *name, samfile_data *d, sam_error *err)
 {
     sam_status st;
-    uint32_t vc;
+    uint32_t vc = 0;
     if ((st = record_count(&k[TAG_POS], TAG_POS, 12, "f32 x,y,z per vertex", &vc, name, err)) != SAM_OK)
         return st;
     if (vc == 0)
@@ -257,7 +257,7 @@ static sam_status check_sizes(const chunk_ref *k, const char *name, samfile_data
     if ((st = expect_length(&k[TAG_ADJO], TAG_ADJO, ((uint64_t)vc + 1u) * 4u, why, name, err)) != SAM_OK)
         return st;
 
-    uint32_t tc;
+    uint32_t tc = 0;
     if ((st = record_count(&k[TAG_TRI], TAG_TRI, 12, "u32 a,b,c per triangle", &tc, name, err)) != SAM_OK)
         return st;
     if (tc == 0)
@@ -282,11 +282,11 @@ static sam_status check_sizes(const chunk_ref *k, const char *name, samfile_data
     if ((st = expect_length(&k[TAG_SKPR], TAG_SKPR, (uint64_t)vc * n * 12u, why, name, err)) != SAM_OK)
         return st;
 
-    uint32_t adj;
+    uint32_t adj = 0;
     if ((st = record_count(&k[TAG_ADJV], TAG_ADJV, 4, "u32 per neighbour", &adj, name, err)) != SAM_OK)
         return st;
     if (k[TAG_NODE].payload) {
-        uint32_t nodes, offsets;
+        uint32_t nodes = 0, offsets = 0;
         if ((st = record_count(&k[TAG_NODE], TAG_NODE, 8, "u32 child pair per node", &nodes, name, err)) !=
                 SAM_OK ||
             (st = record_count(&k[TAG_NLVL], TAG_NLVL, 4, "u32 per level offset", &offsets, name, err)) != SAM_OK)

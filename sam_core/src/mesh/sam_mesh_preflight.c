@@ -574,8 +574,8 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
                  corners + 1 == (unsigned long long)count;
         const char *p = line;
         for (int k = 0; ok && k < count; ++k) {
-            const char *t[1];
-            int l[1];
+            const char *t[1] = {p};
+            int l[1] = {0};
             while (*p == ' ' || *p == '\t')
                 p++;
             tokenize(p, eol, t, l, 1);

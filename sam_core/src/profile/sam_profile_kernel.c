@@ -140,7 +140,7 @@ static void cell_masses(const half_layout *l, const double strip[], double mass[
 static void target_masses(const sam_profile *p, const half_layout *l, double r_hi,
                           double mass[3][SAM_KERNEL_MAX_TAPS / 2 + 1])
 {
-    double strip[3][SAM_KERNEL_MAX_TAPS / 2 + 2];
+    double strip[3][SAM_KERNEL_MAX_TAPS / 2 + 2] = {{0}};
     for (int j = 1; j <= l->half + 1; j++) {
         double m[3];
         strip_mass(p, l->bound[j], r_hi, -1, m);
@@ -182,7 +182,7 @@ static double table_lookup(const mass_table *t, double X)
 /* Model cell masses of p(x / s), normalised over +-W. */
 static void model_masses(const mass_table *t, const half_layout *l, double s, double mass[])
 {
-    double strip[SAM_KERNEL_MAX_TAPS / 2 + 2];
+    double strip[SAM_KERNEL_MAX_TAPS / 2 + 2] = {0};
     for (int j = 1; j <= l->half + 1; j++)
         strip[j] = table_lookup(t, l->bound[j] / s);
     cell_masses(l, strip, mass);

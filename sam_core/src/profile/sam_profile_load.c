@@ -156,7 +156,7 @@ static sam_status json_gaussians(const sam_json_ctx *ctx, const cJSON *list, sam
         sam_json_index_path(where, sizeof where, "gaussians", i);
         if (!cJSON_IsObject(g))
             return sam_json_fail(ctx, SAM_ERR_FORMAT, where, "expected an object, found %s", sam_json_kind(g));
-        const cJSON *found[2];
+        const cJSON *found[2] = {NULL, NULL};
         sam_status s = json_members(ctx, g, where, keys, 2, found);
         if (s != SAM_OK)
             return s;
