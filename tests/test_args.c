@@ -1,6 +1,7 @@
-/* sam_args: the programs' option parser. */
+/* sam_args: the programs' option parser; and sam_app's interrupt handling. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -11,6 +12,7 @@
 
 #include <cmocka.h>
 
+#include "sam/sam_app.h"
 #include "sam/sam_args.h"
 #include "sam/sam_version.h"
 #include "sam_test.h"
@@ -128,12 +130,46 @@ static void test_help_and_version_exit(void **state)
     assert_int_equal(sam_args_fail("tool", "%d and %s", 3, "x"), SAM_ARGS_BAD);
 }
 
+static volatile sig_atomic_t caught;
+
+static void on_signal(int sig)
+{
+    caught = sig;
+}
+
+static void expect_default(int sig)
+{
+    struct sigaction now;
+    assert_int_equal(sigaction(sig, NULL, &now), 0);
+    assert_true(now.sa_handler == SIG_DFL);
+}
+
+/* The first SIGINT or SIGTERM reaches the handler (a clean cancel); the
+ * next one would end the program, which a build that never reads the flag
+ * (a long load) needs. */
+static void test_interrupts_are_caught_once(void **state)
+{
+    (void)state;
+    const int sigs[] = {SIGINT, SIGTERM};
+    for (int k = 0; k < 2; ++k) {
+        caught = 0;
+        sam_app_catch_interrupts(on_signal);
+        assert_int_equal(raise(sigs[k]), 0);
+        assert_int_equal(caught, sigs[k]);
+        expect_default(sigs[k]);
+        sam_app_catch_interrupts(NULL);
+        expect_default(SIGINT);
+        expect_default(SIGTERM);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_values_land_in_their_targets),
         cmocka_unit_test(test_bad_input_is_named),
         cmocka_unit_test(test_help_and_version_exit),
+        cmocka_unit_test(test_interrupts_are_caught_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -134,18 +134,10 @@ sam_status sam_app_cache_object(sam_scene *s, const sam_build_settings *settings
     double seconds;
     if (s->mesh_path && !s->sam_path)
         fprintf(stderr, "%s: building the map of %s\n", tool, s->mesh_path);
-    /* A second signal ends the program at once: the flag is read between
-     * build steps only, and loading a mesh is one step. */
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sa.sa_flags = SA_RESETHAND;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    sam_app_catch_interrupts(on_signal);
     sam_status st =
         sam_app_scene_object(s, set, sam_app_progress_update, &bar, sam, profile, mm_per_unit, &seconds, err);
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
+    sam_app_catch_interrupts(NULL);
     if (bar.open_line)
         fputc('\n', stderr);
     if (built_seconds && st == SAM_OK)

@@ -1,6 +1,8 @@
 /* The build's progress display on stderr (sam_app.h). */
 #define _POSIX_C_SOURCE 200809L
+#include <signal.h>
 #include <stdio.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "sam/sam_app.h"
@@ -43,4 +45,14 @@ int sam_app_progress_update(void *user, uint64_t done, uint64_t total)
                 (unsigned long long)done, (unsigned long long)total, elapsed, eta);
     }
     return 0;
+}
+
+void sam_app_catch_interrupts(void (*handler)(int))
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = handler ? handler : SIG_DFL;
+    sa.sa_flags = handler ? SA_RESETHAND : 0;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
 }

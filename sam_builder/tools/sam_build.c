@@ -8,8 +8,8 @@
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
+#include "sam/sam_app.h"
 #include "sam/sam_app_build.h"
 #include "sam/sam_args.h"
 
@@ -110,14 +110,7 @@ int main(int argc, char **argv)
     s->mc_samples = (uint32_t)mc;
     s->candidates = (uint32_t)candidates;
     s->threads = (int)threads;
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    /* The flag is read between build steps only; a second signal ends the
-     * program at once (loading a large mesh takes a while too). */
-    sa.sa_flags = SA_RESETHAND;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    sam_app_catch_interrupts(on_signal);
     job.cancel = &interrupted;
     return sam_app_build_run(&job, "sam_build");
 }

@@ -39,6 +39,13 @@ void sam_app_progress_init(sam_app_progress *bar, const char *tool, int quiet, v
  * (cancel) once *cancel is set. */
 int sam_app_progress_update(void *user, uint64_t done, uint64_t total);
 
+/* Installs `handler` for SIGINT and SIGTERM, for one signal each: the
+ * handler sets the flag that sam_app_progress_update turns into a clean
+ * cancel, which is read between build steps only, so a second signal ends
+ * the program at once (during a long load, say). `handler` NULL restores
+ * the default action. */
+void sam_app_catch_interrupts(void (*handler)(int));
+
 #ifdef __cplusplus
 }
 #endif
