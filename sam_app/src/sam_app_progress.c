@@ -1,4 +1,4 @@
-/* The build's progress display on stderr (sam_app.h). */
+/* The build's progress display on stderr and its cancel signals (sam_app.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
 #include <stdio.h>

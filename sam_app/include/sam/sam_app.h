@@ -1,6 +1,7 @@
 /*
  * sam_app: what the command-line programs share and a library embedding SAM
- * does not need: the build's progress bar on stderr. The option parser
+ * does not need: the build's progress bar on stderr and the signal handling
+ * that cancels a build (sam_app_catch_interrupts). The option parser
  * (sam_args.h) is part of the same library. Two more libraries sit above
  * it: sam_app_build (sam_app_build.h, sam_app_scene.h: a map from a mesh or
  * a scene, sam_app_thickness.h: a map's local thickness; on the builder) and
