@@ -361,7 +361,7 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
             const char *word;
             int n;
             while (next_token(&words, &word, &n))
-                for (int k = 0; k < 3; ++k)
+                for (size_t k = 0; k < sizeof keywords / sizeof *keywords; ++k)
                     if (token_is(word, n, keywords[k])) {
                         st = sam_fail(err, SAM_ERR_UNSUPPORTED,
                                       "%s: PLY header line %d: obj_info holds the keyword \"%s\", which the PLY reader "
