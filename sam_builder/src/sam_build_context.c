@@ -254,11 +254,6 @@ void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng
     }
 }
 
-int sam_build_point_behind(const float xo[3], const float no[3], const float xi[3])
-{
-    return (xi[0] - xo[0]) * no[0] + (xi[1] - xo[1]) * no[1] + (xi[2] - xo[2]) * no[2] < 0.0f;
-}
-
 /* The stream index of vertex o's own points: no candidate index is this. */
 #define RECEIVER_STREAM UINT64_MAX
 
@@ -295,8 +290,7 @@ void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const 
          * other part faces away, stay out of the search (docs/builder.md). */
         if (!sam_build_point_behind(xo, xo + 3, xi))
             continue;
-        float dx = xi[0] - xo[0], dy = xi[1] - xo[1], dz = xi[2] - xo[2];
-        sam_build_rd(ctx, sqrtf(dx * dx + dy * dy + dz * dz), rd);
+        sam_build_rd(ctx, sam_build_distance(xo, xi), rd);
         for (int c = 0; c < 3; ++c)
             sum[c] += rd[c];
         sum_mean += rd[3];

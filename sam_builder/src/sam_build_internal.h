@@ -47,8 +47,12 @@ float sam_build_bound_radius(const sam_build_context *ctx, float threshold);
 void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3], float normal[3]);
 
 /* Whether the point x_i is behind the tangent plane of the point x_o with
- * normal n_o (of any length): eq. 13 between two points of two fans. */
-int sam_build_point_behind(const float xo[3], const float no[3], const float xi[3]);
+ * normal n_o (of any length): eq. 13 between two points of two fans.
+ * Inline: it runs for every Monte Carlo pair. */
+static inline int sam_build_point_behind(const float xo[3], const float no[3], const float xi[3])
+{
+    return (xi[0] - xo[0]) * no[0] + (xi[1] - xo[1]) * no[1] + (xi[2] - xo[2]) * no[2] < 0.0f;
+}
 
 /* The `samples` points on vertex o's reduced fan that every form factor of
  * o shares, SAM_BUILD_POINT_FLOATS floats each: the position, then the
