@@ -63,6 +63,7 @@
 #define SAM_IMAGE_SOURCE 0   /* blurs: the input; accumulate: the level */
 #define SAM_IMAGE_TARGET 1   /* blurs: the output; accumulate: the running sum */
 #define SAM_IMAGE_STRETCH 2  /* texture-space blur: the stretch map */
+#define SAM_IMAGE_DEPTH 2    /* screen-space prefilter: depth x coverage */
 #define SAM_IMAGE_BLURRED 0  /* compose: the blurred entering light */
 #define SAM_IMAGE_FACTOR 1   /* compose: the factor after the blur */
 #define SAM_IMAGE_SPECULAR 2 /* compose: the specular */

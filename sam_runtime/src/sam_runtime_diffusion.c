@@ -9,7 +9,8 @@
 sam_status sam_runtime_diffusion_create(sam_runtime *rt, sam_error *err)
 {
     sam_status st;
-    if ((st = sam_gl_compute_program("sss_blur.comp", NULL, &rt->diffusion.blur_program, err)) != SAM_OK ||
+    if ((st = sam_gl_compute_program("sss_prefilter.comp", NULL, &rt->diffusion.prefilter_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("sss_blur.comp", NULL, &rt->diffusion.blur_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("sss_compose.comp", NULL, &rt->diffusion.compose_program, err)) != SAM_OK)
         return st;
     return SAM_OK;
@@ -17,6 +18,7 @@ sam_status sam_runtime_diffusion_create(sam_runtime *rt, sam_error *err)
 
 void sam_runtime_diffusion_destroy(sam_runtime *rt)
 {
+    sam_runtime_delete_program(&rt->diffusion.prefilter_program);
     sam_runtime_delete_program(&rt->diffusion.blur_program);
     sam_runtime_delete_program(&rt->diffusion.compose_program);
 }
@@ -56,28 +58,60 @@ sam_status sam_runtime_ensure_kernel(sam_runtime *rt, sam_sss_kernel kind, uint3
     return st;
 }
 
-void sam_runtime_screen_space_diffusion(sam_runtime *rt, const sam_render_view *view, const GLuint tex[5])
+/* The share of the kernel's axis each tap stands for (mm): half the way
+ * to each neighbour, the whole way to the one neighbour of an end tap. */
+static void tap_shares(const sam_separable_kernel *kernel, float *share)
+{
+    const uint32_t n = kernel->taps;
+    for (uint32_t k = 0; k < n; ++k) {
+        const float *o = kernel->offset_mm;
+        share[k] = k == 0 ? o[1] - o[0] : k == n - 1 ? o[n - 1] - o[n - 2] : 0.5f * (o[k + 1] - o[k - 1]);
+    }
+}
+
+void sam_runtime_screen_space_diffusion(sam_runtime *rt, const sam_render_view *view, const GLuint tex[5],
+                                        const GLuint mips[2])
 {
     GLuint gx = (view->width + 7) / 8, gy = (view->height + 7) / 8;
     GLuint b = rt->diffusion.blur_program;
     glUseProgram(b);
-    float offsets[SAM_KERNEL_MAX_TAPS];
-    for (uint32_t k = 0; k < rt->diffusion.kernel.taps; ++k)
-        offsets[k] = rt->diffusion.kernel.offset_mm[k];
-    glUniform1i(glGetUniformLocation(b, "u_taps"), (GLint)rt->diffusion.kernel.taps);
-    glUniform1fv(glGetUniformLocation(b, "u_offset_mm"), (GLsizei)rt->diffusion.kernel.taps, offsets);
-    glUniform3fv(glGetUniformLocation(b, "u_weight"), (GLsizei)rt->diffusion.kernel.taps, &rt->diffusion.kernel.weight[0][0]);
+    const sam_separable_kernel *kernel = &rt->diffusion.kernel;
+    float share[SAM_KERNEL_MAX_TAPS];
+    tap_shares(kernel, share);
+    glUniform1i(glGetUniformLocation(b, "u_taps"), (GLint)kernel->taps);
+    glUniform1fv(glGetUniformLocation(b, "u_offset_mm"), (GLsizei)kernel->taps, kernel->offset_mm);
+    glUniform1fv(glGetUniformLocation(b, "u_share_mm"), (GLsizei)kernel->taps, share);
+    glUniform3fv(glGetUniformLocation(b, "u_weight"), (GLsizei)kernel->taps, &kernel->weight[0][0]);
     glUniform1f(glGetUniformLocation(b, "u_mm_per_unit"), rt->mm_per_unit);
     glUniform1f(glGetUniformLocation(b, "u_pixels_per_unit_at_depth_one"),
                 (float)view->height / (2.0f * tanf(0.5f * view->fov_deg * 3.14159265f / 180.0f)));
-    glUniform1f(glGetUniformLocation(b, "u_depth_jump"), rt->diffusion.kernel.width_mm / rt->mm_per_unit);
+    glUniform1f(glGetUniformLocation(b, "u_depth_jump"), kernel->width_mm / rt->mm_per_unit);
+    glUniform1i(glGetUniformLocation(b, "u_light_mips"), 0);
+    glUniform1i(glGetUniformLocation(b, "u_depth_mips"), 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     for (int pass = 0; pass < 2; ++pass) {
+        const GLuint source = pass == 0 ? tex[0] : tex[3];
+        glUseProgram(rt->diffusion.prefilter_program);
+        glBindImageTexture(SAM_IMAGE_SOURCE, source, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(SAM_IMAGE_TARGET, mips[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(SAM_IMAGE_DEPTH, mips[1], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        glDispatchCompute(gx, gy, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        for (int m = 0; m < 2; ++m) {
+            glActiveTexture(GL_TEXTURE0 + (GLenum)m);
+            glBindTexture(GL_TEXTURE_2D, mips[m]);
+            glGenerateMipmap(GL_TEXTURE_2D);
+        }
+        glUseProgram(b);
         glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
-        glBindImageTexture(SAM_IMAGE_SOURCE, pass == 0 ? tex[0] : tex[3], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(SAM_IMAGE_SOURCE, source, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         glBindImageTexture(SAM_IMAGE_TARGET, pass == 0 ? tex[3] : tex[4], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glDispatchCompute(gx, gy, 1);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+    for (int m = 1; m >= 0; --m) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)m);
+        glBindTexture(GL_TEXTURE_2D, 0);
     }
     glUseProgram(rt->diffusion.compose_program);
     glBindImageTexture(SAM_IMAGE_BLURRED, tex[4], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);

@@ -21,7 +21,11 @@ sam_status sam_runtime_ensure_kernel(sam_runtime *rt, sam_sss_kernel kind, uint3
 
 /* Two 1D passes of the kernel over the view's entering light (image 0 of
  * `tex`, the view targets), then the composition with the factor (1) and
- * specular (2); into `tex[3]`, with `tex[4]` between the passes. */
-void sam_runtime_screen_space_diffusion(sam_runtime *rt, const sam_render_view *view, const GLuint tex[5]);
+ * specular (2); into `tex[3]`, with `tex[4]` between the passes. Before
+ * each pass the pass's input, times coverage, goes into `mips` (view-sized
+ * RGBA32F and R32F textures with full mipmap chains), from which each tap
+ * reads the mean over its share of the kernel. */
+void sam_runtime_screen_space_diffusion(sam_runtime *rt, const sam_render_view *view, const GLuint tex[5],
+                                        const GLuint mips[2]);
 
 #endif

@@ -180,7 +180,7 @@ typedef struct sam_rt_thickness {
 
 /* sam_runtime_diffusion.c */
 typedef struct sam_rt_diffusion {
-    GLuint blur_program, compose_program;
+    GLuint prefilter_program, blur_program, compose_program;
     sam_separable_kernel kernel; /* of the last screen-space render's kind and taps */
     sam_sss_kernel kernel_kind;
     int preint_ready;
@@ -207,6 +207,7 @@ typedef struct sam_rt_tsd {
 typedef struct sam_rt_view {
     GLuint shade_program;
     GLuint fbo, tex[5], depth;
+    GLuint sss_mips[2]; /* the screen-space blur's mipmapped light (RGBA) and depth (R), times coverage */
     uint32_t width, height;
 } sam_rt_view;
 

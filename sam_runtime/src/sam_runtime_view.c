@@ -22,10 +22,12 @@ static void release_view_targets(sam_runtime *rt)
     if (rt->view.fbo) {
         glDeleteFramebuffers(1, &rt->view.fbo);
         glDeleteTextures(5, rt->view.tex);
+        glDeleteTextures(2, rt->view.sss_mips);
         glDeleteRenderbuffers(1, &rt->view.depth);
     }
     rt->view.fbo = rt->view.depth = 0;
     memset(rt->view.tex, 0, sizeof rt->view.tex);
+    memset(rt->view.sss_mips, 0, sizeof rt->view.sss_mips);
     rt->view.width = rt->view.height = 0;
 }
 
@@ -37,7 +39,8 @@ void sam_runtime_view_destroy(sam_runtime *rt)
 
 /* The view-sized targets of sam_runtime_render, kept between renders of
  * one size: 0 colour (or entering light + depth), 1 factor, 2 specular,
- * 3 and 4 the blur's ping-pong and the composed result; and depth. */
+ * 3 and 4 the blur's ping-pong and the composed result; depth; and the
+ * blur's two mipmapped textures (sam_runtime_screen_space_diffusion). */
 static sam_status ensure_view_targets(sam_runtime *rt, uint32_t width, uint32_t height, sam_error *err)
 {
     if (rt->view.fbo && rt->view.width == width && rt->view.height == height)
@@ -50,6 +53,19 @@ static sam_status ensure_view_targets(sam_runtime *rt, uint32_t width, uint32_t 
         glBindTexture(GL_TEXTURE_2D, rt->view.tex[i]);
         glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, (GLsizei)width, (GLsizei)height);
     }
+    GLsizei levels = 1;
+    while ((width > height ? width : height) >> levels)
+        ++levels;
+    glGenTextures(2, rt->view.sss_mips);
+    for (int i = 0; i < 2; ++i) {
+        glBindTexture(GL_TEXTURE_2D, rt->view.sss_mips[i]);
+        glTexStorage2D(GL_TEXTURE_2D, levels, i == 0 ? GL_RGBA32F : GL_R32F, (GLsizei)width, (GLsizei)height);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    glBindTexture(GL_TEXTURE_2D, 0);
     glBindRenderbuffer(GL_RENDERBUFFER, rt->view.depth);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, (GLsizei)width, (GLsizei)height);
     glBindFramebuffer(GL_FRAMEBUFFER, rt->view.fbo);
@@ -232,7 +248,7 @@ sam_status sam_runtime_render_texture(sam_runtime *rt, const sam_render_view *vi
     GLuint result = rt->view.tex[0];
     if (view->diffusion == 1) {
         sam_runtime_begin_timer(rt, SAM_PASS_DIFFUSION);
-        sam_runtime_screen_space_diffusion(rt, view, rt->view.tex);
+        sam_runtime_screen_space_diffusion(rt, view, rt->view.tex, rt->view.sss_mips);
         sam_runtime_end_timer(rt, SAM_PASS_DIFFUSION);
         result = rt->view.tex[3];
     }
