@@ -501,6 +501,77 @@ static void test_large_and_small_sphere(void **state)
     sam_mesh_destroy(&mesh);
 }
 
+/* The map of `mesh` in skin at `mm_per_unit` (flat, N = 3), and what
+ * sam_build_explain_empty says of it into why[n]; returns its result. */
+static int explain(const sam_mesh *mesh, float mm_per_unit, char *why, size_t n)
+{
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT;
+    samfile_data map;
+    sam_error err;
+    if (sam_build_samfile(mesh, &skin, mm_per_unit, &s, NULL, NULL, NULL, &map, NULL, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    int said = sam_build_explain_empty(&map, mm_per_unit, sam_profile_radius(&skin, s.radius_tolerance), "m.obj",
+                                       why, n);
+    print_message("%s\n", why);
+    samfile_free(&map);
+    return said;
+}
+
+/* A map whose vertices mostly get no light says why: a sphere far larger
+ * than the light crosses (closed: its size and scale are named), a single
+ * sheet (open: it has no back side); a small sphere's map says nothing. */
+static void test_explain_dark_maps(void **state)
+{
+    (void)state;
+    char why[1024];
+    sam_mesh sphere;
+    sam_test_shape_mesh("sphere", 16, 1.0, 0, 0, &sphere);
+    assert_int_equal(explain(&sphere, 1000.0f, why, sizeof why), 1);
+    assert_non_null(strstr(why, "100% of the vertices"));
+    assert_non_null(strstr(why, "closed"));
+    assert_non_null(strstr(why, "1732 mm across")); /* the box's diagonal */
+    assert_non_null(strstr(why, "units are not 1000 mm"));
+    assert_null(strstr(why, "open"));
+    assert_int_equal(explain(&sphere, 6.0f, why, sizeof why), 0);
+    assert_string_equal(why, "");
+    /* A short buffer still ends in a NUL. */
+    char small[16];
+    assert_int_equal(explain(&sphere, 1000.0f, small, sizeof small), 1);
+    assert_int_equal(strlen(small), sizeof small - 1);
+    sam_mesh_destroy(&sphere);
+
+    /* A 10 x 10 mm sheet of 8 x 8 quads. */
+    enum { Q = 8, V = (Q + 1) * (Q + 1) };
+    float pos[3 * V];
+    uint32_t tri[6 * Q * Q], t = 0;
+    for (int j = 0; j <= Q; ++j)
+        for (int i = 0; i <= Q; ++i) {
+            float *p = pos + 3 * (j * (Q + 1) + i);
+            p[0] = (float)i / Q, p[1] = (float)j / Q, p[2] = 0.0f;
+        }
+    for (uint32_t j = 0; j < Q; ++j)
+        for (uint32_t i = 0; i < Q; ++i) {
+            const uint32_t a = j * (Q + 1) + i, b = a + 1, c = a + Q + 1, d = c + 1;
+            const uint32_t quad[6] = {a, b, d, a, d, c};
+            memcpy(tri + t, quad, sizeof quad);
+            t += 6;
+        }
+    sam_mesh_input in = {.name = "sheet", .vertex_count = V, .positions = pos, .triangle_count = 2 * Q * Q,
+                         .triangles = tri};
+    sam_mesh sheet;
+    assert_int_equal(sam_mesh_create(&in, &sheet, NULL, NULL), SAM_OK);
+    assert_int_equal(explain(&sheet, 10.0f, why, sizeof why), 1);
+    assert_non_null(strstr(why, "m.obj is open (32 vertices on its boundary)"));
+    assert_non_null(strstr(why, "single sheet"));
+    sam_mesh_destroy(&sheet);
+    assert_int_equal(sam_build_explain_empty(NULL, 1.0f, 1.0f, NULL, why, sizeof why), 0);
+    assert_string_equal(why, "");
+}
+
 /* The output does not depend on the thread count. */
 static void test_bit_identical_for_any_thread_count(void **state)
 {
@@ -670,6 +741,7 @@ int main(void)
         cmocka_unit_test(test_matches_reference_blobs),
         cmocka_unit_test(test_thin_slab),
         cmocka_unit_test(test_large_and_small_sphere),
+        cmocka_unit_test(test_explain_dark_maps),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
         cmocka_unit_test(test_samfile_output),
         cmocka_unit_test(test_settings_and_cancel),

@@ -155,6 +155,10 @@ int sam_app_build_run(const sam_app_build_job *job, const char *tool)
         samfile_write(job->out_path, &data, &err) != SAM_OK)
         goto done;
     print_summary(tool, job->out_path, &data, &result);
+    char why[1024];
+    if (sam_build_explain_empty(&data, mm_per_unit, sam_profile_radius(&profile, job->settings.radius_tolerance),
+                                job->mesh_path, why, sizeof why))
+        fprintf(stderr, "%s: warning: %s\n", tool, why);
     code = 0;
 done:
     if (code)

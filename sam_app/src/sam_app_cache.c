@@ -111,6 +111,16 @@ static int read_cached(sam_scene *s, const char *cached, const char *tool, samfi
     return 0;
 }
 
+/* A warning where most of the map's vertices get no light, saying why. */
+static void warn_if_dark(const char *tool, const sam_scene *s, const samfile_data *sam, const sam_profile *profile,
+                         float mm_per_unit, const sam_build_settings *set)
+{
+    char why[1024];
+    if (sam_build_explain_empty(sam, mm_per_unit, sam_profile_radius(profile, set->radius_tolerance),
+                                s->mesh_path ? s->mesh_path : s->sam_path, why, sizeof why))
+        fprintf(stderr, "%s: warning: %s\n", tool, why);
+}
+
 sam_status sam_app_cache_object(sam_scene *s, const sam_build_settings *settings, const char *cache_dir,
                                 int use_cache, const char *tool, samfile_data *sam, sam_profile *profile,
                                 float *mm_per_unit, double *built_seconds, sam_error *err)
@@ -126,6 +136,8 @@ sam_status sam_app_cache_object(sam_scene *s, const sam_build_settings *settings
         if (st != SAM_OK)
             return st;
         int found = read_cached(s, cached, tool, sam, profile, mm_per_unit, built_seconds, err);
+        if (found > 0)
+            warn_if_dark(tool, s, sam, profile, *mm_per_unit, set);
         if (found)
             return found > 0 ? SAM_OK : err->status;
     }
@@ -140,9 +152,12 @@ sam_status sam_app_cache_object(sam_scene *s, const sam_build_settings *settings
     sam_app_catch_interrupts(NULL);
     if (bar.open_line)
         fputc('\n', stderr);
-    if (built_seconds && st == SAM_OK)
+    if (st != SAM_OK)
+        return st;
+    if (built_seconds)
         *built_seconds = seconds;
-    if (st != SAM_OK || !cached[0])
+    warn_if_dark(tool, s, sam, profile, *mm_per_unit, set);
+    if (!cached[0])
         return st;
     fprintf(stderr, "%s: built in %.1f s (%u vertices)\n", tool, seconds, sam->vertex_count);
     sam_error cache_err;

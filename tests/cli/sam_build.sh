@@ -87,7 +87,16 @@ awk '/^f / { print $1, $2, $4, $3; next } { print }' "$tmp/sphere.obj" > "$tmp/i
 grep -q "(0.0% have none)" "$tmp/inward.txt" || fail "the turned mesh has vertices without samples: $(cat "$tmp/inward.txt")"
 "$bin/sam_build" "$tmp/inward.obj" -o "$tmp/kept.sam" --material skin --size-mm 20 --quiet --keep-orientation \
   2> "$tmp/kept.txt" || fail "--keep-orientation: $(cat "$tmp/kept.txt")"
-grep -q "faces inward" "$tmp/kept.txt" && fail "--keep-orientation still warned"
+grep -q "turned outside out" "$tmp/kept.txt" && fail "--keep-orientation still turned it"
 grep -q "(0.0% have none)" "$tmp/kept.txt" && fail "--keep-orientation turned the mesh anyway"
+grep -q "warning: .* have no back side .*inward.obj is closed and faces inward" "$tmp/kept.txt" \
+  || fail "no warning on the dark map of the inward mesh: $(cat "$tmp/kept.txt")"
+grep -q "have no back side" "$tmp/inward.txt" && fail "the turned mesh's map was called dark"
+# A single sheet has no back side: the warning says so.
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n' > "$tmp/sheet.obj"
+"$bin/sam_build" "$tmp/sheet.obj" -o "$tmp/sheet.sam" --material skin --size-mm 20 --quiet 2> "$tmp/sheet.txt" \
+  || fail "sheet: $(cat "$tmp/sheet.txt")"
+grep -q "warning: 100% of the vertices (4 of 4) have no back side .*sheet.obj is open .*single sheet" "$tmp/sheet.txt" \
+  || fail "no single-sheet warning: $(cat "$tmp/sheet.txt")"
 "$bin/sam_build" --help | grep -q "usage: sam_build" || fail "--help"
 echo "sam_build cli: ok"

@@ -213,6 +213,19 @@ sam_status sam_build_samfile(const sam_mesh *mesh, const sam_profile *profile, f
                              sam_build_progress_fn progress, void *user, samfile_data *out, double *seconds,
                              sam_error *err);
 
+/* Why `map` leaves most of its vertices dark: when at least half of them
+ * have no back-side sample, writes into `buf` (`n` bytes, always
+ * NUL-terminated) a few sentences for a warning and returns 1: the share,
+ * the material's reach `reach_mm` (sam_profile_radius), and the likely
+ * causes: an open mesh may be a single sheet (a leaf, a cloth card), which
+ * has no back side; a closed one may face inward; a solid may be thicker
+ * than the light crosses at its size, `mm_per_unit` times its diagonal,
+ * which a wrong scale gives.
+ * `name` (may be NULL) names the mesh. Otherwise writes "" and returns 0,
+ * as for a NULL map or buffer. */
+int sam_build_explain_empty(const samfile_data *map, float mm_per_unit, float reach_mm, const char *name, char *buf,
+                            size_t n);
+
 #ifdef __cplusplus
 }
 #endif

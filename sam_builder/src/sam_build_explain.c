@@ -1,0 +1,86 @@
+/* Why a map leaves most of its vertices without light (sam_build.h). */
+#include <math.h>
+#include <stdio.h>
+
+#include "sam/sam_build.h"
+
+/* Whether vertex v's one-ring is open: a closed fan repeats its first
+ * neighbour at the end (sam_mesh.h), and the .sam keeps the rings so. */
+static int ring_open(const samfile_data *map, uint32_t v)
+{
+    const uint32_t first = map->adjacency_offsets[v], end = map->adjacency_offsets[v + 1];
+    return end - first < 2 || map->adjacency[first] != map->adjacency[end - 1];
+}
+
+/* The bounding box's diagonal, model units. */
+static double diagonal(const samfile_data *map)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, d2 = 0;
+    for (uint32_t v = 0; v < map->vertex_count; ++v)
+        for (int c = 0; c < 3; ++c) {
+            const double x = map->positions[3 * (size_t)v + c];
+            lo[c] = x < lo[c] ? x : lo[c];
+            hi[c] = x > hi[c] ? x : hi[c];
+        }
+    for (int c = 0; c < 3; ++c)
+        d2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
+    return sqrt(d2);
+}
+
+/* Six times the signed volume the triangles enclose, model units^3:
+ * negative for a closed mesh whose normals point inward. */
+static double signed_volume6(const samfile_data *map)
+{
+    double v = 0;
+    for (uint32_t t = 0; t < map->triangle_count; ++t) {
+        const float *a = map->positions + 3 * (size_t)map->triangles[3 * (size_t)t],
+                    *b = map->positions + 3 * (size_t)map->triangles[3 * (size_t)t + 1],
+                    *c = map->positions + 3 * (size_t)map->triangles[3 * (size_t)t + 2];
+        v += (double)a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) +
+             (double)a[1] * ((double)b[2] * c[0] - (double)b[0] * c[2]) +
+             (double)a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0]);
+    }
+    return v;
+}
+
+int sam_build_explain_empty(const samfile_data *map, float mm_per_unit, float reach_mm, const char *name, char *buf,
+                            size_t n)
+{
+    if (n)
+        buf[0] = '\0';
+    if (!map || !map->vertex_count || !map->sample_index || !map->adjacency_offsets || !buf || !n)
+        return 0;
+    uint32_t empty = 0, open = 0;
+    for (uint32_t v = 0; v < map->vertex_count; ++v) {
+        empty += map->sample_index[(size_t)v * map->samples_per_vertex] == SAMFILE_NO_SAMPLE;
+        open += (uint32_t)ring_open(map, v);
+    }
+    if (2 * (uint64_t)empty < map->vertex_count)
+        return 0;
+    const char *what = name ? name : "the mesh";
+    int used = snprintf(buf, n,
+                        "%.0f%% of the vertices (%u of %u) have no back side within the material's reach (%.3g mm), "
+                        "so they get no translucency.",
+                        100.0 * empty / map->vertex_count, empty, map->vertex_count, (double)reach_mm);
+    if (open && used >= 0 && (size_t)used < n)
+        used += snprintf(buf + used, n - (size_t)used,
+                         " %s is open (%u vertices on its boundary): if it is a single sheet, a leaf or a cloth "
+                         "card, it has no back side for light to come through, and needs thickness (two faces "
+                         "and a rim).",
+                         what, open);
+    if (!open && signed_volume6(map) < 0) {
+        if (used >= 0 && (size_t)used < n)
+            snprintf(buf + used, n - (size_t)used,
+                     " %s is closed and faces inward (negative volume): what lies behind its vertices is outside "
+                     "it. Turn it outside out (sam_build does unless given --keep-orientation).",
+                     what);
+        return 1;
+    }
+    if (used >= 0 && (size_t)used < n)
+        snprintf(buf + used, n - (size_t)used,
+                 " %s thicker than this light crosses at %.4g mm across: if its units are not %.4g mm, give its "
+                 "scale (--mm-per-unit or --size-mm; a scene's \"scale\").",
+                 open ? "If it is a solid, it is" : "It is closed, a solid", diagonal(map) * mm_per_unit,
+                 (double)mm_per_unit);
+    return 1;
+}
