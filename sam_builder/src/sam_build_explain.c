@@ -1,6 +1,6 @@
 /* Why a map leaves most of its vertices without light (sam_build.h). */
-#include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "sam/sam_build.h"
 
@@ -12,35 +12,17 @@ static int ring_open(const samfile_data *map, uint32_t v)
     return end - first < 2 || map->adjacency[first] != map->adjacency[end - 1];
 }
 
-/* The bounding box's diagonal, model units. */
-static double diagonal(const samfile_data *map)
+/* The map's render mesh as a sam_mesh without topology: enough for the
+ * mesh helpers that read only positions and triangles. */
+static sam_mesh triangle_view(const samfile_data *map)
 {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, d2 = 0;
-    for (uint32_t v = 0; v < map->vertex_count; ++v)
-        for (int c = 0; c < 3; ++c) {
-            const double x = map->positions[3 * (size_t)v + c];
-            lo[c] = x < lo[c] ? x : lo[c];
-            hi[c] = x > hi[c] ? x : hi[c];
-        }
-    for (int c = 0; c < 3; ++c)
-        d2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
-    return sqrt(d2);
-}
-
-/* Six times the signed volume the triangles enclose, model units^3:
- * negative for a closed mesh whose normals point inward. */
-static double signed_volume6(const samfile_data *map)
-{
-    double v = 0;
-    for (uint32_t t = 0; t < map->triangle_count; ++t) {
-        const float *a = map->positions + 3 * (size_t)map->triangles[3 * (size_t)t],
-                    *b = map->positions + 3 * (size_t)map->triangles[3 * (size_t)t + 1],
-                    *c = map->positions + 3 * (size_t)map->triangles[3 * (size_t)t + 2];
-        v += (double)a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) +
-             (double)a[1] * ((double)b[2] * c[0] - (double)b[0] * c[2]) +
-             (double)a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0]);
-    }
-    return v;
+    sam_mesh m;
+    memset(&m, 0, sizeof m);
+    m.vertex_count = map->vertex_count;
+    m.positions = map->positions;
+    m.triangle_count = map->triangle_count;
+    m.triangles = map->triangles;
+    return m;
 }
 
 int sam_build_explain_empty(const samfile_data *map, float mm_per_unit, float reach_mm, const char *name, char *buf,
@@ -68,7 +50,8 @@ int sam_build_explain_empty(const samfile_data *map, float mm_per_unit, float re
                          "card, it has no back side for light to come through, and needs thickness (two faces "
                          "and a rim).",
                          what, open);
-    if (!open && signed_volume6(map) < 0) {
+    const sam_mesh view = triangle_view(map);
+    if (!open && sam_mesh_signed_volume(&view) < 0) {
         if (used >= 0 && (size_t)used < n)
             snprintf(buf + used, n - (size_t)used,
                      " %s is closed and faces inward (negative volume): what lies behind its vertices is outside "
@@ -80,7 +63,7 @@ int sam_build_explain_empty(const samfile_data *map, float mm_per_unit, float re
         snprintf(buf + used, n - (size_t)used,
                  " %s thicker than this light crosses at %.4g mm across: if its units are not %.4g mm, give its "
                  "scale (--mm-per-unit or --size-mm; a scene's \"scale\").",
-                 open ? "If it is a solid, it is" : "It is closed, a solid", diagonal(map) * mm_per_unit,
+                 open ? "If it is a solid, it is" : "It is closed, a solid", sam_mesh_diagonal(&view) * mm_per_unit,
                  (double)mm_per_unit);
     return 1;
 }
