@@ -1,7 +1,8 @@
 /*
  * libFuzzer target for the .sam reader. Besides "no crash, no leak", it
  * checks the reader's contract: a failure leaves the output zeroed with a
- * message, and whatever a read accepts also passes samfile_validate.
+ * message, and whatever a read accepts also passes samfile_validate and can
+ * be asked why it is dark (sam_build_explain_empty, which walks its rings).
  *
  * Each input is read twice: as given, and with every chunk's CRC recomputed,
  * because random mutations almost never keep a CRC valid and would otherwise
@@ -13,6 +14,7 @@
 #include <string.h>
 #include <zlib.h>
 
+#include "sam/sam_build.h"
 #include "sam/samfile.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -25,6 +27,10 @@ static void check_read(const uint8_t *data, size_t size)
     sam_status st = samfile_read_memory(data, size, "fuzz.sam", &d, &err);
     if (st == SAM_OK) {
         if (samfile_validate(&d, &err) != SAM_OK)
+            abort();
+        char why[512];
+        sam_build_explain_empty(&d, 1.0f, 1.0f, "fuzz.obj", why, sizeof why);
+        if (strlen(why) >= sizeof why)
             abort();
     } else {
         samfile_data zero;
