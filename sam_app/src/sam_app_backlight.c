@@ -71,7 +71,12 @@ sam_status sam_app_backlight_place(sam_runtime *rt, const samfile_data *sam, sam
     if (st != SAM_OK)
         return st;
     scene->lights[light] = best;
-    if (note && n)
+    if (note && n && !(best_score > 0))
+        snprintf(note, n,
+                 "back light: a point light straight behind the object; none of the %d places tried sends any "
+                 "translucency to the side the camera sees",
+                 SAM_APP_BACKLIGHT_CANDIDATES);
+    else if (note && n)
         snprintf(note, n,
                  "back light: a point light %.0f degrees off the line of sight behind the object, where the side "
                  "the camera sees gets the most translucency of %d places tried",

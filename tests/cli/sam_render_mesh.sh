@@ -17,6 +17,15 @@ for what in "size: NOT GIVEN; assuming" "material: skin (not given)" "camera: up
   grep -q "^sam_render: $what" "$tmp/log.txt" || fail "no \"$what\" line: $(cat "$tmp/log.txt")"
 done
 head -c 8 "$tmp/ear.png" | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 1a 0a" || fail "-o ear.png is not a PNG"
+grep -q "most translucency of 25 places tried" "$tmp/log.txt" || fail "the ear's back light: $(cat "$tmp/log.txt")"
+# A single sheet lets no light through: the back light and the map say so, and why.
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n' > "$tmp/sheet.obj"
+"$bin/sam_render" "$tmp/sheet.obj" -o "$tmp/sheet.png" --size 48x36 --size-mm 40 "${cache[@]}" 2> "$tmp/sheet.txt" \
+  || fail "a sheet: $(cat "$tmp/sheet.txt")"
+grep -q "^sam_render: back light: .*none of the 25 places tried sends any translucency" "$tmp/sheet.txt" \
+  || fail "the sheet's back light claims translucency: $(cat "$tmp/sheet.txt")"
+grep -q "^sam_render: warning: 100% of the vertices .*single sheet" "$tmp/sheet.txt" \
+  || fail "no warning on the sheet's dark map: $(cat "$tmp/sheet.txt")"
 [ "$(python3 -c "import sys; sys.path.insert(0, '$src/tests/cli/lib'); import png; r = png.read('$tmp/ear.png'); print(len(r[0]), len(r))")" = "96 72" ] \
   || fail "--size 96x72 not honoured"
 # The saved scene names the cached map and the exposure: the same picture, no build.

@@ -28,7 +28,9 @@ extern "C" {
  * irradiance 4 at the centre. `sam` is the runtime's map (for the rest
  * pose's normals and fan areas); the scene must have a camera. Leaves the
  * runtime lit by all the scene's lights again. `note` (may be NULL, `n`
- * bytes) gets one line saying where the light went.
+ * bytes) gets one line saying where the light went, or that no candidate
+ * sends any translucency to the side the camera sees (it is then straight
+ * behind).
  * Errors: SAM_ERR_INVALID_ARGUMENT (no camera, `light` out of range or not
  * a point light), SAM_ERR_OUT_OF_MEMORY, and the runtime's. */
 sam_status sam_app_backlight_place(sam_runtime *rt, const samfile_data *sam, sam_scene *scene, size_t light,
