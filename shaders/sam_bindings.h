@@ -58,6 +58,10 @@
  * normals pass keeps its bounds. */
 #define SAM_B_REST_NODES SAM_B_BOUNDS
 
+/* The texture-space blur reads, per triangle, what lies across its edges
+ * and its chart (sam_uv_crossings) where the rest pose would be. */
+#define SAM_B_TSD_CROSSINGS SAM_B_REST_POSITIONS
+
 /* Image units of the compute passes over view-sized and atlas images
  * (each program numbers its own). */
 #define SAM_IMAGE_SOURCE 0   /* blurs: the input; accumulate: the level */

@@ -20,7 +20,7 @@ uniform int u_culled;
 uniform int u_gbuffer;
 
 layout(location = 0) out vec4 o_entering;  // rgb, a = 1 where the blur uses the texel
-layout(location = 1) out vec4 o_stretch;   // mm per texel along u, v
+layout(location = 1) out vec4 o_stretch;   // mm per texel along u, v; the triangle + 1
 
 void main()
 {
@@ -38,5 +38,7 @@ void main()
     }
     vec3 entering = v_front + technique_translucency(v_translucency, v_world, n);
     o_entering = vec4(entering * sqrt(surface_albedo(v_uv)), 1.0);
-    o_stretch = vec4(stretch, 0.0, 1.0);
+    // The triangle, for the blur's walks across seams (tsd_cross.glsl):
+    // exact in a float below 2^24 triangles, and the walks are off above.
+    o_stretch = vec4(stretch, float(gl_PrimitiveID + 1), 1.0);
 }

@@ -386,13 +386,13 @@ static void test_optimizations_match(void **state)
     sam_light lights[2] = {directional(-1, -0.3f, -0.5f, 3.0f), directional(0.4f, 0.2f, 1.0f, 1.5f)};
     lights[1].color[1] = lights[1].color[2] = 0.5f;
 
-    /* The bound each case is held to. Culling loses the light that
-     * diffuses around the silhouette from a back-lit region past the cull
-     * angle, so it is held to 45 dB only when the light comes from the
-     * viewer's side (measured back-lit: 40 dB). A depth-sized atlas
-     * resamples everything, irradiance included, at about one texel per
-     * pixel: 37.7 dB far away (43.4 dB at 2 texels per pixel), so it is
-     * held to 37 dB. The README gives these numbers. */
+    /* The bound each case is held to. A depth-sized atlas resamples
+     * everything, irradiance included, at about one texel per pixel, so
+     * it is held to 44 dB far away (46.0 dB measured); the others to 45.
+     * While the blur stopped at UV seams, culled back-lit scored 40 dB and
+     * depth-sized 37.7: the seams' artefacts moved with what the
+     * optimisations left beside them. docs/validation.md gives these
+     * numbers. */
     struct {
         const char *name;
         float eye[3], fov;
@@ -400,9 +400,9 @@ static void test_optimizations_match(void **state)
         double bound_db;
     } cases[] = {
         {"culled, front-lit, whole object in view", {0.3f, 0.4f, 2.5f}, 40.0f, 0, 1, 0, 0, 45.0},
-        {"culled, back-lit, whole object in view", {0.3f, 0.4f, 2.5f}, 40.0f, 1, 1, 0, 0, 38.0},
+        {"culled, back-lit, whole object in view", {0.3f, 0.4f, 2.5f}, 40.0f, 1, 1, 0, 0, 45.0},
         {"clipped, back-lit close-up", {0.2f, 0.1f, 0.9f}, 30.0f, 1, 0, 1, 0, 45.0},
-        {"depth-sized, back-lit, far away", {0.0f, 0.0f, 14.0f}, 30.0f, 1, 0, 0, 1, 37.0},
+        {"depth-sized, back-lit, far away", {0.0f, 0.0f, 14.0f}, 30.0f, 1, 0, 0, 1, 44.0},
         {"all three, back-lit close-up", {0.2f, 0.1f, 0.9f}, 30.0f, 1, 1, 1, 1, 45.0},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
@@ -603,11 +603,136 @@ static void test_tiled_albedo_repeats(void **state)
     samfile_free(&d);
 }
 
+/* plane()'s grid (n odd) cut along x = 0 into two charts: the half x <= 0
+ * at (u, v) = (0.02, 0.02) + k (x + size/2, z + size/2), the half x >= 0
+ * turned over into (0.05 + k size/2, 0.02) + k (z + size/2, x), with
+ * k = 0.031 per mm of a 20 mm plane: a UV seam down the middle, the two
+ * sides' texels 0.03 of the atlas apart and running along different axes.
+ * Built in skin at 1 mm per unit. */
+#define SEAM_SCALE 0.031f
+
+static void seamed_plane(int n, float size, sam_profile *profile, samfile_data *out)
+{
+    const int mid = (n - 1) / 2, left = mid + 1, right = n - mid;
+    const uint32_t vc = (uint32_t)(n * (left + right));
+    float *pos = malloc(vc * 3 * sizeof *pos), *uv = malloc(vc * 2 * sizeof *uv);
+    uint32_t *tri = malloc((size_t)(n - 1) * (n - 1) * 6 * sizeof *tri);
+    assert_non_null(pos);
+    assert_non_null(uv);
+    assert_non_null(tri);
+    const float k = SEAM_SCALE * 20.0f / size;
+    for (int j = 0; j < n; ++j)
+        for (int side = 0; side < 2; ++side)
+            for (int c = 0; c < (side ? right : left); ++c) {
+                const int i = side ? mid + c : c;
+                const uint32_t v = side ? (uint32_t)(n * left + j * right + c) : (uint32_t)(j * left + c);
+                const float x = ((float)i / (float)(n - 1) - 0.5f) * size, z = ((float)j / (float)(n - 1) - 0.5f) * size;
+                pos[3 * v] = x;
+                pos[3 * v + 1] = 0.0f;
+                pos[3 * v + 2] = z;
+                uv[2 * v] = side ? 0.05f + k * (z + size) : 0.02f + k * (x + 0.5f * size);
+                uv[2 * v + 1] = side ? 0.02f + k * x : 0.02f + k * (z + 0.5f * size);
+            }
+    size_t t = 0;
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            const int side = i >= mid, c = side ? i - mid : i, row = side ? right : left;
+            const uint32_t base = side ? (uint32_t)(n * left) : 0u;
+            uint32_t a = base + (uint32_t)(j * row + c), b = a + 1, cc = a + (uint32_t)row, d = cc + 1;
+            uint32_t quad[6] = {a, cc, d, a, d, b};
+            memcpy(tri + t, quad, sizeof quad);
+            t += 6;
+        }
+    build("seamed plane", vc, pos, uv, (uint32_t)(t / 3), tri, "skin", 1.0f, profile, out);
+    free(pos);
+    free(uv);
+    free(tri);
+}
+
+/* The diffused atlas at surface point (x, z) of seamed_plane (`seamed`) or
+ * of plane()'s UV_UNIT plane, both `size` mm across: the nearest texel. */
+static const float *diffused_at(const sam_image *atlas, int seamed, float size, double x, double z)
+{
+    const double k = SEAM_SCALE * 20.0 / size;
+    double u = (x + 0.5 * size) / size, v = (z + 0.5 * size) / size;
+    if (seamed) {
+        u = x < 0 ? 0.02 + k * (x + 0.5 * size) : 0.05 + k * (z + size);
+        v = x < 0 ? 0.02 + k * (z + 0.5 * size) : 0.02 + k * x;
+    }
+    const uint32_t T = atlas->width;
+    size_t tx = (size_t)fmin(floor(u * T), T - 1), ty = (size_t)fmin(floor(v * T), T - 1);
+    return atlas->pixels + 4 * (ty * T + tx);
+}
+
+/* A spot of light on a UV seam: the blur follows the surface from one
+ * chart into the other, so across the seam and along it the diffused light
+ * matches the same plane with one chart (its atlas 1.6 times denser). The
+ * blur that stopped at seams, using each texel's own value for the taps
+ * across, erred by 0.215 on average here, and by up to 0.997. */
+static void test_spot_across_a_seam(void **state)
+{
+    (void)state;
+    const int n = 129;
+    const float size = 20.0f;
+    sam_image atlas[2];
+    for (int seamed = 0; seamed < 2; ++seamed) {
+        sam_profile profile;
+        samfile_data d;
+        sam_runtime *rt;
+        sam_error err;
+        if (seamed)
+            seamed_plane(n, size, &profile, &d);
+        else
+            plane(n, size, UV_UNIT, "skin", &profile, &d);
+        if (sam_runtime_create(&d, &profile, 1.0f, &rt, &err) != SAM_OK)
+            fail_msg("%s", err.message);
+        sam_light l = spot_from_above(8.0f);
+        assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+        assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+        sam_render_view view;
+        sam_image img;
+        look(&view, 64, 40.0f, (float[3]){0, 30, 0.01f}, (float[3]){0, 0, 0}, (float[3]){0, 0, -1});
+        render(rt, &view, &img);
+        assert_int_equal(sam_runtime_read_atlas(rt, SAM_ATLAS_DIFFUSED, &atlas[seamed], &err), SAM_OK);
+        sam_image_destroy(&img);
+        sam_runtime_destroy(rt);
+        samfile_free(&d);
+    }
+    /* Along x through the spot and along z beside the seam, 0.3-6 mm out:
+     * each channel's relative error where it holds at least a thousandth
+     * of its value at the spot. */
+    double sum = 0, worst = 0;
+    int count = 0;
+    for (int line = 0; line < 4; ++line)
+        for (int step = 0; step < 20; ++step) {
+            const double r = 0.3 + 0.3 * step, sign = line % 2 ? -1 : 1;
+            const double x = line < 2 ? sign * r : sign * 0.2, z = line < 2 ? 0.05 : r;
+            const float *a = diffused_at(&atlas[0], 0, size, x, z), *b = diffused_at(&atlas[1], 1, size, x, z);
+            const float *peak = diffused_at(&atlas[0], 0, size, 0.05, 0.05);
+            for (int c = 0; c < 3; ++c) {
+                if (!(a[c] > 1e-3f * peak[c]))
+                    continue;
+                const double e = fabs((double)b[c] / a[c] - 1.0);
+                sum += e;
+                worst = fmax(worst, e);
+                count++;
+            }
+        }
+    printf("spot on a UV seam against one chart: mean relative error %.4f over %d values, worst %.3f\n", sum / count,
+           count, worst);
+    assert_true(count > 100);
+    assert_true(sum / count < 0.05);
+    assert_true(worst < 0.2);
+    sam_image_destroy(&atlas[0]);
+    sam_image_destroy(&atlas[1]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_stretch_matches_sphere),
         cmocka_unit_test(test_spot_matches_profile),
+        cmocka_unit_test(test_spot_across_a_seam),
         cmocka_unit_test(test_optimizations_match),
         cmocka_unit_test(test_albedo_map),
         cmocka_unit_test(test_overlapping_uvs_refused),

@@ -603,6 +603,17 @@ static void test_max_resolution(void **state)
     uv_mesh_free(&m);
 }
 
+/* Built-in shape `name` at resolution 48, its other parameters the defaults. */
+static void built_in_shape(const char *name, sam_shape_mesh *s)
+{
+    sam_shape_params p;
+    sam_error err;
+    assert_int_equal(sam_shape_default_params(name, &p, &err), SAM_OK);
+    p.resolution = 48;
+    if (sam_shape_generate(name, &p, s, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+}
+
 /* sam_shape promises charts that never share texture space. */
 static void test_built_in_shapes_are_usable(void **state)
 {
@@ -610,13 +621,8 @@ static void test_built_in_shapes_are_usable(void **state)
     size_t count;
     const char *const *names = sam_shape_names(&count);
     for (size_t k = 0; k < count; ++k) {
-        sam_shape_params p;
-        sam_error err;
-        assert_int_equal(sam_shape_default_params(names[k], &p, &err), SAM_OK);
-        p.resolution = 48;
         sam_shape_mesh s;
-        if (sam_shape_generate(names[k], &p, &s, &err) != SAM_OK)
-            fail_msg("%s", err.message);
+        built_in_shape(names[k], &s);
         uv_mesh m = { s.vertex_count, s.triangle_count, s.uvs, s.triangles };
         sam_uv_report rep = check_ok(&m, 1024);
         char reason[256];
@@ -626,6 +632,105 @@ static void test_built_in_shapes_are_usable(void **state)
                       (unsigned long long)rep.overlap_texels, usable ? "" : ": ", reason);
         assert_int_equal(rep.overlap_texels, 0);
         assert_int_equal(usable, 1);
+        sam_shape_mesh_destroy(&s);
+    }
+}
+
+/* Crossings of a unit square of two triangles, (0,1,2) and (0,2,3), whose
+ * diagonal's ends are `copies` vertices: 4 (one chart) or 6 (the second
+ * triangle's diagonal ends are copies with other UVs: a seam). */
+static void square(int copies, float *pos, float *uv, uint32_t *tri)
+{
+    static const float p[6][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}, {1, 1, 0}};
+    static const float u[6][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5f, 0.5f}, {0.9f, 0.9f}};
+    memcpy(pos, p, sizeof p);
+    memcpy(uv, u, sizeof u);
+    const uint32_t t[6] = {0, 1, 2, copies == 6 ? 4 : 0, copies == 6 ? 5 : 2, 3};
+    memcpy(tri, t, sizeof t);
+}
+
+static void test_crossings_of_a_square(void **state)
+{
+    (void)state;
+    for (int copies = 4; copies <= 6; copies += 2) {
+        float pos[18], uv[12];
+        uint32_t tri[6], across[6], chart[2];
+        sam_error err;
+        square(copies, pos, uv, tri);
+        assert_int_equal(sam_uv_crossings(pos, uv, (uint32_t)copies, tri, 2, across, chart, &err), SAM_OK);
+        /* Triangle 0's edge 2 (corner 2 to 0) is the diagonal, triangle 1's
+         * edge 0 (corner 0 to 2) the same; the rest is boundary. */
+        const uint32_t expect[6] = {SAM_UV_NO_CROSSING, SAM_UV_NO_CROSSING, 4 * 1 + 0,
+                                    4 * 0 + 2,          SAM_UV_NO_CROSSING, SAM_UV_NO_CROSSING};
+        assert_memory_equal(across, expect, sizeof expect);
+        assert_int_equal(chart[0], 0);
+        assert_int_equal(chart[1], copies == 6 ? 1 : 0);
+    }
+}
+
+/* A fin: three triangles on one edge. Which would the light go on into?
+ * None: the edge gets no crossing, the others stay boundary. */
+static void test_crossings_skip_non_manifold_edges(void **state)
+{
+    (void)state;
+    const float pos[5][3] = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}};
+    const float uv[5][2] = {{0, 0}, {0, 1}, {1, 0}, {0.5f, 0.5f}, {0.2f, 0.7f}};
+    const uint32_t tri[9] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    uint32_t across[9], chart[3];
+    sam_error err;
+    assert_int_equal(sam_uv_crossings(&pos[0][0], &uv[0][0], 5, tri, 3, across, chart, &err), SAM_OK);
+    for (int k = 0; k < 9; ++k)
+        assert_int_equal(across[k], SAM_UV_NO_CROSSING);
+    assert_int_equal(chart[0], 0);
+    assert_int_equal(chart[1], 1);
+    assert_int_equal(chart[2], 2);
+    const uint32_t bad[3] = {0, 1, 5};
+    assert_int_equal(sam_uv_crossings(&pos[0][0], &uv[0][0], 5, bad, 1, across, chart, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "triangle 0 corner 2 has index 5 (vertex count 5)"));
+    assert_int_equal(sam_uv_crossings(NULL, &uv[0][0], 5, tri, 3, across, chart, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(sam_uv_crossings(NULL, NULL, 0, NULL, 0, NULL, NULL, &err), SAM_OK);
+}
+
+/* Every edge of the closed built-in shapes has a crossing; crossings pair
+ * up both ways and join the same two positions; seams part charts, which
+ * the shapes have several of. */
+static void test_built_in_shapes_cross_every_edge(void **state)
+{
+    (void)state;
+    size_t count;
+    const char *const *names = sam_shape_names(&count);
+    for (size_t k = 0; k < count; ++k) {
+        sam_shape_mesh s;
+        sam_error err;
+        built_in_shape(names[k], &s);
+        uint32_t *across = malloc(3 * (size_t)s.triangle_count * sizeof *across);
+        uint32_t *chart = malloc((size_t)s.triangle_count * sizeof *chart);
+        assert_non_null(across);
+        assert_non_null(chart);
+        assert_int_equal(sam_uv_crossings(s.positions, s.uvs, s.vertex_count, s.triangles, s.triangle_count, across,
+                                          chart, &err),
+                         SAM_OK);
+        uint32_t charts = 0, seams = 0;
+        for (uint32_t t = 0; t < s.triangle_count; ++t) {
+            assert_true(chart[t] <= charts);
+            charts += chart[t] == charts;
+            for (uint32_t e = 0; e < 3; ++e) {
+                const uint32_t f = across[3 * t + e];
+                assert_int_not_equal(f, SAM_UV_NO_CROSSING);
+                assert_int_equal(across[3 * (size_t)(f >> 2) + (f & 3)], 4 * t + e);
+                const float *a = s.positions + 3 * (size_t)s.triangles[3 * t + e];
+                const float *b = s.positions + 3 * (size_t)s.triangles[3 * t + (e + 1) % 3];
+                const uint32_t *g = s.triangles + 3 * (size_t)(f >> 2);
+                assert_memory_equal(a, s.positions + 3 * (size_t)g[((f & 3) + 1) % 3], 3 * sizeof(float));
+                assert_memory_equal(b, s.positions + 3 * (size_t)g[f & 3], 3 * sizeof(float));
+                seams += chart[f >> 2] != chart[t];
+            }
+        }
+        print_message("%-10s %6u triangles, %u charts, %u seam edges\n", names[k], s.triangle_count, charts, seams / 2);
+        assert_true(charts > 1);
+        assert_true(seams > 0);
+        free(across);
+        free(chart);
         sam_shape_mesh_destroy(&s);
     }
 }
@@ -667,6 +772,9 @@ int main(void)
         cmocka_unit_test(test_usable_reason_buffer),
         cmocka_unit_test(test_max_resolution),
         cmocka_unit_test(test_built_in_shapes_are_usable),
+        cmocka_unit_test(test_crossings_of_a_square),
+        cmocka_unit_test(test_crossings_skip_non_manifold_edges),
+        cmocka_unit_test(test_built_in_shapes_cross_every_edge),
         cmocka_unit_test(test_timing_million_triangles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -68,6 +68,50 @@ static sam_status ensure_atlas(sam_runtime *rt, uint32_t side, sam_error *err)
     return SAM_OK;
 }
 
+/* Primitive ids reach the blur as floats in the stretch map: exact below
+ * 2^24. */
+#define MAX_CROSS_TRIANGLES (1u << 24)
+
+/* The crossings buffer: per triangle {across edge 0, 1, 2, chart}. Left
+ * one empty entry (and rt->tsd.cross 0) where the mesh has no usable UVs or
+ * too many triangles, so the blur's block is always backed. */
+static sam_status upload_crossings(sam_runtime *rt, const samfile_data *sam, sam_error *err)
+{
+    sam_rt_tsd *t = &rt->tsd;
+    const uint32_t tc = sam->triangle_count;
+    t->cross = t->uv_usable && tc < MAX_CROSS_TRIANGLES;
+    const size_t entries = t->cross ? tc : 1;
+    uint32_t *packed = calloc(4 * entries, sizeof *packed), *across = NULL, *chart = NULL;
+    sam_status st = SAM_OK;
+    if (!packed)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: out of memory for %zu triangles' crossings", entries);
+    if (t->cross) {
+        across = malloc(3 * (size_t)tc * sizeof *across);
+        chart = malloc((size_t)tc * sizeof *chart);
+        st = across && chart ? sam_uv_crossings(sam->positions, sam->uvs, sam->vertex_count, sam->triangles, tc,
+                                                across, chart, err)
+                             : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: out of memory for %u triangles' crossings", tc);
+        for (uint32_t k = 0; st == SAM_OK && k < tc; ++k) {
+            memcpy(packed + 4 * (size_t)k, across + 3 * (size_t)k, 3 * sizeof *packed);
+            packed[4 * (size_t)k + 3] = chart[k];
+        }
+    }
+    if (st == SAM_OK)
+        st = sam_runtime_check_block_size("the triangles' crossings", 4 * entries * sizeof *packed, err);
+    if (st == SAM_OK) {
+        glGenBuffers(1, &t->crossings);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, t->crossings);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)(4 * entries * sizeof *packed), packed, GL_STATIC_DRAW);
+        if (glGetError() != GL_NO_ERROR)
+            st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: the GL could not allocate %zu triangles' crossings",
+                          entries);
+    }
+    free(packed);
+    free(across);
+    free(chart);
+    return st;
+}
+
 sam_status sam_runtime_tsd_create(sam_runtime *rt, const samfile_data *sam, sam_error *err)
 {
     sam_rt_tsd *t = &rt->tsd;
@@ -100,7 +144,7 @@ sam_status sam_runtime_tsd_create(sam_runtime *rt, const samfile_data *sam, sam_
         (st = sam_gl_compute_program("tsd_blur.comp", NULL, &t->blur_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("tsd_accumulate.comp", NULL, &t->accumulate_program, err)) != SAM_OK)
         return st;
-    return SAM_OK;
+    return upload_crossings(rt, sam, err);
 }
 
 void sam_runtime_tsd_destroy(sam_runtime *rt)
@@ -112,6 +156,9 @@ void sam_runtime_tsd_destroy(sam_runtime *rt)
     sam_runtime_delete_program(&rt->tsd.program);
     sam_runtime_delete_program(&rt->tsd.blur_program);
     sam_runtime_delete_program(&rt->tsd.accumulate_program);
+    if (rt->tsd.crossings)
+        glDeleteBuffers(1, &rt->tsd.crossings);
+    rt->tsd.crossings = 0;
 }
 
 int sam_runtime_uv_status(const sam_runtime *rt, char *reason, size_t n, sam_uv_atlas *atlas)
@@ -266,12 +313,20 @@ sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *vie
         glUseProgram(b);
         glUniform1f(glGetUniformLocation(b, "u_sigma_mm"), sigma);
         glUniform2iv(glGetUniformLocation(b, "u_size"), 1, size);
+        glUniform1i(glGetUniformLocation(b, "u_cross"), rt->tsd.cross);
+        glUniform1f(glGetUniformLocation(b, "u_mm_per_unit"), rt->mm_per_unit);
+        sam_runtime_bind_uv_atlas(rt, b);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_TSD_CROSSINGS, rt->tsd.crossings);
         glBindImageTexture(SAM_IMAGE_STRETCH, tex[ATLAS_STRETCH], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         for (int pass = 0; pass < 2; ++pass) {
             glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
             glActiveTexture(GL_TEXTURE0);
             glBindTexture(GL_TEXTURE_2D, pass == 0 ? level : tex[ATLAS_TEMP]);
             glUniform1i(glGetUniformLocation(b, "u_source"), 0);
+            glActiveTexture(GL_TEXTURE1);
+            glBindTexture(GL_TEXTURE_2D, level);
+            glActiveTexture(GL_TEXTURE0);
+            glUniform1i(glGetUniformLocation(b, "u_level"), 1);
             glBindImageTexture(SAM_IMAGE_TARGET, pass == 0 ? tex[ATLAS_TEMP] : next, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
             glDispatchCompute(groups, groups, 1);
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);

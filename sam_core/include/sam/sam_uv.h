@@ -24,6 +24,10 @@
  * edges. Winding does not matter: a mirrored island is legitimate on its
  * own; only coverage counts.
  *
+ * sam_uv_crossings gives the blur what it needs to follow the surface
+ * across UV seams rather than stop at them: the triangle across every
+ * edge, and every triangle's chart.
+ *
  * Stateless; every function is thread-safe.
  */
 #ifndef SAM_UV_H
@@ -125,6 +129,43 @@ sam_status sam_uv_check(const float *uvs, uint32_t vertex_count, const uint32_t 
  * or stacked UV islands)". `reason` may be NULL or n 0; on success it gets
  * an empty string. A NULL report is unusable. */
 int sam_uv_usable(const sam_uv_report *report, char *reason, size_t n);
+
+/* sam_uv_crossings: an edge with no triangle across it. */
+#define SAM_UV_NO_CROSSING 0xFFFFFFFFu
+/* The most triangles sam_uv_crossings takes: it writes 4 * triangle + edge
+ * in 32 bits. */
+#define SAM_UV_MAX_CROSSING_TRIANGLES 0x3FFFFFFFu
+
+/* Where the surface goes on past each edge, for a blur in the atlas that
+ * follows the surface across UV seams instead of stopping at them.
+ *
+ * Edge e of triangle t runs from its corner e to corner (e + 1) % 3.
+ * across[3 * t + e] is 4 * t' + e' for the one other triangle t' whose edge
+ * e' joins the same two places, or SAM_UV_NO_CROSSING where the edge is on
+ * the mesh's boundary, shared by three or more triangles, or has both ends
+ * at one place. Places are positions: seam copies of a vertex (split for
+ * their UVs) keep its position bit for bit, as sam_mesh writes them, and
+ * distinct vertices at one position count as one place.
+ *
+ * chart[t] numbers the charts 0, 1, ... in the order of their first
+ * triangle: two triangles across an edge are in one chart when they give
+ * both its ends the same UVs (bit for bit), and a chart is everything
+ * joined by such edges. A UV seam is an edge with a crossing between two
+ * charts.
+ *
+ * positions: 3 * vertex_count floats; uvs: 2 * vertex_count (either may be
+ * NULL when vertex_count is 0); triangles: 3 * triangle_count indices <
+ * vertex_count; across: 3 * triangle_count and chart: triangle_count,
+ * written by the call (the caller owns all of them; NULL only when
+ * triangle_count is 0). Allocates about 28 bytes per vertex and 40 per
+ * triangle, freed before returning.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (a NULL array with a non-zero count,
+ * more than SAM_UV_MAX_CROSSING_TRIANGLES triangles), SAM_ERR_FORMAT (an
+ * index >= vertex_count: the message names the triangle, corner and
+ * index), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_uv_crossings(const float *positions, const float *uvs, uint32_t vertex_count,
+                            const uint32_t *triangles, uint32_t triangle_count, uint32_t *across, uint32_t *chart,
+                            sam_error *err);
 
 #ifdef __cplusplus
 }
