@@ -80,8 +80,9 @@ void main()
     vec3 side = vec3(0.0), x0;
     if (chart != NO_CROSSING && u_direction.y != 0)
         cross_from_atlas(centre_triangle - 1u, vec2(p) + 0.5, vec2(1.0, 0.0), vec2(u_size), x0, side);
-    // Per side, where the taps' line crossed its first seam: found once,
-    // from the farthest tap off the chart (the first on each side).
+    // Per side, where the taps' line crossed its first seam: found by the
+    // side's first tap off the chart (in the loop's order), and shared by
+    // the others.
     CrossSeam crossed[2];
     crossed[0] = crossed[1] = CrossSeam(false, 0u, vec3(0.0), vec2(0.0), vec2(0.0), 0.0, 0.0, 0u, vec2(0.0));
     for (int k = 0; k < 7; ++k) {
