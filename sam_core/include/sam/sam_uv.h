@@ -157,7 +157,7 @@ int sam_uv_usable(const sam_uv_report *report, char *reason, size_t n);
  * NULL when vertex_count is 0); triangles: 3 * triangle_count indices <
  * vertex_count; across: 3 * triangle_count and chart: triangle_count,
  * written by the call (the caller owns all of them; NULL only when
- * triangle_count is 0). Allocates about 28 bytes per vertex and 40 per
+ * triangle_count is 0). Allocates about 20 bytes per vertex and 40 per
  * triangle, freed before returning.
  * Errors: SAM_ERR_INVALID_ARGUMENT (a NULL array with a non-zero count,
  * more than SAM_UV_MAX_CROSSING_TRIANGLES triangles), SAM_ERR_FORMAT (an

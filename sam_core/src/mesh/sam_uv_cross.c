@@ -4,21 +4,8 @@
 #include "sam/sam_uv.h"
 
 #include <stdlib.h>
-#include <string.h>
 
-typedef struct corner_key {
-    float p[3];
-    uint32_t vertex;
-} corner_key;
-
-static int cmp_corner(const void *pa, const void *pb)
-{
-    const corner_key *a = pa, *b = pb;
-    for (int c = 0; c < 3; ++c)
-        if (a->p[c] != b->p[c])
-            return a->p[c] < b->p[c] ? -1 : 1;
-    return (a->vertex > b->vertex) - (a->vertex < b->vertex);
-}
+#include "sam/sam_shape.h"
 
 typedef struct edge_key {
     uint32_t lo, hi; /* welded ends, lo < hi */
@@ -85,31 +72,25 @@ sam_status sam_uv_crossings(const float *positions, const float *uvs, uint32_t v
         if (triangles[k] >= vertex_count)
             return sam_fail(err, SAM_ERR_FORMAT, "sam_uv_crossings: triangle %zu corner %zu has index %u (vertex count %u)",
                             k / 3, k % 3, triangles[k], vertex_count);
-    corner_key *corners = malloc((vertex_count ? vertex_count : 1) * sizeof *corners);
     uint32_t *weld = malloc((vertex_count ? vertex_count : 1) * sizeof *weld);
     edge_key *edges = malloc((triangle_count ? 3 * (size_t)triangle_count : 1) * sizeof *edges);
     uint32_t *parent = malloc((triangle_count ? triangle_count : 1) * sizeof *parent);
-    if (!corners || !weld || !edges || !parent) {
-        free(corners);
+    /* Seam copies of a vertex keep its position bit for bit (sam_mesh
+     * splits them so): equal positions are one place on the surface. The
+     * weld only reads the positions. */
+    const sam_shape_mesh places = {.vertex_count = vertex_count, .positions = (float *)positions};
+    uint32_t place_count;
+    sam_status st = weld && edges && parent
+                        ? sam_shape_weld(&places, weld, &place_count, err)
+                        : sam_fail(err, SAM_ERR_OUT_OF_MEMORY,
+                                   "sam_uv_crossings: out of memory for %u vertices, %u triangles", vertex_count,
+                                   triangle_count);
+    if (st != SAM_OK) {
         free(weld);
         free(edges);
         free(parent);
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "sam_uv_crossings: out of memory for %u vertices, %u triangles",
-                        vertex_count, triangle_count);
+        return st;
     }
-    /* Seam copies of a vertex keep its position bit for bit (sam_mesh
-     * splits them so): equal positions are one place on the surface. */
-    for (uint32_t v = 0; v < vertex_count; ++v) {
-        memcpy(corners[v].p, positions + 3 * (size_t)v, sizeof corners[v].p);
-        corners[v].vertex = v;
-    }
-    qsort(corners, vertex_count, sizeof *corners, cmp_corner);
-    for (uint32_t k = 0, id = 0; k < vertex_count; ++k) {
-        if (k > 0 && memcmp(corners[k].p, corners[k - 1].p, sizeof corners[k].p) != 0)
-            ++id;
-        weld[corners[k].vertex] = id;
-    }
-    free(corners);
     for (uint32_t t = 0; t < triangle_count; ++t) {
         parent[t] = t;
         for (uint32_t e = 0; e < 3; ++e) {
