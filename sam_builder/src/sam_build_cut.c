@@ -176,6 +176,62 @@ static uint32_t carrier(const sam_build_context *ctx, const sam_build_tree *tree
     }
 }
 
+/* The node that holds cut node `id`'s K for receiver o. The runtime lends
+ * a node sample the L_d of all its members (their mean), so a node only
+ * partly behind o mixes in members in front of it, on a thin part the
+ * other face's light or shadow: on the knot in ketchup the cut's
+ * translucency then erred by 2.3 times what it does with this. Such a node,
+ * of at most EXACT_MEMBERS members (larger ones are not asked member by
+ * member), hands its K to the node around its back-side member nearest
+ * `centre` (where its light comes from): the largest node on the way down
+ * to that member that lies wholly behind o, else the member's parent
+ * (whose tau, as every node's, leans towards `centre`). Not the member
+ * itself: a vertex
+ * sample carrying a node's K is taken by the runtime for one pair of fans
+ * (the walk adopts its neighbours as if they were not counted, and the pose
+ * re-asks eq. 13-14 and its fans' quadrature), and it broke the engine's
+ * rest pose by 18% of T (tests/test_gl_engine.c). */
+static uint32_t focus(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id,
+                      const float centre[3])
+{
+    const uint32_t n = ctx->mesh->topo_count;
+    const sam_build_node *node = &tree->node[id - n];
+    if (node->count > EXACT_MEMBERS)
+        return id;
+    uint32_t best = UINT32_MAX, at = 0, behind = 0;
+    float nearest = INFINITY, d;
+    for (uint32_t m = 0; m < node->count; ++m) {
+        const uint32_t v = tree->perm[node->first + m];
+        if (!reaches(ctx, o, v, &d))
+            continue;
+        behind++;
+        const float to_centre = sam_build_distance(centre, ctx->pos + 3 * (size_t)v);
+        if (to_centre < nearest) {
+            nearest = to_centre;
+            best = v;
+            at = node->first + m;
+        }
+    }
+    if (behind == node->count || best == UINT32_MAX)
+        return id;
+    for (;;) {
+        const sam_build_node *here = &tree->node[id - n];
+        uint32_t next = UINT32_MAX;
+        for (int c = 0; c < 2; ++c) {
+            const uint32_t kid = here->child[c];
+            if (kid < n) {
+                if (kid == best)
+                    return id; /* the member's parent */
+            } else if (at >= tree->node[kid - n].first && at - tree->node[kid - n].first < tree->node[kid - n].count) {
+                next = kid;
+            }
+        }
+        if (next == UINT32_MAX || members_behind(ctx, tree, o, next - n) == tree->node[next - n].count)
+            return next == UINT32_MAX ? id : next;
+        id = next;
+    }
+}
+
 static int entry_better(const cut_entry *a, const cut_entry *b)
 {
     float ka = a->k[0] + a->k[1] + a->k[2], kb = b->k[0] + b->k[1] + b->k[2];
@@ -385,8 +441,9 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
             r->k_total[3 * (size_t)o + ch] += e[c].k[ch];
         }
         if (e[c].id >= n) {
-            e[c].id = carrier(ctx, tree, o, e[c].id, e[c].k, sc->centre + 3 * (size_t)c);
-            e[c].tau = node_tau(ctx, tree, e[c].id - n, sc->centre + 3 * (size_t)c);
+            const float *centre = sc->centre + 3 * (size_t)c;
+            e[c].id = carrier(ctx, tree, o, focus(ctx, tree, o, e[c].id, centre), e[c].k, centre);
+            e[c].tau = node_tau(ctx, tree, e[c].id - n, centre);
         }
     }
     *form_factors += kept;

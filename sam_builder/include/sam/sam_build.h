@@ -56,10 +56,12 @@ extern "C" {
  * vertices where they hold nearly all the light, and a cut node whose
  * centroid cannot hold its K hands it to a descendant node that can; 1.3:
  * the fans' Monte Carlo counts a pair of points only where the one is
- * behind the other's tangent plane, eq. 13 point by point), and the tools'
+ * behind the other's tangent plane, eq. 13 point by point; 1.4: a cut node
+ * partly behind its receiver hands its K to a node around its back-side
+ * member nearest where its light comes from), and the tools'
  * map cache keys on it, so that no cached map outlives the builder that
  * made it. */
-#define SAM_BUILD_VERSION "1.3"
+#define SAM_BUILD_VERSION "1.4"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
