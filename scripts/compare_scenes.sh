@@ -3,8 +3,9 @@
 # writes OUT/summary.md: one table of PSNRs over the scenes, as the README's
 # "Comparison results" shows, and a second one of the map against the flat
 # maps: every scene but the statue gets the samples sweep 3,32,64, which
-# scores the cut map and the flat map at each N against the same truth (the
-# statue's 280k vertices make that sweep take hours on two cores).
+# scores the cut map, the flat map and the flat-scaled baseline at each N
+# against the same truth (the statue's 280k vertices make that sweep take
+# hours on two cores).
 #   scripts/compare_scenes.sh [OUT_DIR]      (default out/compare; needs a build in build/)
 # Set SAM_BUILD_DIR to use another build tree.
 set -euo pipefail
@@ -67,12 +68,13 @@ for d in sorted(os.listdir(out)):
     r = json.load(open(path))
     points = r.get("samples_sweep", {}).get("points", [])
     if points and "flat_rmse" in points[0]:
-        cells = ["%s / %s" % (psnr(p["rmse"]), psnr(p["flat_rmse"])) for p in points]
-        cells_t = ["%s / %s" % (psnr(p["rmse_translucency"]), psnr(p["flat_rmse_translucency"])) for p in points]
+        cells = ["%s / %s / %s" % (psnr(p["rmse"]), psnr(p["flat_rmse"]), psnr(p["flat_scaled_rmse"])) for p in points]
+        cells_t = ["%s / %s / %s" % (psnr(p["rmse_translucency"]), psnr(p["flat_rmse_translucency"]),
+                                     psnr(p["flat_scaled_rmse_translucency"])) for p in points]
         sweep_rows.append((d, [p["n"] for p in points], cells, cells_t))
 if sweep_rows:
     ns = sweep_rows[0][1]
-    text += ("\nCut map / flat map with the same N, PSNR of all object pixels; then of the translucency "
+    text += ("\nCut map / flat map / flat-scaled baseline with the same N, PSNR of all object pixels; then of the translucency "
              "(normalised):\n\n| scene | " + " | ".join("N = %d" % n for n in ns) + " | " +
              " | ".join("translucency N = %d" % n for n in ns) + " |\n|" + " --- |" * (1 + 2 * len(ns)) + "\n")
     for d, n, cells, cells_t in sweep_rows:

@@ -293,19 +293,22 @@ static sam_status score_map(const compare_state *s, const sam_truth_report_refer
 
 /* Rebuilds the map with N samples per vertex for each N of the settings'
  * sweep and scores SAM against `ref`; a cut map's sweep scores the flat map
- * with the same N beside it. */
+ * and the flat-scaled baseline with the same N beside it. */
 static sam_status run_sweep(const compare_state *s, const sam_truth_report_reference *ref,
                             sam_truth_report_sweep_point *out, sam_error *err)
 {
     const sam_build_map map = (sam_build_map)s->set->map;
     for (int i = 0; i < s->set->sweep_count; ++i) {
-        double flat_seconds;
+        double baseline_seconds;
         out[i].n = s->set->sweep[i];
         out[i].has_flat = map == SAM_BUILD_MAP_CUT;
         sam_status st = score_map(s, ref, map, out[i].n, &out[i].build_seconds, &out[i].all, &out[i].normalised, err);
         if (st == SAM_OK && out[i].has_flat)
-            st = score_map(s, ref, SAM_BUILD_MAP_FLAT, out[i].n, &flat_seconds, &out[i].flat_all,
+            st = score_map(s, ref, SAM_BUILD_MAP_FLAT, out[i].n, &baseline_seconds, &out[i].flat_all,
                            &out[i].flat_normalised, err);
+        if (st == SAM_OK && out[i].has_flat)
+            st = score_map(s, ref, SAM_BUILD_MAP_FLAT_SCALED, out[i].n, &baseline_seconds, &out[i].scaled_all,
+                           &out[i].scaled_normalised, err);
         if (st != SAM_OK)
             return st;
     }

@@ -111,8 +111,9 @@ static void write_json(FILE *f, const void *what)
                     i ? ", " : "", p->n, p->build_seconds, p->all.rmse, p->normalised.rmse);
             json_number(f, p->all.psnr_db);
             if (p->has_flat)
-                fprintf(f, ", \"flat_rmse\": %.4f, \"flat_rmse_translucency\": %.4f", p->flat_all.rmse,
-                        p->flat_normalised.rmse);
+                fprintf(f, ", \"flat_rmse\": %.4f, \"flat_rmse_translucency\": %.4f, \"flat_scaled_rmse\": %.4f, "
+                           "\"flat_scaled_rmse_translucency\": %.4f",
+                        p->flat_all.rmse, p->flat_normalised.rmse, p->scaled_all.rmse, p->scaled_normalised.rmse);
             fprintf(f, "}");
         }
         fprintf(f, "]}");
@@ -178,13 +179,18 @@ static void write_md(FILE *f, const void *what)
         const int flat = r->sweep[0].has_flat;
         fprintf(f, "\nSAM against the truth as the map is rebuilt with N samples per vertex (rmse_vs_samples.png); "
                    "RMSE %s monotonically%s:\n\n| N | build s | RMSE | translucency RMSE |%s\n| --- | --- | --- | --- |%s\n",
-                r->monotonic ? "falls" : "does not fall", flat ? " (the flat map's beside it)" : "",
-                flat ? " flat map RMSE | flat map translucency RMSE |" : "", flat ? " --- | --- |" : "");
+                r->monotonic ? "falls" : "does not fall",
+                flat ? " (the flat map's and the flat-scaled baseline's beside it)" : "",
+                flat ? " flat map RMSE | flat map translucency RMSE | flat-scaled RMSE | flat-scaled translucency RMSE |"
+                     : "",
+                flat ? " --- | --- | --- | --- |" : "");
         for (int i = 0; i < r->sweep_count; ++i) {
             fprintf(f, "| %ld | %.2f | %.4f | %.4f |", r->sweep[i].n, r->sweep[i].build_seconds,
                     r->sweep[i].all.rmse, r->sweep[i].normalised.rmse);
             if (flat)
-                fprintf(f, " %.4f | %.4f |", r->sweep[i].flat_all.rmse, r->sweep[i].flat_normalised.rmse);
+                fprintf(f, " %.4f | %.4f | %.4f | %.4f |", r->sweep[i].flat_all.rmse,
+                        r->sweep[i].flat_normalised.rmse, r->sweep[i].scaled_all.rmse,
+                        r->sweep[i].scaled_normalised.rmse);
             fprintf(f, "\n");
         }
     }
@@ -353,11 +359,13 @@ sam_status sam_truth_report_plot_sweep(const char *dir, const char *mesh_path,
     if ((st = sam_atomic_open(&f, dat, err)) != SAM_OK)
         return st;
     const int flat = count > 0 && sweep[0].has_flat;
-    fprintf(f.fp, "# N rmse rmse_translucency%s (8-bit levels)\n", flat ? " flat_rmse flat_rmse_translucency" : "");
+    fprintf(f.fp, "# N rmse rmse_translucency%s (8-bit levels)\n",
+            flat ? " flat_rmse flat_rmse_translucency flat_scaled_rmse flat_scaled_rmse_translucency" : "");
     for (int i = 0; i < count; ++i) {
         fprintf(f.fp, "%ld %.6f %.6f", sweep[i].n, sweep[i].all.rmse, sweep[i].normalised.rmse);
         if (flat)
-            fprintf(f.fp, " %.6f %.6f", sweep[i].flat_all.rmse, sweep[i].flat_normalised.rmse);
+            fprintf(f.fp, " %.6f %.6f %.6f %.6f", sweep[i].flat_all.rmse, sweep[i].flat_normalised.rmse,
+                    sweep[i].scaled_all.rmse, sweep[i].scaled_normalised.rmse);
         fprintf(f.fp, "\n");
     }
     if ((st = sam_atomic_commit(&f, err)) != SAM_OK)
@@ -374,7 +382,9 @@ sam_status sam_truth_report_plot_sweep(const char *dir, const char *mesh_path,
             "title 'translucency (normalised)'%s\n",
             png, sam_path_basename(mesh_path ? mesh_path : "scene"), dat,
             flat ? ", '' using 1:4 with linespoints lw 2 dt 2 title 'full shading, flat map', '' using 1:5 with "
-                   "linespoints lw 2 dt 2 title 'translucency, flat map'"
+                   "linespoints lw 2 dt 2 title 'translucency, flat map', '' using 1:6 with linespoints lw 2 dt 3 "
+                   "title 'full shading, flat-scaled', '' using 1:7 with linespoints lw 2 dt 3 title "
+                   "'translucency, flat-scaled'"
                  : "");
     if ((st = sam_atomic_commit(&f, err)) != SAM_OK || (st = run_gnuplot(script, dat, err)) != SAM_OK)
         return st;

@@ -62,13 +62,15 @@ typedef struct sam_truth_report_step {
 } sam_truth_report_step;
 
 /* SAM's scores with the map rebuilt at n samples per vertex; for a cut
- * map's sweep also the flat map's with the same n, to plot beside it. */
+ * map's sweep also the flat map's and the flat-scaled baseline's with the
+ * same n, to plot beside it. */
 typedef struct sam_truth_report_sweep_point {
     long n;
     double build_seconds;
     sam_image_comparison all, normalised;
-    int has_flat;
+    int has_flat; /* 1: flat_* and scaled_* hold scores */
     sam_image_comparison flat_all, flat_normalised;
+    sam_image_comparison scaled_all, scaled_normalised;
 } sam_truth_report_sweep_point;
 
 /* What report.json and report.md of one pose say. The pointers are the
