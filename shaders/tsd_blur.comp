@@ -75,47 +75,54 @@ void main()
     vec4 tap[7];
     uint centre_triangle = uint(stretch.z);
     uint chart = u_cross != 0 && centre_triangle > 0u ? crossings[centre_triangle - 1u].w : NO_CROSSING;
-    // The first pass's axis on the surface, for the second pass's taps that
-    // land on charts turned another way.
-    vec3 side = vec3(0.0), x0;
-    if (chart != NO_CROSSING && u_direction.y != 0)
-        cross_from_atlas(centre_triangle - 1u, vec2(p) + 0.5, vec2(1.0, 0.0), vec2(u_size), x0, side);
-    // Per side, where the taps' line crossed its first seam: found by the
-    // side's first tap off the chart (in the loop's order), and shared by
-    // the others.
-    CrossSeam crossed[2];
-    crossed[0] = crossed[1] = CrossSeam(false, 0u, vec3(0.0), vec2(0.0), vec2(0.0), 0.0, 0.0, 0u, vec2(0.0));
+    bool off[7];
+    bool any_off = false;
     for (int k = 0; k < 7; ++k) {
         vec2 at = vec2(p) + 0.5 + vec2(u_direction) * float(k - 3) * step_texels;
         tap[k] = textureLod(u_source, clamp(at * texel, lo, hi), 0.0);
-        if (chart == NO_CROSSING || k == 3)
-            continue;
-        uint t = cross_triangle_at(at, u_size);
-        if (t > 0u && crossings[t - 1u].w == chart)
-            continue;
-        int s = k > 3 ? 1 : 0;
-        uint landed = crossed[s].chart;
-        vec2 side_texels = crossed[s].side_texels;
-        float mm_out = abs(float(k - 3)) * step_texels * mm;
-        if (!cross_after(crossed[s], mm_out, u_size, at)) {
-            // From the texel, or past the chart across the side's first
-            // seam, on from that seam (one call: each is inlined).
-            CrossSeam first, c = crossed[s];
-            bool resume = c.valid && mm_out >= c.done_mm;
-            if (!cross_tap(resume ? c.triangle : centre_triangle, resume ? c.from : vec2(p) + 0.5,
-                           resume ? c.dir : vec2(u_direction) * sign(float(k - 3)),
-                           resume ? (mm_out - c.done_mm) * c.per_mm : abs(float(k - 3)) * step_texels,
-                           resume ? 1.0 / c.per_mm : mm, u_size, resume ? c.side : side, at, landed, side_texels,
-                           first)) {
-                tap[k] = vec4(0.0);
+        uint t = chart == NO_CROSSING || k == 3 ? 0u : cross_triangle_at(at, u_size);
+        off[k] = chart != NO_CROSSING && k != 3 && !(t > 0u && crossings[t - 1u].w == chart);
+        any_off = any_off || off[k];
+    }
+    if (any_off) {
+        // The first pass's axis on the surface, for the second pass's taps that
+        // land on charts turned another way: only where a tap leaves the chart.
+        vec3 side = vec3(0.0), x0;
+        if (u_direction.y != 0)
+            cross_from_atlas(centre_triangle - 1u, vec2(p) + 0.5, vec2(1.0, 0.0), vec2(u_size), x0, side);
+        // Per side, where the taps' line crossed its first seam: found by the
+        // side's first tap off the chart (in the loop's order), and shared by
+        // the others.
+        CrossSeam crossed[2];
+        crossed[0] = crossed[1] = CrossSeam(false, 0u, vec3(0.0), vec2(0.0), vec2(0.0), 0.0, 0.0, 0u, vec2(0.0));
+        for (int k = 0; k < 7; ++k) {
+            if (!off[k])
                 continue;
+            vec2 at = vec2(p) + 0.5 + vec2(u_direction) * float(k - 3) * step_texels;
+            int s = k > 3 ? 1 : 0;
+            uint landed = crossed[s].chart;
+            vec2 side_texels = crossed[s].side_texels;
+            float mm_out = abs(float(k - 3)) * step_texels * mm;
+            if (!cross_after(crossed[s], mm_out, u_size, at)) {
+                // From the texel, or past the chart across the side's first
+                // seam, on from that seam (one call: each is inlined).
+                CrossSeam first, c = crossed[s];
+                bool resume = c.valid && mm_out >= c.done_mm;
+                if (!cross_tap(resume ? c.triangle : centre_triangle, resume ? c.from : vec2(p) + 0.5,
+                               resume ? c.dir : vec2(u_direction) * sign(float(k - 3)),
+                               resume ? (mm_out - c.done_mm) * c.per_mm : abs(float(k - 3)) * step_texels,
+                               resume ? 1.0 / c.per_mm : mm, u_size, resume ? c.side : side, at, landed, side_texels,
+                               first)) {
+                    tap[k] = vec4(0.0);
+                    continue;
+                }
+                if (first.valid && !resume)
+                    crossed[s] = first;
             }
-            if (first.valid && !resume)
-                crossed[s] = first;
+            tap[k] = u_direction.y != 0 && abs(side_texels.y) > TURNED * length(side_texels)
+                         ? first_pass_at(at, side_texels, landed, texel, lo, hi)
+                         : textureLod(u_source, clamp(at * texel, lo, hi), 0.0);
         }
-        tap[k] = u_direction.y != 0 && abs(side_texels.y) > TURNED * length(side_texels)
-                     ? first_pass_at(at, side_texels, landed, texel, lo, hi)
-                     : textureLod(u_source, clamp(at * texel, lo, hi), 0.0);
     }
     vec3 sum = vec3(0.0);
     for (int k = 0; k < 7; ++k)
