@@ -186,11 +186,11 @@ static uint32_t carrier(const sam_build_context *ctx, const sam_build_tree *tree
  * `centre` (where its light comes from): the largest node on the way down
  * to that member that lies wholly behind o, else the member's parent
  * (whose tau, as every node's, leans towards `centre`). Not the member
- * itself: a vertex
- * sample carrying a node's K is taken by the runtime for one pair of fans
- * (the walk adopts its neighbours as if they were not counted, and the pose
- * re-asks eq. 13-14 and its fans' quadrature), and it broke the engine's
- * rest pose by 18% of T (tests/test_gl_engine.c). */
+ * itself: the runtime takes a vertex sample for one pair of fans (the walk
+ * adopts its neighbours as if their light were not counted, and the pose
+ * re-asks eq. 13-14 and its fans' quadrature), and a vertex carrying a
+ * node's K broke the engine's rest pose by 18% of T
+ * (tests/test_gl_engine.c). */
 static uint32_t focus(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id,
                       const float centre[3])
 {
