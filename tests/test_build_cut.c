@@ -418,6 +418,48 @@ static void test_rows_list_vertices_where_they_hold_the_light(void **state)
     destroy_cut(&f);
 }
 
+/* Whether row o of r holds no tree node (the budget's best vertices). */
+static int row_listed(const sam_build_result *r, uint32_t o)
+{
+    const uint32_t b = r->samples_per_vertex;
+    return r->sample[(size_t)o * b] != SAM_BUILD_NO_SAMPLE &&
+           sam_test_node_share(r->sample + (size_t)o * b, 1, b, r->topo_count) == 0.0;
+}
+
+/* A larger budget refines a row; it does not change how the row is held.
+ * On a marble slab, where some rows are the budget's best vertices and the
+ * rest cuts through the tree, every row of vertices alone with 64 slots is
+ * one with 32 too, and keeps the 32 vertices it had there. Judged on all of
+ * its slots, a budget of 64 turned cuts into vertices that carry a folded
+ * tenth of the light they do not stand for. */
+static void test_larger_budget_keeps_how_rows_are_held(void **state)
+{
+    (void)state;
+    cut_fixture f32, f64;
+    build_cut(&f32, "slab", 40, 2.0, 0.05, "marble", 50.0f, 32, 0);
+    build_cut(&f64, "slab", 40, 2.0, 0.05, "marble", 50.0f, 64, 0);
+    const uint32_t n = f32.mesh.topo_count;
+    uint32_t listed32 = 0, listed64 = 0;
+    for (uint32_t o = 0; o < n; ++o) {
+        listed32 += (uint32_t)row_listed(&f32.r, o);
+        if (!row_listed(&f64.r, o))
+            continue;
+        listed64++;
+        assert_true(row_listed(&f32.r, o));
+        const uint32_t *row32 = f32.r.sample + (size_t)o * 32, *row64 = f64.r.sample + (size_t)o * 64;
+        for (uint32_t k = 0; k < 32 && row32[k] != SAM_BUILD_NO_SAMPLE; ++k) {
+            uint32_t j = 0;
+            while (j < 64 && row64[j] != row32[k])
+                ++j;
+            assert_true(j < 64);
+        }
+    }
+    printf("marble slab: %u of %u rows are vertices alone at N = 32, %u at N = 64\n", listed32, n, listed64);
+    assert_true(listed64 > 0 && listed32 < n / 2);
+    destroy_cut(&f32);
+    destroy_cut(&f64);
+}
+
 static void test_bit_identical_for_any_thread_count(void **state)
 {
     (void)state;
@@ -523,6 +565,7 @@ int main(void)
         cmocka_unit_test(test_one_sided_light_matches_brute_force),
         cmocka_unit_test(test_samples_hold_the_cut_total),
         cmocka_unit_test(test_rows_list_vertices_where_they_hold_the_light),
+        cmocka_unit_test(test_larger_budget_keeps_how_rows_are_held),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
         cmocka_unit_test(test_samfile_rows_follow_render_vertices),
         cmocka_unit_test(test_samfile_versions),

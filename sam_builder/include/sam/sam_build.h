@@ -58,10 +58,11 @@ extern "C" {
  * the fans' Monte Carlo counts a pair of points only where the one is
  * behind the other's tangent plane, eq. 13 point by point; 1.4: a cut node
  * partly behind its receiver hands its K to a node around its back-side
- * member nearest where its light comes from), and the tools'
- * map cache keys on it, so that no cached map outlives the builder that
+ * member nearest where its light comes from; 1.5: whether a row is the
+ * budget's best vertices is judged on at most 32 of them, so that maps of
+ * N > 32 change), and the tools' map cache keys on it, so that no cached map outlives the builder that
  * made it. */
-#define SAM_BUILD_VERSION "1.4"
+#define SAM_BUILD_VERSION "1.5"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
