@@ -232,6 +232,50 @@ static uint32_t focus(const sam_build_context *ctx, const sam_build_tree *tree, 
     }
 }
 
+/* The node that holds wholly-behind cut node `id`'s K: the smallest node
+ * on the way down that holds `centre` (where its light comes from, the
+ * K-weighted centre, mm) in its box and is at least `spread` (the K-weighted
+ * spread about it, mm) in half-diagonal; of two such children, the one
+ * whose centroid is nearer. The runtime reads a node's L_d as its members'
+ * area mean, while its light comes mostly from its edge nearest the
+ * receiver: where L_d changes across it (a shadow's edge, the terminator
+ * around a tube), the whole node's mean stands for light its K does not
+ * see. Read from the cut node itself, the knot's translucency erred by 1.6
+ * times, the area-lit slab's by 1.8 times what it does here
+ * (docs/builder.md). No smaller than the spread: such a node would read
+ * L_d at one point of an area the light comes from. Descendants of a node
+ * wholly behind are wholly behind too, and carried as every node is. */
+static uint32_t concentrate(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t id,
+                            const float centre[3], float spread)
+{
+    const uint32_t n = ctx->mesh->topo_count;
+    for (;;) {
+        const sam_build_node *node = &tree->node[id - n];
+        uint32_t next = UINT32_MAX;
+        float next_d = INFINITY;
+        for (int c = 0; c < 2; ++c) {
+            const uint32_t kid = node->child[c];
+            if (kid < n)
+                continue;
+            const sam_build_node *k = &tree->node[kid - n];
+            int inside = 1;
+            float diagonal2 = 0;
+            for (int a = 0; a < 3; ++a) {
+                inside &= centre[a] >= k->lo[a] && centre[a] <= k->hi[a];
+                diagonal2 += (k->hi[a] - k->lo[a]) * (k->hi[a] - k->lo[a]);
+            }
+            const float d = sam_build_distance(centre, k->centroid);
+            if (inside && 0.25f * diagonal2 >= spread * spread && d < next_d) {
+                next = kid;
+                next_d = d;
+            }
+        }
+        if (next == UINT32_MAX)
+            return id;
+        id = next;
+    }
+}
+
 static int entry_better(const cut_entry *a, const cut_entry *b)
 {
     float ka = a->k[0] + a->k[1] + a->k[2], kb = b->k[0] + b->k[1] + b->k[2];
@@ -277,7 +321,7 @@ typedef struct cut_scratch {
     cut_entry *entry;                 /* N + 1 */
     float *points;                    /* SAM_BUILD_POINT_FLOATS * mc_samples */
     uint32_t *ids;                    /* N */
-    float *k, *centre;                /* 3N, 3N */
+    float *k, *centre, *spread;       /* 3N, 3N, N */
     uint32_t *stack;                  /* the tree's levels + 2 */
     listed *found;                    /* LIST_TESTS */
     sam_build_cut_k_scratch *k_scratch;
@@ -290,6 +334,7 @@ static void cut_scratch_free(cut_scratch *sc)
     free(sc->ids);
     free(sc->k);
     free(sc->centre);
+    free(sc->spread);
     free(sc->stack);
     free(sc->found);
     sam_build_cut_k_scratch_destroy(sc->k_scratch);
@@ -304,10 +349,11 @@ static int cut_scratch_alloc(const sam_build_context *ctx, const sam_build_tree 
     sc->ids = malloc(n * sizeof *sc->ids);
     sc->k = malloc(3 * n * sizeof *sc->k);
     sc->centre = malloc(3 * n * sizeof *sc->centre);
+    sc->spread = malloc(n * sizeof *sc->spread);
     sc->stack = malloc(((size_t)tree->level_count + 2) * sizeof *sc->stack);
     sc->found = malloc(LIST_TESTS * sizeof *sc->found);
     sc->k_scratch = sam_build_cut_k_scratch_create((uint32_t)n, (uint32_t)n * SAM_BUILD_CUT_OPENINGS);
-    if (sc->entry && sc->points && sc->ids && sc->k && sc->centre && sc->stack && sc->found && sc->k_scratch)
+    if (sc->entry && sc->points && sc->ids && sc->k && sc->centre && sc->spread && sc->stack && sc->found && sc->k_scratch)
         return 1;
     cut_scratch_free(sc);
     return 0;
@@ -446,7 +492,7 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         for (uint32_t c = 0; c < kept; ++c)
             sc->ids[c] = e[c].id;
         sam_build_cut_k(ctx, tree, o, sc->points, sc->ids, kept, budget * SAM_BUILD_CUT_OPENINGS, sc->k_scratch, sc->k,
-                        sc->centre);
+                        sc->centre, sc->spread);
     }
     for (uint32_t c = 0; c < kept; ++c) {
         for (int ch = 0; ch < 3; ++ch) {
@@ -455,7 +501,9 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         }
         if (e[c].id >= n) {
             const float *centre = sc->centre + 3 * (size_t)c;
-            e[c].id = carrier(ctx, tree, o, focus(ctx, tree, o, e[c].id, centre), e[c].k, centre);
+            const uint32_t held = e[c].back ? concentrate(ctx, tree, e[c].id, centre, sc->spread[c])
+                                            : focus(ctx, tree, o, e[c].id, centre);
+            e[c].id = carrier(ctx, tree, o, held, e[c].k, centre);
             e[c].tau = node_tau(ctx, tree, e[c].id - n, centre);
         }
     }

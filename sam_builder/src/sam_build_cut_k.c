@@ -15,7 +15,7 @@ typedef struct part {
 
 /* A cut node's K accumulating. */
 typedef struct k_sum {
-    double k[3], centre[3];
+    double k[3], centre[3], square;
 } k_sum;
 
 struct sam_build_cut_k_scratch {
@@ -53,6 +53,7 @@ static void k_add(k_sum *s, const float at[3], const float kv[3])
     for (int c = 0; c < 3; ++c) {
         s->k[c] += kv[c];
         s->centre[c] += w * at[c];
+        s->square += w * at[c] * at[c];
     }
 }
 
@@ -223,7 +224,7 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
 
 void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, const float *points,
                      const uint32_t *ids, uint32_t count, uint32_t openings, sam_build_cut_k_scratch *scratch,
-                     float *k, float *centre)
+                     float *k, float *centre, float *spread)
 {
     const uint32_t n = ctx->mesh->topo_count, m = ctx->settings.mc_samples;
     const float tol = ctx->settings.cut_tolerance, *p = ctx->pos + 3 * (size_t)o;
@@ -245,7 +246,7 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
     for (int ch = 0; ch < 3; ++ch)
         c.flat.floor[ch] = rough_area > 0 ? (float)(tol * rough[ch] / rough_area) : 0.0f;
     for (uint32_t e = 0; e < count; ++e) {
-        scratch->sum[e] = (k_sum){{0, 0, 0}, {0, 0, 0}};
+        scratch->sum[e] = (k_sum){{0, 0, 0}, {0, 0, 0}, 0};
         if (ids[e] < n) {
             /* A vertex of the cut: the fans' Monte Carlo, as in a flat map. */
             float kv[3], ev;
@@ -286,9 +287,13 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
         const k_sum *s = &scratch->sum[e];
         const double total = s->k[0] + s->k[1] + s->k[2];
         const float *fallback = ids[e] < n ? ctx->pos + 3 * (size_t)ids[e] : tree->node[ids[e] - n].centroid;
+        double mean2 = 0;
         for (int ch = 0; ch < 3; ++ch) {
             k[3 * (size_t)e + ch] = (float)s->k[ch];
             centre[3 * (size_t)e + ch] = total > 0 ? (float)(s->centre[ch] / total) : fallback[ch];
+            mean2 += total > 0 ? (s->centre[ch] / total) * (s->centre[ch] / total) : 0;
         }
+        const double var = total > 0 ? s->square / total - mean2 : 0;
+        spread[e] = var > 0 ? (float)sqrt(var) : 0.0f;
     }
 }

@@ -127,12 +127,13 @@ void sam_build_cut_k_scratch_destroy(sam_build_cut_k_scratch *s);
  * node, eq. 11 summed over its back-side members, opening at most
  * `openings` subnodes or near members across the whole cut, those whose R_d
  * falls most first. `points` are o's shared receiver points. Writes
- * k[3 * count] and centre[3 * count] (the
- * K-weighted centre of what each part's light comes from, mm).
+ * k[3 * count], centre[3 * count] (the K-weighted centre of what each
+ * part's light comes from, mm) and spread[count] (the K-weighted root mean
+ * square distance of that light from the centre, mm).
  * Deterministic: the same for any thread. */
 void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, const float *points,
                      const uint32_t *ids, uint32_t count, uint32_t openings, sam_build_cut_k_scratch *scratch,
-                     float *k, float *centre);
+                     float *k, float *centre, float *spread);
 
 /* |b - a| of two points in mm, summed in the order every builder file used. */
 static inline float sam_build_distance(const float a[3], const float b[3])

@@ -60,9 +60,11 @@ extern "C" {
  * partly behind its receiver hands its K to a node around its back-side
  * member nearest where its light comes from; 1.5: whether a row is the
  * budget's best vertices is judged on at most 32 of them, so that maps of
- * N > 32 change), and the tools' map cache keys on it, so that no cached map outlives the builder that
+ * N > 32 change; 1.6: a cut node wholly behind its receiver hands its K to
+ * the smallest node around where its light comes from, no smaller than
+ * its spread), and the tools' map cache keys on it, so that no cached map outlives the builder that
  * made it. */
-#define SAM_BUILD_VERSION "1.5"
+#define SAM_BUILD_VERSION "1.6"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
