@@ -353,7 +353,8 @@ static int cut_scratch_alloc(const sam_build_context *ctx, const sam_build_tree 
     sc->stack = malloc(((size_t)tree->level_count + 2) * sizeof *sc->stack);
     sc->found = malloc(LIST_TESTS * sizeof *sc->found);
     sc->k_scratch = sam_build_cut_k_scratch_create((uint32_t)n, (uint32_t)n * SAM_BUILD_CUT_OPENINGS);
-    if (sc->entry && sc->points && sc->ids && sc->k && sc->centre && sc->spread && sc->stack && sc->found && sc->k_scratch)
+    if (sc->entry && sc->points && sc->ids && sc->k && sc->centre && sc->spread && sc->stack && sc->found &&
+        sc->k_scratch)
         return 1;
     cut_scratch_free(sc);
     return 0;
@@ -372,9 +373,10 @@ static int cmp_listed(const void *pa, const void *pb)
  * out at most LIST_TOLERANCE of the transport of all that reach it, puts
  * the `budget` best into e[] as the cut, sets *scale to the factor that
  * makes their K carry the whole (all that reach o over those kept, by the
- * estimate) and returns their count; otherwise returns UINT32_MAX. Where the profile is short against
- * the fans (skin on a mesh of 10k vertices), a few vertices carry nearly
- * all the light and each of them is exact, while a lightcut spent its
+ * estimate) and returns their count; otherwise returns UINT32_MAX. Where
+ * the profile is short against the fans (skin on a mesh of 10k vertices),
+ * a few vertices carry nearly all the light and each of them is exact,
+ * while a lightcut spent its
  * budget on nodes partly behind the receiver (a scan's noisy normals: 16 of
  * 26 entries on the Chinese dragon), whose L_d mixes in members that are
  * not, and scored 2.8 dB under the flat map of N = 32 (docs/builder.md has
