@@ -69,34 +69,6 @@ sam_status sam_build_check_settings(const sam_build_settings *s, float mm_per_un
 
 /* ---- R_d */
 
-void sam_build_rd(const sam_build_context *ctx, float r, float out[4])
-{
-    if (r >= ctx->table_radius) {
-        sam_profile_eval(ctx->profile, r, out);
-        out[3] = (out[0] + out[1] + out[2]) / 3.0f;
-        return;
-    }
-    float x = r * ctx->table_inv_step;
-    int j = (int)x;
-    float f = x - (float)j;
-    const float *a = ctx->table[j], *b = ctx->table[j + 1];
-    for (int c = 0; c < 4; ++c)
-        out[c] = a[c] + f * (b[c] - a[c]);
-}
-
-float sam_build_rd_mean(const sam_build_context *ctx, float r)
-{
-    if (r >= ctx->table_radius) {
-        float rgb[3];
-        sam_profile_eval(ctx->profile, r, rgb);
-        return (rgb[0] + rgb[1] + rgb[2]) / 3.0f;
-    }
-    float x = r * ctx->table_inv_step;
-    int j = (int)x;
-    float f = x - (float)j;
-    return ctx->table[j][3] + f * (ctx->table[j + 1][3] - ctx->table[j][3]);
-}
-
 float sam_build_bound_radius(const sam_build_context *ctx, float threshold)
 {
     /* The envelope is non-increasing: find the last index still >= threshold. */
@@ -214,11 +186,7 @@ float sam_build_fan_area(const sam_build_context *ctx, uint32_t t)
 
 int sam_build_is_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i)
 {
-    const float *po = ctx->pos + 3 * (size_t)o, *pi = ctx->pos + 3 * (size_t)i;
-    const float *no = ctx->mesh->topo_normals + 3 * (size_t)o, *ni = ctx->mesh->topo_normals + 3 * (size_t)i;
-    float d = (pi[0] - po[0]) * no[0] + (pi[1] - po[1]) * no[1] + (pi[2] - po[2]) * no[2];
-    float c = ni[0] * no[0] + ni[1] * no[1] + ni[2] * no[2];
-    return d < 0.0f && c < 0.0f;
+    return sam_build_behind(ctx, o, i);
 }
 
 void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3], float normal[3])

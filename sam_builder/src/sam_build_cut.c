@@ -30,7 +30,7 @@ typedef struct cut_entry {
  * and within the search radius. Its distance (mm) into *d when it can. */
 static int reaches(const sam_build_context *ctx, uint32_t o, uint32_t v, float *d)
 {
-    if (v == o || !sam_build_is_back_side(ctx, o, v))
+    if (v == o || !sam_build_behind(ctx, o, v))
         return 0;
     *d = sam_build_distance(ctx->pos + 3 * (size_t)o, ctx->pos + 3 * (size_t)v);
     return *d < ctx->search_radius;
@@ -124,7 +124,7 @@ static uint32_t members_behind(const sam_build_context *ctx, const sam_build_tre
     uint32_t behind = 0;
     for (uint32_t m = 0; m < node->count; ++m) {
         const uint32_t v = tree->perm[node->first + m];
-        behind += (uint32_t)(v != o && sam_build_is_back_side(ctx, o, v));
+        behind += (uint32_t)(v != o && sam_build_behind(ctx, o, v));
     }
     return behind;
 }

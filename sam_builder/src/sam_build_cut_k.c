@@ -83,7 +83,7 @@ static void straddle_estimate(const sam_build_context *ctx, const sam_build_tree
                 lo = mid + 1;
         }
         const uint32_t i = tree->perm[lo];
-        if (i == o || !sam_build_is_back_side(ctx, o, i))
+        if (i == o || !sam_build_behind(ctx, o, i))
             continue;
         /* A uniform point of the member's fan: the samples are uniform in
          * area over the node, and so the estimate is unbiased where R_d
@@ -184,7 +184,7 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
     k_sum *s = &c->s->sum[entry];
     float r_near[4], r_far[4], rd[4], kv[3];
     if (id < n) {
-        if (id == c->o || !sam_build_is_back_side(ctx, c->o, id))
+        if (id == c->o || !sam_build_behind(ctx, c->o, id))
             return;
         /* A member's fan, its radius taken as sqrt(F'). */
         const float *q = ctx->pos + 3 * (size_t)id, area = ctx->fan_area[id], r = sqrtf(area);

@@ -31,11 +31,48 @@ struct sam_build_context {
     float *envelope;         /* SAM_RD_TABLE_SIZE + 1: max of the mean over [j, end]: a non-increasing bound */
 };
 
-/* R_d at r mm: RGB and mean (table inside table_radius, exact beyond). */
-void sam_build_rd(const sam_build_context *ctx, float r, float out[4]);
+/* R_d at r mm: RGB and mean (table inside table_radius, exact beyond).
+ * This and the next two are inline: the cut's refinement asks them of
+ * every node and member it passes, and as calls into another file they
+ * took a fifth of its time (docs/performance.md). */
+static inline void sam_build_rd(const sam_build_context *ctx, float r, float out[4])
+{
+    if (r >= ctx->table_radius) {
+        sam_profile_eval(ctx->profile, r, out);
+        out[3] = (out[0] + out[1] + out[2]) / 3.0f;
+        return;
+    }
+    const float x = r * ctx->table_inv_step;
+    const int j = (int)x;
+    const float f = x - (float)j;
+    const float *a = ctx->table[j], *b = ctx->table[j + 1];
+    for (int c = 0; c < 4; ++c)
+        out[c] = a[c] + f * (b[c] - a[c]);
+}
 
 /* Mean R_d at r: the cheap estimate's profile term. */
-float sam_build_rd_mean(const sam_build_context *ctx, float r);
+static inline float sam_build_rd_mean(const sam_build_context *ctx, float r)
+{
+    if (r >= ctx->table_radius) {
+        float rgb[3];
+        sam_profile_eval(ctx->profile, r, rgb);
+        return (rgb[0] + rgb[1] + rgb[2]) / 3.0f;
+    }
+    const float x = r * ctx->table_inv_step;
+    const int j = (int)x;
+    const float f = x - (float)j;
+    return ctx->table[j][3] + f * (ctx->table[j + 1][3] - ctx->table[j][3]);
+}
+
+/* sam_build_is_back_side (eq. 13-14), inline. */
+static inline int sam_build_behind(const sam_build_context *ctx, uint32_t o, uint32_t i)
+{
+    const float *po = ctx->pos + 3 * (size_t)o, *pi = ctx->pos + 3 * (size_t)i;
+    const float *no = ctx->mesh->topo_normals + 3 * (size_t)o, *ni = ctx->mesh->topo_normals + 3 * (size_t)i;
+    const float d = (pi[0] - po[0]) * no[0] + (pi[1] - po[1]) * no[1] + (pi[2] - po[2]) * no[2];
+    const float c = ni[0] * no[0] + ni[1] * no[1] + ni[2] * no[2];
+    return d < 0.0f && c < 0.0f;
+}
 
 /* The smallest radius beyond which every mean R_d (table) is below
  * `threshold`; table_radius when none is. */

@@ -571,7 +571,7 @@ static void search_all(const sam_build_context *ctx, const void *data, uint32_t 
     (void)data;
     uint32_t count = 0;
     for (uint32_t i = 0; i < ctx->mesh->topo_count; ++i)
-        if (i != o && sam_build_is_back_side(ctx, o, i))
+        if (i != o && sam_build_behind(ctx, o, i))
             sc->cand[count++] = (scored){0.0f, i};
     *seen += count;
     *form_factors += count;
