@@ -34,8 +34,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                     soup.face_count);
             abort();
         }
+        float *normals = NULL;
+        (void)sam_mesh_expect_corner_normals(&expect, &soup, &normals, &err);
+        free(normals);
         sam_mesh_soup_free(&soup);
     }
+    sam_mesh_expect_free(&expect);
     remove(path);
     return 0;
 }

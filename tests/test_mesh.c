@@ -445,6 +445,62 @@ static void test_file_normals_are_used_and_normalised(void **state)
     sam_mesh_destroy(&m);
 }
 
+/* A cube whose faces name their own normal at every corner (v//n, v/t/n):
+ * each corner keeps the normal its face names, so a hard edge stays hard.
+ * OpenMesh's importer gives a vertex one normal (the last a corner
+ * named); the render vertices must split by normal as they do by UV. The
+ * face with a repeated corner, which the reader drops, must not shift
+ * the normals of the faces after it. */
+static void test_obj_corner_normals_keep_hard_edges(void **state)
+{
+    (void)state;
+    static const char *const corner[] = {"%d//%d", "%d/1/%d"};
+    for (int form = 0; form < 2; ++form) {
+        static const int face[6][4] = {{1, 4, 3, 2}, {5, 6, 7, 8}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 4, 8, 7}, {4, 1, 5, 8}};
+        static const float normal[6][3] = {{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}};
+        char text[2048], *p = text;
+        p += sprintf(p, "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nvt 0.5 0.5\n");
+        for (int f = 0; f < 6; ++f)
+            p += sprintf(p, "vn %g %g %g\n", normal[f][0], normal[f][1], normal[f][2]);
+        for (int f = 0; f < 6; ++f) {
+            if (f == 3) /* a face the reader drops: two distinct corners */
+                p += sprintf(p, "f 1//1 2//2 1//3\n");
+            p += sprintf(p, "f");
+            for (int c = 0; c < 4; ++c) {
+                p += sprintf(p, " ");
+                p += sprintf(p, corner[form], face[f][c], f + 1);
+            }
+            p += sprintf(p, "\n");
+        }
+        char path[512];
+        write_tmp(path, sizeof path, form ? "corner_normals_vtn.obj" : "corner_normals_vn.obj", text);
+        sam_mesh m;
+        sam_mesh_report rep;
+        sam_error err;
+        if (sam_mesh_load(path, &m, &rep, &err) != SAM_OK)
+            fail_msg("%s", err.message);
+        assert_true(rep.normals_from_file);
+        assert_int_equal(m.topo_count, 8);
+        assert_int_equal(m.vertex_count, 24);
+        /* Every triangle lies in one face of the cube: its corners carry
+         * that face's normal. */
+        for (uint32_t t = 0; t < m.triangle_count; ++t) {
+            const uint32_t *tri = m.triangles + 3 * t;
+            int axis = -1;
+            for (int a = 0; a < 3; ++a)
+                if (m.positions[3 * tri[0] + a] == m.positions[3 * tri[1] + a] &&
+                    m.positions[3 * tri[1] + a] == m.positions[3 * tri[2] + a])
+                    axis = a;
+            assert_true(axis >= 0);
+            for (int c = 0; c < 3; ++c)
+                for (int a = 0; a < 3; ++a)
+                    assert_float_equal(m.normals[3 * tri[c] + a], a == axis ? m.positions[3 * tri[c] + a] : 0.0f,
+                                       1e-6);
+        }
+        sam_mesh_destroy(&m);
+    }
+}
+
 static void expect_error(const char *name, const char *text, sam_status expected, const char *needle)
 {
     char path[512];
@@ -832,6 +888,7 @@ int main(void)
         cmocka_unit_test(test_inside_out_mesh_is_turned),
         cmocka_unit_test(test_non_manifold_edge),
         cmocka_unit_test(test_file_normals_are_used_and_normalised),
+        cmocka_unit_test(test_obj_corner_normals_keep_hard_edges),
         cmocka_unit_test(test_bad_inputs_give_one_clear_error),
         cmocka_unit_test(test_create_rejects_bad_arrays),
         cmocka_unit_test(test_hostile_inputs),

@@ -51,7 +51,10 @@ sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *repo
             st = sam_fail(err, SAM_ERR_EMPTY, "%s: the file has %u vertices but no faces", path, soup.vertex_count);
     }
     if (st == SAM_OK)
+        st = sam_mesh_expect_corner_normals(&expect, &soup, &soup.corner_normals, err);
+    if (st == SAM_OK)
         st = sam_mesh_build(&soup, path, mesh, &rep, err);
+    sam_mesh_expect_free(&expect);
     /* The faces the reader dropped for repeated corners are the file's too. */
     rep.file_faces += (uint32_t)expect.repeated_corner_faces;
     rep.faces_too_small += (uint32_t)expect.repeated_corner_faces;

@@ -443,7 +443,10 @@ static sam_status number_render_vertices(build_state *b)
             key[1] = float_bits(in->uvs[2 * (size_t)v]);
             key[2] = float_bits(in->uvs[2 * (size_t)v + 1]);
         }
-        if (in->normals)
+        if (in->corner_normals)
+            for (int k = 0; k < 3; ++k)
+                key[3 + k] = float_bits(in->corner_normals[3 * (size_t)ic + k]);
+        else if (in->normals)
             for (int k = 0; k < 3; ++k)
                 key[3 + k] = float_bits(in->normals[3 * (size_t)v + k]);
         int inserted;
@@ -498,7 +501,9 @@ static sam_status fill_render_vertices(build_state *b)
             memcpy(mesh->uvs + 2 * (size_t)r, in->corner_uvs + 2 * (size_t)ic, 2 * sizeof(float));
         else if (in->uvs)
             memcpy(mesh->uvs + 2 * (size_t)r, in->uvs + 2 * (size_t)v, 2 * sizeof(float));
-        if (in->normals)
+        if (in->corner_normals)
+            memcpy(mesh->normals + 3 * (size_t)r, in->corner_normals + 3 * (size_t)ic, 3 * sizeof(float));
+        else if (in->normals)
             memcpy(mesh->normals + 3 * (size_t)r, in->normals + 3 * (size_t)v, 3 * sizeof(float));
     }
     return SAM_OK;
@@ -542,11 +547,12 @@ static sam_status choose_render_normals(build_state *b)
 {
     const sam_mesh_soup *in = b->in;
     sam_mesh *mesh = b->mesh;
-    b->rep->normals_from_file = in->normals != NULL;
+    const int from_file = in->normals || in->corner_normals;
+    b->rep->normals_from_file = from_file;
     for (uint32_t r = 0; r < b->render_count; ++r) {
         float *n = mesh->normals + 3 * (size_t)r;
         const float *tn = mesh->topo_normals + 3 * (size_t)mesh->topo_of[r];
-        if (in->normals) {
+        if (from_file) {
             double d[3] = {n[0], n[1], n[2]};
             double l = len3(d);
             if (l > 1e-20 && isfinite(l)) {

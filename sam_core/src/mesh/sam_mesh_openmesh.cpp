@@ -280,5 +280,6 @@ extern "C" void sam_mesh_soup_free(sam_mesh_soup *soup)
     std::free(soup->face_offsets);
     std::free(soup->corners);
     std::free(soup->corner_uvs);
+    std::free(soup->corner_normals);
     std::memset(soup, 0, sizeof *soup);
 }

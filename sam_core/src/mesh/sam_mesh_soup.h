@@ -24,6 +24,7 @@ typedef struct sam_mesh_soup {
     uint32_t corner_count;
     uint32_t *corners;      /* vertex index per face corner, < vertex_count */
     float *corner_uvs;      /* 2 * corner_count per-corner UVs (OBJ vt), or NULL */
+    float *corner_normals;  /* 3 * corner_count per-corner normals (OBJ vn), or NULL; before `normals` */
 } sam_mesh_soup;
 
 /* Reads OBJ, PLY (ASCII/binary), OFF or STL through OpenMesh's readers into
@@ -65,7 +66,27 @@ typedef struct sam_mesh_expect {
     uint64_t file_faces;               /* face records, those with repeated corners included */
     uint64_t repeated_corner_faces;    /* OBJ faces with fewer than 3 distinct corners: the reader drops them */
     int first_repeated_line;           /* the line of the first of them, 0 when none */
+    /* OBJ whose every kept face names a normal at every corner (v//n,
+     * v/t/n): OpenMesh's importer gives a vertex one normal, the last a
+     * corner named, so a hard edge's normals are kept here. Owned; NULL
+     * otherwise (sam_mesh_expect_free). */
+    float *obj_normals;                /* 3 * obj_normal_count: the vn lines */
+    uint32_t obj_normal_count;
+    uint32_t *obj_face_offsets;        /* faces + 1: each kept face's corners in the two arrays below */
+    uint32_t *obj_corner_vertex;       /* 0-based position, in file order, repeated corners included */
+    uint32_t *obj_corner_normal;       /* 0-based vn */
 } sam_mesh_expect;
+
+void sam_mesh_expect_free(sam_mesh_expect *expect);
+
+/* The file's normal at every corner of `soup` (read from the file that
+ * filled `expect`), 3 * corner_count floats into *out (caller frees), the
+ * normal of the first corner of the file's face at the same position.
+ * Returns SAM_OK with *out NULL when the file names no normals at every
+ * corner, or when a face of the soup is not one of the file's (then its
+ * vertex normals stand). Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_expect_corner_normals(const sam_mesh_expect *expect, const sam_mesh_soup *soup, float **out,
+                                          sam_error *err);
 
 /* Checks the structure of a PLY, OFF, OBJ or STL file before OpenMesh
  * reads it (sam_mesh_preflight.c): OpenMesh's readers trust the counts they
@@ -73,9 +94,10 @@ typedef struct sam_mesh_expect {
  * vertex line whose number does not fit a float (every later index would
  * shift), so every number must fit a 32-bit float. Fills `expect` (zeroed
  * first; known stays 0 for STL and for a file that cannot be opened, which
- * passes: the reader reports it).
+ * passes: the reader reports it); the caller frees it with
+ * sam_mesh_expect_free whatever is returned.
  * Errors: SAM_ERR_FORMAT naming the line or element and the value,
- * SAM_ERR_UNSUPPORTED. */
+ * SAM_ERR_UNSUPPORTED, SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_mesh_preflight(const char *path, sam_mesh_expect *expect, sam_error *err);
 
 #ifdef __cplusplus
