@@ -6,10 +6,10 @@
 #include <malloc.h>
 #endif
 #include <string.h>
-#include <sys/stat.h>
 
 #include "sam/sam_app.h"
 #include "sam/sam_app_build.h"
+#include "sam/sam_app_output.h"
 #include "sam/sam_sha256.h"
 
 void sam_app_build_defaults(sam_app_build_job *job)
@@ -42,18 +42,13 @@ static int check_job(const sam_app_build_job *job, const char *tool, sam_profile
         fprintf(stderr, "%s: --material: %s\n", tool, err.message);
         return 1;
     }
-    struct stat st_out;
-    if (!job->force && stat(job->out_path, &st_out) == 0) {
-        fprintf(stderr, "%s: %s exists; use --force to overwrite it\n", tool, job->out_path);
-        return 1;
-    }
-    /* Fail on an unwritable output now, not after a long build. */
-    sam_atomic_file probe;
-    if (sam_atomic_open(&probe, job->out_path, &err) != SAM_OK) {
+    /* Fail on an output that cannot be written now, not after a long
+     * build: a folder in its place failed only at the final rename. */
+    static const char *const extensions[] = {".sam", NULL};
+    if (sam_app_check_output("-o", job->out_path, extensions, job->force, &err) != SAM_OK) {
         fprintf(stderr, "%s: %s\n", tool, err.message);
         return 1;
     }
-    sam_atomic_abort(&probe);
     return 0;
 }
 
@@ -157,7 +152,9 @@ int sam_app_build_run(const sam_app_build_job *job, const char *tool)
     print_summary(tool, job->out_path, &data, &result);
     char why[1024];
     if (sam_build_explain_empty(&data, mm_per_unit, sam_profile_radius(&profile, job->settings.radius_tolerance),
-                                job->mesh_path, why, sizeof why))
+                                job->mesh_path, why, sizeof why) ||
+        sam_build_explain_small(&data, mm_per_unit, sam_profile_radius(&profile, 0.99f), job->mesh_path, why,
+                                sizeof why))
         fprintf(stderr, "%s: warning: %s\n", tool, why);
     code = 0;
 done:

@@ -61,6 +61,15 @@ expect_error 1 "no triangles" "$tmp/nofaces.obj" -o "$tmp/bad.sam" --material sk
 expect_error 1 "missing mesh" "$tmp/none.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1
 expect_error 1 "unwritable output" "$tmp/ear.obj" -o "$tmp/no/such/dir/bad.sam" --material skin --mm-per-unit 1
 expect_error 1 "existing output" "$tmp/ear.obj" -o "$tmp/ear.sam" --material skin --mm-per-unit 1
+mkdir -p "$tmp/dir.sam"
+expect_error 1 "a folder as output" "$tmp/ear.obj" -o "$tmp/dir.sam" --material skin --mm-per-unit 1 --force
+grep -q "is a folder" "$tmp/err.txt" || fail "a folder as output: $(cat "$tmp/err.txt")"
+ls "$tmp"/dir.sam.tmp* > /dev/null 2>&1 && fail "a folder as output: a temporary file was left"
+expect_error 1 "not a .sam name" "$tmp/ear.obj" -o "$tmp/bad.png" --material skin --mm-per-unit 1
+grep -q "must end in .sam" "$tmp/err.txt" || fail "not a .sam name: $(cat "$tmp/err.txt")"
+[ -e "$tmp/bad.png" ] && fail "not a .sam name: wrote $tmp/bad.png"
+expect_error 1 "missing folder" "$tmp/ear.obj" -o "$tmp/nodir/bad.sam" --material skin --mm-per-unit 1
+grep -q "the folder .*nodir does not exist" "$tmp/err.txt" || fail "missing folder: $(cat "$tmp/err.txt")"
 expect_error 2 "unknown option" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --bogus
 "$bin/sam_build" "$tmp/ear.obj" -o "$tmp/ear.sam" --material skin --mm-per-unit 60 --force --quiet 2>/dev/null \
   || fail "--force"
