@@ -572,6 +572,45 @@ static void test_explain_dark_maps(void **state)
     assert_string_equal(why, "");
 }
 
+/* A map whose object is far smaller than the material spreads light says
+ * so (a model in metres read as millimetres): its rows are full, so
+ * sam_build_explain_empty is silent; at its own size it says nothing. */
+static void test_explain_tiny_object(void **state)
+{
+    (void)state;
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    const float near_mm = sam_profile_radius(&skin, 0.99f);
+    sam_mesh sphere;
+    sam_test_shape_mesh("sphere", 12, 1.0, 0, 0, &sphere);
+    char why[1024];
+    for (int k = 0; k < 2; ++k) {
+        const float mm_per_unit = k ? 6.0f : 0.001f;
+        sam_build_settings s;
+        sam_build_default_settings(&s);
+        samfile_data map;
+        sam_error err;
+        if (sam_build_samfile(&sphere, &skin, mm_per_unit, &s, NULL, NULL, NULL, &map, NULL, &err) != SAM_OK)
+            fail_msg("%s", err.message);
+        assert_int_equal(sam_build_explain_empty(&map, mm_per_unit, sam_profile_radius(&skin, s.radius_tolerance),
+                                                 "m.obj", why, sizeof why),
+                         0);
+        assert_int_equal(sam_build_explain_small(&map, mm_per_unit, near_mm, "m.obj", why, sizeof why), !k);
+        print_message("%s\n", why);
+        if (!k) {
+            char size[64];
+            snprintf(size, sizeof size, "m.obj is %.3g mm across", sam_mesh_diagonal(&sphere) * mm_per_unit);
+            assert_non_null(strstr(why, size));
+            assert_non_null(strstr(why, "units are not 0.001 mm"));
+        } else {
+            assert_string_equal(why, "");
+        }
+        samfile_free(&map);
+    }
+    sam_mesh_destroy(&sphere);
+    assert_int_equal(sam_build_explain_small(NULL, 1.0f, 1.0f, NULL, why, sizeof why), 0);
+}
+
 /* The output does not depend on the thread count. */
 static void test_bit_identical_for_any_thread_count(void **state)
 {
@@ -742,6 +781,7 @@ int main(void)
         cmocka_unit_test(test_thin_slab),
         cmocka_unit_test(test_large_and_small_sphere),
         cmocka_unit_test(test_explain_dark_maps),
+        cmocka_unit_test(test_explain_tiny_object),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
         cmocka_unit_test(test_samfile_output),
         cmocka_unit_test(test_settings_and_cancel),

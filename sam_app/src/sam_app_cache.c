@@ -116,8 +116,10 @@ static void warn_if_dark(const char *tool, const sam_scene *s, const samfile_dat
                          float mm_per_unit, const sam_build_settings *set)
 {
     char why[1024];
-    if (sam_build_explain_empty(sam, mm_per_unit, sam_profile_radius(profile, set->radius_tolerance),
-                                s->mesh_path ? s->mesh_path : s->sam_path, why, sizeof why))
+    const char *name = s->mesh_path ? s->mesh_path : s->sam_path;
+    if (sam_build_explain_empty(sam, mm_per_unit, sam_profile_radius(profile, set->radius_tolerance), name, why,
+                                sizeof why) ||
+        sam_build_explain_small(sam, mm_per_unit, sam_profile_radius(profile, 0.99f), name, why, sizeof why))
         fprintf(stderr, "%s: warning: %s\n", tool, why);
 }
 

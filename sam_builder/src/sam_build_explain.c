@@ -1,4 +1,5 @@
-/* Why a map leaves most of its vertices without light (sam_build.h). */
+/* Why a map leaves most of its vertices without light, or an object too
+ * small for its material gets none (sam_build.h). */
 #include <stdio.h>
 #include <string.h>
 
@@ -65,5 +66,24 @@ int sam_build_explain_empty(const samfile_data *map, float mm_per_unit, float re
                  "scale (--mm-per-unit or --size-mm; a scene's \"scale\").",
                  open ? "If it is a solid, it is" : "It is closed, a solid", sam_mesh_diagonal(&view) * mm_per_unit,
                  (double)mm_per_unit);
+    return 1;
+}
+
+int sam_build_explain_small(const samfile_data *map, float mm_per_unit, float near_mm, const char *name, char *buf,
+                            size_t n)
+{
+    if (n)
+        buf[0] = '\0';
+    if (!map || !map->vertex_count || !map->positions || !buf || !n)
+        return 0;
+    const sam_mesh view = triangle_view(map);
+    const double size_mm = sam_mesh_diagonal(&view) * mm_per_unit;
+    if (!(size_mm < near_mm))
+        return 0;
+    snprintf(buf, n,
+             "%s is %.3g mm across, and the material spreads 99%% of the light it takes in farther than %.3g mm: "
+             "it gets next to no translucency. If its units are not %.4g mm, give its scale (--mm-per-unit or "
+             "--size-mm; a scene's \"scale\").",
+             name ? name : "the mesh", size_mm, (double)near_mm, (double)mm_per_unit);
     return 1;
 }

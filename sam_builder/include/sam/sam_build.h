@@ -231,6 +231,18 @@ sam_status sam_build_samfile(const sam_mesh *mesh, const sam_profile *profile, f
 int sam_build_explain_empty(const samfile_data *map, float mm_per_unit, float reach_mm, const char *name, char *buf,
                             size_t n);
 
+/* Why an object gets next to no translucency for its size: when its
+ * diagonal, `mm_per_unit` times the map's, is under `near_mm` (use
+ * sam_profile_radius(profile, 0.99): the radius within which the material
+ * spreads 1% of the light it takes in), writes into `buf` (`n` bytes,
+ * always NUL-terminated) a sentence naming the size, the scale and what to
+ * check, and returns 1. A model in metres read as millimetres is a
+ * thousandth of its size, and its map is full but lends it no light.
+ * `name` (may be NULL) names the mesh. Otherwise writes "" and returns 0,
+ * as for a NULL map or buffer. */
+int sam_build_explain_small(const samfile_data *map, float mm_per_unit, float near_mm, const char *name, char *buf,
+                            size_t n);
+
 #ifdef __cplusplus
 }
 #endif
