@@ -403,6 +403,62 @@ static void test_repairs_are_reported(void **state)
     sam_mesh_destroy(&m);
 }
 
+/* Triangles written backwards are turned to agree with their neighbours:
+ * a closed cube with some of its 12 triangles reversed becomes one closed
+ * surface again (no boundary, no non-manifold edge, one fan per corner)
+ * with the winding most of its triangles had, so the few are turned and a
+ * cube mostly reversed stays reversed for sam_mesh_orient_outward. */
+static void test_backward_triangles_are_turned(void **state)
+{
+    (void)state;
+    static const float pos[8 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+    static const uint32_t cube[36] = {0, 3, 2, 0, 2, 1, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                      1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+    static const struct {
+        uint32_t reversed; /* the first this many triangles are written backwards */
+        uint32_t turned;
+        int outward;
+    } cases[] = {{0, 0, 1}, {1, 1, 1}, {5, 5, 1}, {9, 3, 0}, {12, 0, 0}};
+    for (size_t k = 0; k < sizeof cases / sizeof *cases; ++k) {
+        uint32_t tri[36];
+        memcpy(tri, cube, sizeof tri);
+        for (uint32_t t = 0; t < cases[k].reversed; ++t) {
+            const uint32_t x = tri[3 * t + 1];
+            tri[3 * t + 1] = tri[3 * t + 2];
+            tri[3 * t + 2] = x;
+        }
+        sam_mesh_input in = {.name = "cube", .vertex_count = 8, .positions = pos, .triangle_count = 12,
+                             .triangles = tri};
+        sam_mesh m;
+        sam_mesh_report rep;
+        assert_int_equal(sam_mesh_create(&in, &m, &rep, NULL), SAM_OK);
+        assert_int_equal(rep.triangles_turned, cases[k].turned);
+        assert_int_equal(rep.non_manifold_edges, 0);
+        assert_int_equal(rep.non_manifold_vertices, 0);
+        assert_int_equal(rep.boundary_vertices, 0);
+        assert_int_equal(m.topo_count, 8);
+        assert_rings_match_triangles(&m);
+        assert_true((sam_mesh_signed_volume(&m) > 0) == cases[k].outward);
+        assert_true(fabs(fabs(sam_mesh_signed_volume(&m)) - 1.0) < 1e-6);
+        sam_mesh_destroy(&m);
+    }
+    /* An open strip of two triangles, the second backwards: turned, and
+     * the strip's middle edge is shared, not two boundaries. */
+    static const float quad[4 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    uint32_t strip[6] = {0, 1, 2, 0, 3, 2};
+    sam_mesh_input in = {.name = "strip", .vertex_count = 4, .positions = quad, .triangle_count = 2,
+                         .triangles = strip};
+    sam_mesh m;
+    sam_mesh_report rep;
+    assert_int_equal(sam_mesh_create(&in, &m, &rep, NULL), SAM_OK);
+    assert_int_equal(rep.triangles_turned, 1);
+    assert_int_equal(rep.non_manifold_vertices, 0);
+    for (uint32_t v = 0; v < m.vertex_count; ++v)
+        assert_float_equal(fabsf(m.normals[3 * v + 2]), 1.0f, 1e-6);
+    assert_float_equal(m.normals[2], m.normals[3 * (m.vertex_count - 1) + 2], 1e-6);
+    sam_mesh_destroy(&m);
+}
+
 static void test_non_manifold_edge(void **state)
 {
     (void)state;
@@ -887,6 +943,7 @@ int main(void)
         cmocka_unit_test(test_repairs_are_reported),
         cmocka_unit_test(test_inside_out_mesh_is_turned),
         cmocka_unit_test(test_non_manifold_edge),
+        cmocka_unit_test(test_backward_triangles_are_turned),
         cmocka_unit_test(test_file_normals_are_used_and_normalised),
         cmocka_unit_test(test_obj_corner_normals_keep_hard_edges),
         cmocka_unit_test(test_bad_inputs_give_one_clear_error),

@@ -80,6 +80,7 @@ typedef struct sam_mesh_report {
     uint32_t degenerate_triangles;       /* repeat a welded vertex, dropped */
     uint32_t zero_area_triangles;        /* area ~ 0 relative to their edges, dropped */
     uint32_t duplicate_triangles;        /* same welded vertices as an earlier one, dropped */
+    uint32_t triangles_turned;           /* wound against their neighbours, turned to agree */
     uint32_t unreferenced_vertices;      /* file vertices no kept triangle uses, dropped */
     uint32_t non_manifold_vertices;      /* welded positions split into several fans */
     uint32_t non_manifold_edges;         /* edges with >2 triangles or inconsistent winding */

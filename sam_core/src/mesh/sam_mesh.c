@@ -239,10 +239,11 @@ char *sam_mesh_report_summary(const sam_mesh_report *r, char *buf, size_t n)
         uint32_t count;
         const char *what;
     } items[] = {
-        {r->faces_too_small, "faces with < 3 corners dropped"},
+        {r->faces_too_small, "faces with < 3 distinct corners dropped"},
         {r->degenerate_triangles, "degenerate triangles dropped"},
         {r->zero_area_triangles, "zero-area triangles dropped"},
         {r->duplicate_triangles, "duplicate triangles dropped"},
+        {r->triangles_turned, "triangles turned to agree with their neighbours"},
         {r->unreferenced_vertices, "unreferenced vertices dropped"},
         {r->non_manifold_vertices, "non-manifold vertices split"},
         {r->non_manifold_edges, "non-manifold edges"},

@@ -279,6 +279,14 @@ static sam_status keep_triangles(build_state *b)
     return SAM_OK;
 }
 
+/* Faces written backwards split the fans along every edge they share
+ * with the rest and render lit from the wrong side. */
+static sam_status agree_windings(build_state *b)
+{
+    return sam_mesh_agree_windings(b->kept, b->weld_count, b->tri_weld, b->kept_corner, &b->rep->triangles_turned,
+                                   b->name, b->err);
+}
+
 /* Fans are searched among one welded vertex's corners only, so those are grouped (stable counting sort).
  * The per-corner arrays of the fan stages are allocated here, before either of them counts a repair. */
 static sam_status group_corners(build_state *b)
@@ -588,6 +596,7 @@ sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *m
         weld_positions,
         count_triangles,
         keep_triangles,
+        agree_windings,
         group_corners,
         link_fans,
         assign_topo_vertices,

@@ -40,6 +40,16 @@ static inline double len3(const double *a)
 /* One message for every allocation failure of loading, naming the mesh. */
 sam_status sam_mesh_oom(sam_error *err, const char *name);
 
+/* Turns triangles so that every edge two of them share is run in opposite
+ * directions, as an orientable surface's are: each connected part keeps the
+ * winding most of its triangles have. `tri` holds 3 welded vertex ids
+ * (< vertex_count) per triangle and `corner` 3 parallel values that move
+ * with them; a turned triangle swaps its second and third of both. The
+ * count turned goes to *turned. Errors: SAM_ERR_OUT_OF_MEMORY naming
+ * `name`. (sam_mesh_wind.c) */
+sam_status sam_mesh_agree_windings(uint32_t triangle_count, uint32_t vertex_count, uint32_t *tri, uint32_t *corner,
+                                   uint32_t *turned, const char *name, sam_error *err);
+
 /* Welds, triangulates, repairs and builds the topology of `in` into `mesh`,
  * counting every repair in `rep` (also on failure). `name` is for messages.
  * On failure `mesh` may hold partial arrays: the caller destroys it. */
