@@ -459,6 +459,55 @@ static void test_backward_triangles_are_turned(void **state)
     sam_mesh_destroy(&m);
 }
 
+/* A soup (every triangle its own three vertices) whose corners were
+ * rounded apart by 1e-6 of the size closes into one surface; a real gap of
+ * 1e-3 of the size stays open, and a closed mesh's vertices are never
+ * merged, however close. */
+static void test_cracks_a_hair_wide_are_closed(void **state)
+{
+    (void)state;
+    static const float cube[8 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+    static const uint32_t tri[36] = {0, 3, 2, 0, 2, 1, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                     1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+    for (int gap = 0; gap < 2; ++gap) {
+        float pos[36 * 3];
+        uint32_t soup[36];
+        for (uint32_t c = 0; c < 36; ++c) {
+            soup[c] = c;
+            for (int k = 0; k < 3; ++k) {
+                /* A different rounding per corner, up to 1e-6; the gap moves vertex 6's copies 1e-3 along x. */
+                const float jitter = 1e-6f * (float)((c * 7 + (uint32_t)k * 3) % 5) / 4.0f;
+                pos[3 * c + k] = cube[3 * tri[c] + k] + jitter + (gap && tri[c] == 6 && k == 0 && c % 2 ? 1e-3f : 0.0f);
+            }
+        }
+        sam_mesh_input in = {.name = "soup", .vertex_count = 36, .positions = pos, .triangle_count = 12,
+                             .triangles = soup};
+        sam_mesh m;
+        sam_mesh_report rep;
+        assert_int_equal(sam_mesh_create(&in, &m, &rep, NULL), SAM_OK);
+        if (!gap) {
+            assert_int_equal(m.topo_count, 8);
+            assert_true(rep.crack_vertices_welded > 0);
+            assert_int_equal(rep.boundary_vertices, 0);
+            assert_rings_match_triangles(&m);
+        } else {
+            assert_int_equal(m.topo_count, 9); /* vertex 6 in two places, a real hole between them */
+            assert_true(rep.boundary_vertices > 0);
+        }
+        sam_mesh_destroy(&m);
+    }
+    /* Closed: two vertices 1e-7 apart inside a closed surface stay two. */
+    float fold[8 * 3];
+    memcpy(fold, cube, sizeof fold);
+    sam_mesh_input in = {.name = "cube", .vertex_count = 8, .positions = fold, .triangle_count = 12, .triangles = tri};
+    fold[3 * 6] = fold[3 * 5] + 1e-7f, fold[3 * 6 + 1] = fold[3 * 5 + 1], fold[3 * 6 + 2] = fold[3 * 5 + 2];
+    sam_mesh m;
+    sam_mesh_report rep;
+    assert_int_equal(sam_mesh_create(&in, &m, &rep, NULL), SAM_OK);
+    assert_int_equal(rep.crack_vertices_welded, 0);
+    sam_mesh_destroy(&m);
+}
+
 static void test_non_manifold_edge(void **state)
 {
     (void)state;
@@ -943,6 +992,7 @@ int main(void)
         cmocka_unit_test(test_repairs_are_reported),
         cmocka_unit_test(test_inside_out_mesh_is_turned),
         cmocka_unit_test(test_non_manifold_edge),
+        cmocka_unit_test(test_cracks_a_hair_wide_are_closed),
         cmocka_unit_test(test_backward_triangles_are_turned),
         cmocka_unit_test(test_file_normals_are_used_and_normalised),
         cmocka_unit_test(test_obj_corner_normals_keep_hard_edges),

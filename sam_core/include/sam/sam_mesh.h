@@ -76,6 +76,7 @@ typedef struct sam_mesh_report {
     uint32_t file_vertices;              /* vertices in the file */
     uint32_t file_faces;                 /* faces (polygons) in the file */
     uint32_t polygons_triangulated;      /* faces with more than 3 corners */
+    uint32_t crack_vertices_welded;      /* boundary vertices a hair (1e-5 of the size) from another, welded */
     uint32_t faces_too_small;            /* faces with fewer than 3 corners, dropped */
     uint32_t degenerate_triangles;       /* repeat a welded vertex, dropped */
     uint32_t zero_area_triangles;        /* area ~ 0 relative to their edges, dropped */

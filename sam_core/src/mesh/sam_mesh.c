@@ -245,6 +245,7 @@ char *sam_mesh_report_summary(const sam_mesh_report *r, char *buf, size_t n)
         {r->duplicate_triangles, "duplicate triangles dropped"},
         {r->triangles_turned, "triangles turned to agree with their neighbours"},
         {r->unreferenced_vertices, "unreferenced vertices dropped"},
+        {r->crack_vertices_welded, "boundary vertices welded to a neighbour a hair away"},
         {r->non_manifold_vertices, "non-manifold vertices split"},
         {r->non_manifold_edges, "non-manifold edges"},
         {r->invalid_file_normals, "zero-length normals recomputed"},

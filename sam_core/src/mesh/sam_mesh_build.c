@@ -190,6 +190,13 @@ static sam_status weld_positions(build_state *b)
     return SAM_OK;
 }
 
+/* A soup whose corners were rounded apart would fall apart into single
+ * triangles, each its own boundary. */
+static sam_status close_cracks(build_state *b)
+{
+    return sam_mesh_close_cracks(b->in, b->weld, &b->weld_count, &b->rep->crack_vertices_welded, b->name, b->err);
+}
+
 /* Polygons become fans around their first corner; counting first sizes the arrays and bounds the indices. */
 static sam_status count_triangles(build_state *b)
 {
@@ -594,6 +601,7 @@ sam_status sam_mesh_build(const sam_mesh_soup *in, const char *name, sam_mesh *m
     static sam_status (*const stages[])(build_state *) = {
         check_input,
         weld_positions,
+        close_cracks,
         count_triangles,
         keep_triangles,
         agree_windings,

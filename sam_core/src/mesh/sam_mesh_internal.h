@@ -40,6 +40,22 @@ static inline double len3(const double *a)
 /* One message for every allocation failure of loading, naming the mesh. */
 sam_status sam_mesh_oom(sam_error *err, const char *name);
 
+/* Boundary vertices closer than this times the mesh's diagonal are one:
+ * exporters that write each face's corners on their own round them apart
+ * by about 1e-7 to 1e-6 of the size, and a real gap that narrow does not
+ * show. */
+#define SAM_MESH_CRACK_TOLERANCE 1e-5
+
+/* Welds vertices on the boundary of the soup (its faces' edges used once,
+ * after the exact weld `weld`: per input vertex a welded id < *weld_count)
+ * that lie within SAM_MESH_CRACK_TOLERANCE of the diagonal of another:
+ * `weld` and *weld_count are renumbered (dense, in the order of each
+ * group's smallest old id) and the ids merged away go to *merged. A closed
+ * soup is left as it is. Errors: SAM_ERR_OUT_OF_MEMORY naming `name`.
+ * (sam_mesh_crack.c) */
+sam_status sam_mesh_close_cracks(const sam_mesh_soup *in, uint32_t *weld, uint32_t *weld_count, uint32_t *merged,
+                                 const char *name, sam_error *err);
+
 /* Turns triangles so that every edge two of them share is run in opposite
  * directions, as an orientable surface's are: each connected part keeps the
  * winding most of its triangles have. `tri` holds 3 welded vertex ids
