@@ -300,10 +300,15 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, in
         else
             snprintf(ms[i], sizeof ms[i], "n/a");
     }
-    fprintf(stderr, "%s: %s: %ux%u, %u vertices, %ld frame%s; GPU ms: irradiance %s, translucency %s, shade %s, "
+    /* A single frame's times hold the driver's first-use work (llvmpipe
+     * compiles a shader at its first draw: seconds for "shade" on a
+     * 150-vertex mesh), so they are not what a frame costs. */
+    fprintf(stderr, "%s: %s: %ux%u, %u vertices, %ld frame%s; GPU ms%s: irradiance %s, translucency %s, shade %s, "
                     "diffusion %s (%s)\n",
-            tool, job->out, view.width, view.height, sam->vertex_count, frames, frames == 1 ? "" : "s", ms[0], ms[1],
-            ms[2], ms[3], sam_gl_context_info(gl)->renderer);
+            tool, job->out, view.width, view.height, sam->vertex_count, frames, frames == 1 ? "" : "s",
+            frames == 1 ? " of the only frame, shader compilation included (--passes N times the last of N)"
+                        : ", last frame",
+            ms[0], ms[1], ms[2], ms[3], sam_gl_context_info(gl)->renderer);
 done:
     sam_runtime_destroy(rt);
     return st;
