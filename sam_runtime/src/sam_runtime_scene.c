@@ -71,23 +71,37 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
     return st;
 }
 
-/* Refuses a keyframe mesh whose render vertices or triangles are not the
- * .sam's: its positions would land on other vertices. */
-static sam_status check_topology(const char *path, const sam_mesh *mesh, const samfile_data *sam, sam_error *err)
+/* The rest mesh's topology a keyframe must have: render vertices and
+ * triangles, in order. */
+typedef struct rest_topology {
+    uint32_t vertex_count, triangle_count;
+    const uint32_t *triangles;
+} rest_topology;
+
+/* Loads keyframe mesh `path` into `mesh`, turned as the rest mesh was when
+ * its map was built, and refuses it when its render vertices or triangles
+ * are not the rest mesh's: its positions would land on other vertices. */
+static sam_status load_keyframe(const char *path, const rest_topology *rest, sam_mesh *mesh, sam_error *err)
 {
-    if (mesh->vertex_count != sam->vertex_count)
-        return sam_fail(err, SAM_ERR_FORMAT, "%s: %u vertices, the rest mesh has %u", path, mesh->vertex_count,
-                        sam->vertex_count);
-    if (mesh->triangle_count != sam->triangle_count)
-        return sam_fail(err, SAM_ERR_FORMAT, "%s: %u triangles, the rest mesh has %u", path, mesh->triangle_count,
-                        sam->triangle_count);
-    for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
-        const uint32_t *a = mesh->triangles + 3 * t, *b = sam->triangles + 3 * t;
+    sam_status st = sam_mesh_load(path, mesh, NULL, err);
+    if (st != SAM_OK)
+        return st;
+    sam_mesh_orient_outward(mesh);
+    if (mesh->vertex_count != rest->vertex_count)
+        st = sam_fail(err, SAM_ERR_FORMAT, "%s: %u vertices, the rest mesh has %u", path, mesh->vertex_count,
+                      rest->vertex_count);
+    else if (mesh->triangle_count != rest->triangle_count)
+        st = sam_fail(err, SAM_ERR_FORMAT, "%s: %u triangles, the rest mesh has %u", path, mesh->triangle_count,
+                      rest->triangle_count);
+    for (uint32_t t = 0; st == SAM_OK && t < mesh->triangle_count; ++t) {
+        const uint32_t *a = mesh->triangles + 3 * t, *b = rest->triangles + 3 * t;
         if (memcmp(a, b, 3 * sizeof *a) != 0)
-            return sam_fail(err, SAM_ERR_FORMAT, "%s: triangle %u is (%u, %u, %u), the rest mesh's is (%u, %u, %u)",
-                            path, t, a[0], a[1], a[2], b[0], b[1], b[2]);
+            st = sam_fail(err, SAM_ERR_FORMAT, "%s: triangle %u is (%u, %u, %u), the rest mesh's is (%u, %u, %u)",
+                          path, t, a[0], a[1], a[2], b[0], b[1], b[2]);
     }
-    return SAM_OK;
+    if (st != SAM_OK)
+        sam_mesh_destroy(mesh);
+    return st;
 }
 
 sam_status sam_runtime_scene_keyframes(sam_runtime *rt, const sam_scene *scene, const samfile_data *sam,
@@ -98,24 +112,20 @@ sam_status sam_runtime_scene_keyframes(sam_runtime *rt, const sam_scene *scene, 
     const size_t count = scene->keyframe_count;
     if (!count)
         return sam_runtime_set_keyframes(rt, NULL, NULL, 0, err);
+    const rest_topology rest = {sam->vertex_count, sam->triangle_count, sam->triangles};
     float **positions = calloc(count, sizeof *positions);
     float *times = malloc(count * sizeof *times);
     sam_status st = positions && times ? SAM_OK
                                        : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "scene keyframes: out of memory for %zu",
                                                   count);
     for (size_t i = 0; i < count && st == SAM_OK; ++i) {
-        const char *path = scene->keyframes[i].mesh;
-        times[i] = scene->keyframes[i].time_s;
         sam_mesh mesh;
-        if ((st = sam_mesh_load(path, &mesh, NULL, err)) != SAM_OK)
+        times[i] = scene->keyframes[i].time_s;
+        if ((st = load_keyframe(scene->keyframes[i].mesh, &rest, &mesh, err)) != SAM_OK)
             break;
-        /* Turned as the rest mesh was when its map was built. */
-        sam_mesh_orient_outward(&mesh);
-        if ((st = check_topology(path, &mesh, sam, err)) == SAM_OK) {
-            /* Taken over, not copied: the mesh's positions outlive it. */
-            positions[i] = mesh.positions;
-            mesh.positions = NULL;
-        }
+        /* Taken over, not copied: the mesh's positions outlive it. */
+        positions[i] = mesh.positions;
+        mesh.positions = NULL;
         sam_mesh_destroy(&mesh);
     }
     if (st == SAM_OK)
@@ -124,6 +134,38 @@ sam_status sam_runtime_scene_keyframes(sam_runtime *rt, const sam_scene *scene, 
         free(positions[i]);
     free(positions);
     free(times);
+    return st;
+}
+
+sam_status sam_runtime_scene_check_keyframes(const sam_scene *scene, sam_error *err)
+{
+    if (!scene)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "scene keyframes: NULL scene");
+    if (!scene->keyframe_count)
+        return SAM_OK;
+    samfile_data map;
+    sam_mesh rest_mesh;
+    memset(&map, 0, sizeof map);
+    memset(&rest_mesh, 0, sizeof rest_mesh);
+    rest_topology rest;
+    sam_status st;
+    if (scene->sam_path) {
+        st = samfile_read(scene->sam_path, &map, err);
+        rest = (rest_topology){map.vertex_count, map.triangle_count, map.triangles};
+    } else {
+        /* As the map built from it will be: loaded and turned outward. */
+        st = sam_mesh_load(scene->mesh_path, &rest_mesh, NULL, err);
+        if (st == SAM_OK)
+            sam_mesh_orient_outward(&rest_mesh);
+        rest = (rest_topology){rest_mesh.vertex_count, rest_mesh.triangle_count, rest_mesh.triangles};
+    }
+    for (size_t i = 0; i < scene->keyframe_count && st == SAM_OK; ++i) {
+        sam_mesh mesh;
+        if ((st = load_keyframe(scene->keyframes[i].mesh, &rest, &mesh, err)) == SAM_OK)
+            sam_mesh_destroy(&mesh);
+    }
+    samfile_free(&map);
+    sam_mesh_destroy(&rest_mesh);
     return st;
 }
 

@@ -15,6 +15,7 @@
 #include "sam/sam_gl.h"
 #include "sam/sam_mesh.h"
 #include "sam/sam_profile.h"
+#include "sam/sam_runtime_scene.h"
 #include "sam/sam_scene.h"
 #include "sam/samfile.h"
 
@@ -154,6 +155,11 @@ static int info_scene(const char *path)
         return 1;
     }
     sam_gl_context_destroy(gl);
+    if (sam_runtime_scene_check_keyframes(&scene, &err) != SAM_OK) {
+        sam_scene_destroy(&scene);
+        fprintf(stderr, "sam_info: %s\n", err.message);
+        return 1;
+    }
     printf("%s: scene\n", path);
     printf("  object:            %s\n", scene.mesh_path ? scene.mesh_path : scene.sam_path);
     printf("  material:          %s\n", scene.material ? scene.material : "(from the .sam)");
@@ -170,6 +176,8 @@ static int info_scene(const char *path)
            count[SAM_LIGHT_POINT], count[SAM_LIGHT_SPOT], count[SAM_LIGHT_DIRECTIONAL], count[SAM_LIGHT_AREA]);
     printf("  environment:       %s\n", scene.environment.map ? scene.environment.map : "none");
     printf("  camera:            %s\n", scene.has_camera ? "given" : "framed automatically");
+    if (scene.keyframe_count)
+        printf("  keyframes:         %zu, each of the rest mesh's topology\n", scene.keyframe_count);
 
     printf("  output:            %ux%u, technique %s, diffusion %s, tonemap %s, exposure %g EV\n",
            scene.width, scene.height, sam_technique_name(scene.technique), sam_diffusion_name(scene.diffusion),

@@ -66,6 +66,23 @@ for scene in no_object tiny swapped; do
     || fail "$scene.json: sam_info says '$(cat "$tmp/info.txt")', sam_render '$(cat "$tmp/render.txt")'"
 done
 
+# Keyframes: each must have the rest mesh's topology; sam_info loads them
+# and says what sam_render would.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1.2\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' > "$tmp/tet_pose.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\nf 1 4 3 2\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n' > "$tmp/pyramid.obj"
+for pose in tet_pose pyramid; do
+  printf '{"mesh": "tet.obj", "material": "marble", "scale": {"mm_per_unit": 10}, "keyframes": [{"mesh": "%s.obj", "time_s": 1}]}' \
+    "$pose" > "$tmp/kf_$pose.json"
+done
+out=$("$bin/sam_info" "$tmp/kf_tet_pose.json") || fail "a keyframe of the rest mesh's topology rejected: $out"
+grep -q "keyframes: *1, each of the rest mesh's topology" <<<"$out" || fail "keyframes: $out"
+"$bin/sam_info" "$tmp/kf_pyramid.json" > /dev/null 2> "$tmp/info.txt" && fail "sam_info accepted a keyframe of another mesh"
+"$bin/sam_render" "$tmp/kf_pyramid.json" -o "$tmp/kf.png" --animate 2 > /dev/null 2> "$tmp/render.txt" \
+  && fail "sam_render accepted a keyframe of another mesh"
+grep -q "pyramid.obj: 5 vertices, the rest mesh has 4" "$tmp/info.txt" \
+  && [ "$(sed 's/^sam_info: //' "$tmp/info.txt")" = "$(grep -v '^sam_render: [a-z ]*:' "$tmp/render.txt" | sed 's/^sam_render: //' | tail -1)" ] \
+  || fail "keyframe of another mesh: sam_info says '$(cat "$tmp/info.txt")', sam_render '$(cat "$tmp/render.txt")'"
+
 # A picture the GL cannot hold: sam_info checks it as sam_render does.
 sed 's/"mm_per_unit": 10}/"mm_per_unit": 10}, "resolution": [16384, 16384]/' "$tmp/scene.json" > "$tmp/huge.json"
 "$bin/sam_info" "$tmp/huge.json" > "$tmp/out.txt" 2> "$tmp/info.txt" && fail "sam_info accepted a 16384x16384 picture"

@@ -46,6 +46,14 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
 sam_status sam_runtime_scene_keyframes(sam_runtime *rt, const sam_scene *scene, const samfile_data *sam,
                                        sam_error *err);
 
+/* The check sam_runtime_scene_keyframes makes, without a runtime (for
+ * sam_info): loads the rest topology (the scene's .sam, or its mesh turned
+ * outward as a build turns it) and every keyframe mesh, and compares them.
+ * SAM_OK for a scene without keyframes.
+ * Errors: those of sam_runtime_scene_keyframes, samfile_read's,
+ * SAM_ERR_INVALID_ARGUMENT (NULL scene). */
+sam_status sam_runtime_scene_check_keyframes(const sam_scene *scene, sam_error *err);
+
 /* The scene's view: its resolution, camera (or, without one, the bounding
  * sphere framed from +Z with a 40 degree field of view), albedo and
  * diffusion settings, front lighting on, technique SAM. Texture-space
