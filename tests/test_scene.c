@@ -1162,6 +1162,27 @@ static void test_names(void **state)
     assert_string_equal(sam_sss_kernel_name((sam_sss_kernel)3), "unknown");
 }
 
+/* A scene without a camera is seen from the front its box suggests: a
+ * Z-tall scan from -Y with +Z up, anything else from +Z with +Y up. */
+static void test_default_axes(void **state)
+{
+    (void)state;
+    static const struct {
+        float extent[3];
+        int z_up;
+    } cases[] = {{{1, 1, 3}, 1}, {{1, 2, 1}, 0}, {{3, 1, 2}, 0}, {{1, 1, 1}, 0}, {{1, 1, 1.2f}, 1}, {{2, 1, 2}, 1}};
+    for (size_t k = 0; k < sizeof cases / sizeof *cases; ++k) {
+        float up[3], front[3];
+        assert_int_equal(sam_scene_default_axes(cases[k].extent, up, front), cases[k].z_up);
+        const float want_up[3] = {0, cases[k].z_up ? 0.0f : 1.0f, cases[k].z_up ? 1.0f : 0.0f};
+        const float want_front[3] = {0, cases[k].z_up ? -1.0f : 0.0f, cases[k].z_up ? 0.0f : 1.0f};
+        for (int c = 0; c < 3; ++c) {
+            assert_true(up[c] == want_up[c]);
+            assert_true(front[c] == want_front[c]);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1178,6 +1199,7 @@ int main(void)
         cmocka_unit_test(test_mesh_with_prebuilt_sam),
         cmocka_unit_test(test_thickness_technique),
         cmocka_unit_test(test_names),
+        cmocka_unit_test(test_default_axes),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

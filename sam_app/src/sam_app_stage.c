@@ -137,9 +137,8 @@ static sam_status place(const measure *ms, float angle_deg, sam_scene *scene, sa
      * +Z). A part much flatter along up than across (a plate, a leaf lying
      * down) is seen from higher up. */
     const float *ext = ms->extent;
-    const int z_up = ext[2] > 1.1f * ext[1] && ext[2] >= ext[0];
-    const float up_axis[3] = {0, z_up ? 0.0f : 1.0f, z_up ? 1.0f : 0.0f};
-    const float front[3] = {0, z_up ? -1.0f : 0.0f, z_up ? 0.0f : 1.0f};
+    float up_axis[3], front[3];
+    const int z_up = sam_scene_default_axes(ext, up_axis, front);
     float side[3];
     sam_vec3_cross(up_axis, front, side);
     const float tall = z_up ? ext[2] : ext[1], across = fminf(ext[0], z_up ? ext[1] : ext[2]);

@@ -7,6 +7,7 @@
 #include "sam/sam_light.h"
 #include "sam/sam_mesh.h"
 #include "sam/sam_runtime_scene.h"
+#include "sam_runtime_internal.h"
 
 static void set_warning(char *warning, size_t n, const char *text)
 {
@@ -198,13 +199,17 @@ void sam_runtime_scene_view(const sam_runtime *rt, const sam_scene *scene, sam_r
         view->near_plane = scene->camera.near_plane;
         view->far_plane = scene->camera.far_plane;
     } else {
-        float centre[3], radius;
+        /* From the front a bare mesh is staged from (sam_app_stage.h), so
+         * that a Z-up scan is not seen from above. */
+        float centre[3], radius, extent[3], front[3];
         sam_runtime_bounds(rt, centre, &radius);
+        for (int c = 0; c < 3; ++c)
+            extent[c] = rt->box_hi[c] - rt->box_lo[c];
+        sam_scene_default_axes(extent, view->up, front);
         view->fov_deg = 40.0f;
-        float dist = radius / sinf(0.5f * view->fov_deg * 3.14159265f / 180.0f) * 1.05f;
+        const float dist = radius / sinf(0.5f * view->fov_deg * 3.14159265f / 180.0f) * 1.05f;
         memcpy(view->target, centre, sizeof view->target);
-        memcpy(view->eye, centre, sizeof view->eye);
-        view->eye[2] += dist;
-        view->up[1] = 1.0f;
+        for (int c = 0; c < 3; ++c)
+            view->eye[c] = centre[c] + dist * front[c];
     }
 }

@@ -27,7 +27,7 @@
  *   "camera": {"position": [x,y,z], "target": [x,y,z], "up": [0,1,0],
  *              "fov_deg": 40, "near": n, "far": f}
  *        optional (absent: has_camera = 0 and the renderer frames the
- *        object). position and target required inside it and distinct;
+ *        object from the front sam_scene_default_axes gives). position and target required inside it and distinct;
  *        up default [0,1,0], not parallel to the view direction; fov_deg is
  *        the vertical field of view in (0, 180), default 40; near > 0 and
  *        far > near, each default 0 = chosen by the renderer from the
@@ -203,6 +203,14 @@ typedef struct sam_scene {
  * and `lights` and `keyframes` (with their `mesh` strings) to malloc'd
  * arrays; sam_scene_destroy frees them. */
 void sam_scene_init(sam_scene *scene);
+
+/* Which way is up, and where the front is seen from, for an object whose
+ * bounding box measures `extent` (model units) when no camera is given:
+ * +Z up, seen from -Y, where the box is clearly tallest along Z (more than
+ * 1.1 times its Y and at least its X: scanners' and CAD's convention);
+ * else +Y up, seen from +Z (OBJ's and glTF's). Unit vectors into up[3] and
+ * front[3] (from the object towards the camera). Returns 1 for Z up. */
+int sam_scene_default_axes(const float extent[3], float up[3], float front[3]);
 
 /* Reads and parses the scene file at `path`. On success the caller owns
  * `scene` and frees it with sam_scene_destroy; on failure `scene` holds

@@ -45,6 +45,14 @@ const char *sam_sss_kernel_name(sam_sss_kernel kernel)
 /* ------------------------------------------------------------------------ */
 /* Scene lifetime                                                            */
 
+int sam_scene_default_axes(const float extent[3], float up[3], float front[3])
+{
+    const int z_up = extent[2] > 1.1f * extent[1] && extent[2] >= extent[0];
+    up[0] = 0.0f, up[1] = z_up ? 0.0f : 1.0f, up[2] = z_up ? 1.0f : 0.0f;
+    front[0] = 0.0f, front[1] = z_up ? -1.0f : 0.0f, front[2] = z_up ? 0.0f : 1.0f;
+    return z_up;
+}
+
 void sam_scene_init(sam_scene *scene)
 {
     if (!scene)

@@ -55,7 +55,8 @@ sam_status sam_runtime_scene_keyframes(sam_runtime *rt, const sam_scene *scene, 
 sam_status sam_runtime_scene_check_keyframes(const sam_scene *scene, sam_error *err);
 
 /* The scene's view: its resolution, camera (or, without one, the bounding
- * sphere framed from +Z with a 40 degree field of view), albedo and
+ * sphere framed with a 40 degree field of view from the front
+ * sam_scene_default_axes gives: +Z for most meshes, -Y for a Z-up scan), albedo and
  * diffusion settings, front lighting on, technique SAM. Texture-space
  * diffusion on a runtime whose UVs cannot carry it falls back to screen
  * space, and `warning` (size n, may be NULL) says why; else it gets "". */
