@@ -160,9 +160,11 @@ static int write_mesh(const char *shape, const sam_shape_info *info, const sam_s
 {
     sam_shape_mesh mesh;
     sam_error err;
-    if (sam_shape_generate(shape, params, &mesh, &err) != SAM_OK) {
-        fprintf(stderr, "sam_meshgen: %s\n", err.message);
-        return 1;
+    const sam_status made = sam_shape_generate(shape, params, &mesh, &err);
+    if (made != SAM_OK) {
+        /* A value out of the shape's range is a bad option: usage, exit 2. */
+        fprintf(stderr, "sam_meshgen: %s%s\n", err.message, made == SAM_ERR_INVALID_ARGUMENT ? " (try --help)" : "");
+        return made == SAM_ERR_INVALID_ARGUMENT ? 2 : 1;
     }
     sam_status s = ply ? sam_shape_write_ply(output, &mesh, !ascii, &err)
                        : sam_shape_write_obj(output, &mesh, &err);

@@ -74,18 +74,23 @@ int main(int argc, char **argv)
     long samples = s->samples_per_vertex, mc = s->mc_samples, candidates = s->candidates, threads = s->threads;
     const char *seed = NULL;
     int flat = 0, flat_scaled = 0;
+    const char *finite = "a finite number that fits a 32-bit float";
     const sam_arg args[] = {
         {"-o", SAM_ARG_STRING, &job.out_path, .value = "OUT.sam", .required = 1},
         {"--material", SAM_ARG_STRING, &job.material, .value = "NAME|FILE", .required = 1},
-        {"--mm-per-unit", SAM_ARG_FLOAT, &job.mm_per_unit, .lo = -FLT_MAX, .hi = FLT_MAX, .must = "a number"},
-        {"--size-mm", SAM_ARG_FLOAT, &job.size_mm, .lo = -FLT_MAX, .hi = FLT_MAX, .must = "a number"},
+        {"--mm-per-unit", SAM_ARG_FLOAT, &job.mm_per_unit, .lo = -FLT_MAX, .hi = FLT_MAX,
+         .must = finite},
+        {"--size-mm", SAM_ARG_FLOAT, &job.size_mm, .lo = -FLT_MAX, .hi = FLT_MAX,
+         .must = finite},
         {"--samples", SAM_ARG_INT, &samples, .lo = 1, .hi = 1000000},
         {"--flat", SAM_ARG_FLAG, .target = &flat},
         {"--flat-scaled", SAM_ARG_FLAG, .target = &flat_scaled},
-        {"--cut-tolerance", SAM_ARG_FLOAT, &s->cut_tolerance, .lo = -FLT_MAX, .hi = FLT_MAX, .must = "a number"},
+        {"--cut-tolerance", SAM_ARG_FLOAT, &s->cut_tolerance, .lo = -FLT_MAX, .hi = FLT_MAX,
+         .must = finite},
         {"--mc-samples", SAM_ARG_INT, &mc, .lo = 0, .hi = 100000000},
         {"--candidates", SAM_ARG_INT, &candidates, .lo = 0, .hi = 1000000},
-        {"--radius-tolerance", SAM_ARG_FLOAT, &s->radius_tolerance, .lo = -FLT_MAX, .hi = FLT_MAX, .must = "a number"},
+        {"--radius-tolerance", SAM_ARG_FLOAT, &s->radius_tolerance, .lo = -FLT_MAX, .hi = FLT_MAX,
+         .must = finite},
         {"--seed", SAM_ARG_STRING, &seed, .value = "S"},
         {"--threads", SAM_ARG_INT, &threads, .lo = 0, .hi = 4096},
         {"--force", SAM_ARG_FLAG, .target = &job.force},

@@ -70,7 +70,7 @@ int main(int argc, char **argv)
     sam_profile_total_reflectance(&profile, total);
     fprintf(stderr,
             "sam_profile_image: %s: total diffuse reflectance (%.3f, %.3f, %.3f), 99%% of the energy "
-            "within %.2f mm; wrote %s\n",
+            "within %.3g mm; wrote %s\n",
             profile.name, total[0], total[1], total[2], extent, out);
     return 0;
 }

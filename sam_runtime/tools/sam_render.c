@@ -130,6 +130,8 @@ int main(int argc, char **argv)
                              SAM_SCENE_MAX_RESOLUTION, size);
     if (job.size_mm && job.mm_per_unit)
         return sam_args_fail("sam_render", "--size-mm and --mm-per-unit say the same thing: give one");
+    if (job.cache_dir && job.no_cache)
+        return sam_args_fail("sam_render", "--cache DIR and --no-cache exclude each other");
     if (job.sss_samples && job.sss_samples % 2 == 0)
         return sam_args_fail("sam_render", "--sss-samples must be %s, got \"%ld\"", odd_taps, job.sss_samples);
     if (job.optimize && !sam_app_render_parse_optimizations(job.optimize, NULL))

@@ -194,6 +194,8 @@ static int parse_options(int argc, char **argv, options *o)
         r = parse_techniques(techniques, set->requested);
     if (r == SAM_ARGS_OK)
         r = parse_lists(sweep_list, frame_list, fps_given, o);
+    if (r == SAM_ARGS_OK && set->cache_dir && set->no_cache)
+        r = sam_args_fail(TOOL, "--cache DIR and --no-cache exclude each other");
     set->map_samples = (uint32_t)map_samples;
     set->truth_samples = (uint64_t)truth_samples;
     return r;

@@ -20,6 +20,8 @@ done
 "$bin/sam_meshgen" cube -o "$tmp/c.obj" 2> "$tmp/err.txt"; [ $? -eq 2 ] || fail "unknown shape exit"
 [ "$(wc -l < "$tmp/err.txt")" -eq 1 ] || fail "unknown shape: one line expected"
 "$bin/sam_meshgen" sphere -o "$tmp/r.obj" --resolution -3 2> /dev/null; [ $? -ne 0 ] || fail "negative resolution"
+"$bin/sam_meshgen" sphere -o "$tmp/r.obj" --resolution 2 2> "$tmp/err.txt"; [ $? -eq 2 ] || fail "resolution 2: exit $?"
+grep -q "resolution 2 out of range" "$tmp/err.txt" || fail "resolution 2: $(cat "$tmp/err.txt")"
 [ ! -e "$tmp/r.obj" ] || fail "partial file left"
 "$bin/sam_meshgen" --help | grep -q ear || fail "--help"
 # compare_perforated.json's mesh: regenerate it with this command when the shape changes.

@@ -122,6 +122,7 @@ expect_error 2 "even samples" "$tmp/scene.json" --sss-samples 18
 expect_error 2 "bad optimisation" "$tmp/scene.json" --optimize culled,fast
 expect_error 2 "atlas too small" "$tmp/scene.json" --atlas-size 32
 expect_error 2 "bad tonemap" "$tmp/scene.json" --tonemap filmic
+expect_error 2 "--cache with --no-cache" "$tmp/scene.json" --cache "$tmp/cache" --no-cache
 expect_error 1 "missing key" "$tmp/nomesh.json"
 expect_error 1 "wrong type" "$tmp/type.json"
 expect_error 1 "missing mesh" "$tmp/missing.json"

@@ -452,10 +452,22 @@ sam_status sam_scene_parse(const char *text, size_t size, const char *base_dir, 
                             "is complete (truncated?)",
                             p.json.name, line, column);
         }
-        sam_json_line_column(text, offset, &line, &column);
+        /* cJSON stops on the blank after the last good token: show the
+         * text that follows it, and name the most common slip. */
+        size_t at = offset, before = offset;
+        while (at < size && strchr(" \t\r\n", text[at]))
+            ++at;
+        while (before > 0 && strchr(" \t\r\n", text[before - 1]))
+            --before;
+        if (before > 0 && text[before - 1] == ',' && at < size && (text[at] == '}' || text[at] == ']')) {
+            sam_json_line_column(text, before - 1, &line, &column);
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: line %zu, column %zu: a comma before \"%c\" (JSON allows "
+                            "none after the last item)", p.json.name, line, column, text[at]);
+        }
+        sam_json_line_column(text, at, &line, &column);
         char near[24];
         size_t n = 0;
-        for (size_t i = offset; i < size && n < 20 && text[i] != '\n'; ++i)
+        for (size_t i = at; i < size && n < 20 && text[i] != '\n'; ++i)
             near[n++] = (text[i] >= 32 && text[i] < 127) ? text[i] : '?';
         near[n] = 0;
         return sam_fail(err, SAM_ERR_FORMAT, "%s: line %zu, column %zu: JSON syntax error at \"%s\"",

@@ -137,11 +137,6 @@ static uint32_t fan_head(const build_state *b, uint32_t c)
     return start;
 }
 
-sam_status sam_mesh_oom(sam_error *err, const char *name)
-{
-    return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory while building the mesh", name);
-}
-
 /* Non-finite values would poison welding and normals, bad indices read out of bounds: errors, not repairs. */
 static sam_status check_input(build_state *b)
 {

@@ -37,8 +37,12 @@ static inline double len3(const double *a)
     return sqrt(dot3(a, a));
 }
 
-/* One message for every allocation failure of loading, naming the mesh. */
-sam_status sam_mesh_oom(sam_error *err, const char *name);
+/* One message for every allocation failure of loading, naming the mesh.
+ * Inline: the build's stages in their own files use it too. */
+static inline sam_status sam_mesh_oom(sam_error *err, const char *name)
+{
+    return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory while building the mesh", name);
+}
 
 /* Boundary vertices closer than this times the mesh's diagonal are one:
  * exporters that write each face's corners on their own round them apart

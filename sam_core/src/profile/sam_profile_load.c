@@ -560,9 +560,13 @@ sam_status sam_profile_from_spec(const char *spec, sam_profile *out, sam_error *
     sam_status s = sam_profile_load(spec, out, &load_err);
     if (s == SAM_ERR_IO) {
         /* Say both readings failed: a mistyped preset looks like a path. */
-        sam_error preset_err;
-        sam_profile_preset(spec, out, &preset_err);
-        return sam_fail(err, s, "%s; and %s", preset_err.message, load_err.message);
+        char names[256] = "";
+        for (size_t i = 0, used = 0; i < sam_profile_preset_count() && used < sizeof names; ++i) {
+            const int w = snprintf(names + used, sizeof names - used, "%s%s", i ? ", " : "", sam_profile_preset_name(i));
+            used += w > 0 ? (size_t)w : 0;
+        }
+        return sam_fail(err, s, "'%s' is neither a preset (%s) nor a profile file that can be read (%s)", spec, names,
+                        load_err.message);
     }
     if (s != SAM_OK && err)
         *err = load_err;

@@ -31,11 +31,15 @@ static void fill(sam_image *img, int x0, int y0, int x1, int y1, const float rgb
             put(img, x, y, rgb);
 }
 
-/* A length in mm as a short label: "0", "0.05", "2.5", "40". */
+/* A length in mm as a short label: "0", "0.05", "2.5", "40"; two
+ * significant digits below 0.01 mm ("0.0012"), where fixed decimals gave a
+ * tiny profile's wedge the ticks "0.000 0.001 0.001". */
 static void mm_label(char *buf, size_t n, double mm)
 {
     if (mm <= 0)
         snprintf(buf, n, "0");
+    else if (mm < 0.01)
+        snprintf(buf, n, "%.2g", mm);
     else
         snprintf(buf, n, "%.*f", mm >= 10 ? 0 : mm >= 1 ? 1 : mm >= 0.1 ? 2 : 3, mm);
 }
