@@ -11,6 +11,10 @@ out=$("$bin/sam_info" --mm-per-unit 10 "$tmp/tet.obj") || fail "valid mesh rejec
 grep -q "triangles: *4" <<<"$out" || fail "no triangle count in: $out"
 grep -q "welded vertices: *4" <<<"$out" || fail "no welded count in: $out"
 grep -q "mm^2" <<<"$out" || fail "fan areas not in mm^2: $out"
+grep -q "orientation" <<<"$out" && fail "an outward tetrahedron said to face inward: $out"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n' > "$tmp/tet_in.obj"
+out=$("$bin/sam_info" "$tmp/tet_in.obj") || fail "inward mesh rejected"
+grep -q "orientation: *closed and facing inward" <<<"$out" || fail "an inward tetrahedron not named: $out"
 
 # A .sam file from the container's seed corpus.
 sam=$(ls "$src"/fuzz/corpus/samfile/*.sam 2>/dev/null | head -1)
