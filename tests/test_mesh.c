@@ -403,6 +403,11 @@ static void test_repairs_are_reported(void **state)
     sam_mesh_destroy(&m);
 }
 
+/* The unit cube [0, 1]^3 as 12 triangles wound outward. */
+static const float unit_cube[8 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+static const uint32_t unit_cube_tri[36] = {0, 3, 2, 0, 2, 1, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                           1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+
 /* Triangles written backwards are turned to agree with their neighbours:
  * a closed cube with some of its 12 triangles reversed becomes one closed
  * surface again (no boundary, no non-manifold edge, one fan per corner)
@@ -411,9 +416,6 @@ static void test_repairs_are_reported(void **state)
 static void test_backward_triangles_are_turned(void **state)
 {
     (void)state;
-    static const float pos[8 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
-    static const uint32_t cube[36] = {0, 3, 2, 0, 2, 1, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
-                                      1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
     static const struct {
         uint32_t reversed; /* the first this many triangles are written backwards */
         uint32_t turned;
@@ -421,14 +423,14 @@ static void test_backward_triangles_are_turned(void **state)
     } cases[] = {{0, 0, 1}, {1, 1, 1}, {5, 5, 1}, {9, 3, 0}, {12, 0, 0}};
     for (size_t k = 0; k < sizeof cases / sizeof *cases; ++k) {
         uint32_t tri[36];
-        memcpy(tri, cube, sizeof tri);
+        memcpy(tri, unit_cube_tri, sizeof tri);
         for (uint32_t t = 0; t < cases[k].reversed; ++t) {
             const uint32_t x = tri[3 * t + 1];
             tri[3 * t + 1] = tri[3 * t + 2];
             tri[3 * t + 2] = x;
         }
-        sam_mesh_input in = {.name = "cube", .vertex_count = 8, .positions = pos, .triangle_count = 12,
-                             .triangles = tri};
+        sam_mesh_input in = {.name = "cube", .vertex_count = 8, .positions = unit_cube,
+                             .triangle_count = 12, .triangles = tri};
         sam_mesh m;
         sam_mesh_report rep;
         assert_int_equal(sam_mesh_create(&in, &m, &rep, NULL), SAM_OK);
@@ -466,9 +468,6 @@ static void test_backward_triangles_are_turned(void **state)
 static void test_cracks_a_hair_wide_are_closed(void **state)
 {
     (void)state;
-    static const float cube[8 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
-    static const uint32_t tri[36] = {0, 3, 2, 0, 2, 1, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
-                                     1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
     for (int gap = 0; gap < 2; ++gap) {
         float pos[36 * 3];
         uint32_t soup[36];
@@ -477,7 +476,8 @@ static void test_cracks_a_hair_wide_are_closed(void **state)
             for (int k = 0; k < 3; ++k) {
                 /* A different rounding per corner, up to 1e-6; the gap moves vertex 6's copies 1e-3 along x. */
                 const float jitter = 1e-6f * (float)((c * 7 + (uint32_t)k * 3) % 5) / 4.0f;
-                pos[3 * c + k] = cube[3 * tri[c] + k] + jitter + (gap && tri[c] == 6 && k == 0 && c % 2 ? 1e-3f : 0.0f);
+                const float moved = gap && unit_cube_tri[c] == 6 && k == 0 && c % 2 ? 1e-3f : 0.0f;
+                pos[3 * c + k] = unit_cube[3 * unit_cube_tri[c] + k] + jitter + moved;
             }
         }
         sam_mesh_input in = {.name = "soup", .vertex_count = 36, .positions = pos, .triangle_count = 12,
@@ -498,8 +498,9 @@ static void test_cracks_a_hair_wide_are_closed(void **state)
     }
     /* Closed: two vertices 1e-7 apart inside a closed surface stay two. */
     float fold[8 * 3];
-    memcpy(fold, cube, sizeof fold);
-    sam_mesh_input in = {.name = "cube", .vertex_count = 8, .positions = fold, .triangle_count = 12, .triangles = tri};
+    memcpy(fold, unit_cube, sizeof fold);
+    sam_mesh_input in = {.name = "cube", .vertex_count = 8, .positions = fold, .triangle_count = 12,
+                         .triangles = unit_cube_tri};
     fold[3 * 6] = fold[3 * 5] + 1e-7f, fold[3 * 6 + 1] = fold[3 * 5 + 1], fold[3 * 6 + 2] = fold[3 * 5 + 2];
     sam_mesh m;
     sam_mesh_report rep;
