@@ -56,6 +56,15 @@ layout(std430, binding = SAM_B_NODE_PARENTS) readonly buffer Parents { uint pare
 uniform uint u_vertex_count;
 uniform uint u_stride;
 uniform float u_mm_per_unit;
+// 1 for a cut map: each of its rows counts every back-side vertex in reach
+// once (its nodes, their K handed down the tree where the light comes
+// from, its listed vertices with K scaled to carry the tail), and a spare
+// slot is one its cut did not need. Its walk fills no spare slot and
+// replaces only vertex samples the pose took off the back side: adopting
+// a vertex beside them counted its light twice, and swapping a builder's
+// sample for one estimated larger changed T at a pose a hair from rest
+// by a third on a torus in skin (tests/test_gl_walk.c).
+uniform uint u_cut_map;
 
 Sample chosen[MAX_SAMPLES];
 float score[MAX_SAMPLES];
@@ -142,6 +151,14 @@ void main()
                 slots_high |= 1u << (k - 32u);
         }
     }
+    if (u_cut_map != 0u) {
+        bool dead = false;
+        for (uint w = 0u; w < 2u; ++w)
+            for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u)
+                dead = dead || !back_side(chosen[uint(findLSB(bits)) + 32u * w].index, p, n);
+        if (!dead)
+            return; // the row stays as stored
+    }
     // First the ring vertices the row lacks, then, only if there are any,
     // the row's scores (an R_d per vertex sample) and the adoptions. A row
     // the builder listed (32 vertices) mostly holds its best samples' rings
@@ -170,6 +187,9 @@ void main()
     if (candidate_count == 0u)
         return; // nothing adopted: the row stays as stored
     score_vertex_slots(slots_low, slots_high, p, n);
+    if (u_cut_map != 0u)
+        for (uint k = 0u; k < u_stride; ++k)
+            score[k] = score[k] == 0.0 ? 0.0 : 3.0e38; // only the dead are replaced
     uint worst = worst_slot();
     for (uint j = 0u; j < candidate_count; ++j) {
         uint c = candidates[j];

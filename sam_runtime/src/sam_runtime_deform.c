@@ -299,6 +299,7 @@ sam_status sam_runtime_walk(sam_runtime *rt, sam_error *err)
     glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
     glUniform1ui(glGetUniformLocation(p, "u_stride"), rt->stride);
     glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
+    glUniform1ui(glGetUniformLocation(p, "u_cut_map"), rt->nodes.node_count > 0);
     sam_runtime_bind_buffers(rt);
     sam_runtime_dispatch_per_vertex(rt, SAM_PASS_WALK);
     return SAM_OK;

@@ -110,7 +110,12 @@ typedef enum sam_pass {
 } sam_pass;
 
 /* Uploads `sam` (the caller keeps it) and compiles the passes. `profile`
- * and `mm_per_unit` are the material and scale the map was built with.
+ * and `mm_per_unit` are the material and scale the map was built with:
+ * read them from the map's INFO (samfile_info_read: info.profile,
+ * info.mm_per_unit). They are not checked against it: another material
+ * or scale is applied to K' as eq. 15 applies a pose (a tenth of the
+ * scale gives a hundredth of the light, not an error), which sam_render
+ * allows on purpose (a scene's material overrides its map's).
  * Errors: SAM_ERR_UNSUPPORTED (a buffer larger than the context's storage
  * block limit), SAM_ERR_FORMAT (shader errors, naming file:line),
  * SAM_ERR_OUT_OF_MEMORY. */
@@ -203,7 +208,11 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err);
  * On the rest pose (never deformed, or no deformer moving anything at the
  * last sam_runtime_deform, which restores the .sam's samples) the walk does
  * nothing: the builder's Monte Carlo choice is exact there, and samples and
- * K stay bit for bit. Never fails today; `err` is for the contract. */
+ * K stay bit for bit. On a cut map (a .sam with a tree), whose rows count
+ * every back-side vertex in reach once, the walk only replaces vertex
+ * samples the pose took off the back side, and fills no spare slot; so a
+ * pose near rest (an engine's pose that equals it, say) gives the rest's T.
+ * Never fails today; `err` is for the contract. */
 sam_status sam_runtime_walk(sam_runtime *rt, sam_error *err);
 
 /* How the translucency pass takes K on a deformed pose (at rest K is the
