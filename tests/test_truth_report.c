@@ -146,7 +146,7 @@ static void test_write_report(void **state)
         {3, 0.5, {.rmse = 4.0}, {.rmse = 5.0}, 1, {.rmse = 6.0}, {.rmse = 7.0}, {.rmse = 3.5}, {.rmse = 4.25}},
         {5, 0.75, {.rmse = 3.0}, {.rmse = 4.5}, 1, {.rmse = 5.5}, {.rmse = 6.5}, {.rmse = 2.5}, {.rmse = 3.75}}};
     const sam_truth_report report = {.scene_path = "scenes/slab.json", .width = 64, .height = 48,
-                                     .vertex_count = 1234, .samples_per_vertex = 3, .build_seconds = 2.0,
+                                     .vertex_count = 1234, .samples_per_vertex = 3, .map = "flat", .build_seconds = 2.0,
                                      .diffusion = 3, .animated = 1, .frame = 15, .fps = 30, .truth_tolerance = 0.01f,
                                      .techniques = t, .self = &self, .steps = steps, .step_count = 2,
                                      .converged = 0, .truth_max = 0.75f, .space = "atlas texel", .sweep = sweep,
@@ -161,6 +161,7 @@ static void test_write_report(void **state)
         "\"vertices\": 1234",
         "\"frame\": 15,\n  \"time_s\": 0.5,\n  \"fps\": 30,",
         "\"diffusion\": \"texture\"",
+        "\"map\": \"flat\"",
         "\"truth\": {\"samples\": 8192, \"seconds\": 3.000, \"space\": \"atlas texel\"",
         "\"converged\": false",
         "\"sam_psnr_translucency_db\": null}",
@@ -180,7 +181,7 @@ static void test_write_report(void **state)
     const char *md = slurp(path);
     static const char *const md_has[] = {
         "# sam_compare: slab.json\n",
-        "64x48, 1234 vertices, N = 3 back-side samples per vertex, texture diffusion.",
+        "64x48, 1234 vertices, N = 3 back-side samples per vertex (flat map), texture diffusion.",
         "Frame 15 of the animation at 30 fps (t = 0.5 s)",
         "| 8192 | 3.00 | 31.00 | 29.00 |",
         "**Not converged**",

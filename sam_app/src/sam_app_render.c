@@ -302,13 +302,15 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, in
     }
     /* A single frame's times hold the driver's first-use work (llvmpipe
      * compiles a shader at its first draw: seconds for "shade" on a
-     * 150-vertex mesh), so they are not what a frame costs. */
+     * 150-vertex mesh), so they are not what a frame costs; llvmpipe's
+     * queries time its compute passes' dispatch, not their work. */
     fprintf(stderr, "%s: %s: %ux%u, %u vertices, %ld frame%s; GPU ms%s: irradiance %s, translucency %s, shade %s, "
-                    "diffusion %s (%s)\n",
+                    "diffusion %s (%s%s)\n",
             tool, job->out, view.width, view.height, sam->vertex_count, frames, frames == 1 ? "" : "s",
             frames == 1 ? " of the only frame, shader compilation included (--passes N times the last of N)"
                         : ", last frame",
-            ms[0], ms[1], ms[2], ms[3], sam_gl_context_info(gl)->renderer);
+            ms[0], ms[1], ms[2], ms[3], sam_gl_context_info(gl)->renderer,
+            strstr(sam_gl_context_info(gl)->renderer, "llvmpipe") ? ", whose compute passes read about 0" : "");
 done:
     sam_runtime_destroy(rt);
     return st;

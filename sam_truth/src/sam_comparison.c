@@ -382,9 +382,14 @@ static sam_status write_pose(compare_state *s, const truth_result *truth, const 
             if (set->sweep[i] > set->sweep[i - 1] && sweep[i].all.rmse > sweep[i - 1].all.rmse)
                 monotonic = 0;
     }
+    /* The kind of map scored, as its INFO records it (a prebuilt one's too). */
+    samfile_info info;
+    sam_error info_err;
+    if (samfile_info_read(&s->sam, NULL, &info, &info_err) != SAM_OK)
+        info.map[0] = '\0';
     const sam_truth_report report = {
         .scene_path = s->scene_path, .width = s->view.width, .height = s->view.height,
-        .vertex_count = s->sam.vertex_count, .samples_per_vertex = s->sam.samples_per_vertex,
+        .vertex_count = s->sam.vertex_count, .samples_per_vertex = s->sam.samples_per_vertex, .map = info.map,
         .build_seconds = s->build_seconds, .diffusion = (int)s->view.diffusion, .animated = s->animated,
         .frame = s->frame, .fps = set->fps, .truth_tolerance = set->truth_tolerance, .techniques = s->results,
         .self = &self, .steps = truth->steps, .step_count = truth->step_count, .converged = truth->converged,

@@ -96,8 +96,9 @@ static void write_json(FILE *f, const void *what)
     if (r->animated)
         fprintf(f, "  \"frame\": %ld,\n  \"time_s\": %.6g,\n  \"fps\": %g,\n", r->frame,
                 (double)((float)r->frame / r->fps), (double)r->fps);
-    fprintf(f, "  \"samples_per_vertex\": %u,\n  \"map_build_seconds\": %.3f,\n  \"diffusion\": \"%s\",\n",
-            r->samples_per_vertex, r->build_seconds, diffusion_names[r->diffusion]);
+    fprintf(f, "  \"samples_per_vertex\": %u,\n  \"map\": \"%s\",\n  \"map_build_seconds\": %.3f,\n"
+               "  \"diffusion\": \"%s\",\n",
+            r->samples_per_vertex, r->map ? r->map : "", r->build_seconds, diffusion_names[r->diffusion]);
     json_truth(f, r);
     fprintf(f, ",\n");
     json_techniques(f, r->techniques);
@@ -150,8 +151,9 @@ static void write_md(FILE *f, const void *what)
     const sam_truth_report *r = what;
     const sam_truth_report_step *final = &r->steps[r->step_count - 1];
     fprintf(f, "# sam_compare: %s\n\n", sam_path_basename(r->scene_path));
-    fprintf(f, "%ux%u, %u vertices, N = %u back-side samples per vertex, %s diffusion.\n\n", r->width, r->height,
-            r->vertex_count, r->samples_per_vertex, diffusion_names[r->diffusion]);
+    fprintf(f, "%ux%u, %u vertices, N = %u back-side samples per vertex (%s map), %s diffusion.\n\n", r->width,
+            r->height, r->vertex_count, r->samples_per_vertex, r->map && r->map[0] ? r->map : "unrecorded kind of",
+            diffusion_names[r->diffusion]);
     if (r->animated)
         fprintf(f, "Frame %ld of the animation at %g fps (t = %.4g s): the pose, the truth and every technique "
                    "at that time; the frames before it were played as `sam_render --animate` plays them (the "

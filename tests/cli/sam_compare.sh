@@ -59,6 +59,7 @@ assert sam["psnr_translucency_db"] > none["psnr_translucency_db"], (sam, none)
 assert t["thickness"]["psnr_translucency_db"] > none["psnr_translucency_db"], (t["thickness"], none)
 pts = r["samples_sweep"]["points"]
 assert [p["n"] for p in pts] == [1, 3, 6], pts
+assert r["map"] == "cut", r["map"]
 print("truth %d samples %.2f s; PSNR sam %s none %s transmittance %s thickness %s dB; sweep RMSE %s" % (
     truth["samples"], truth["seconds"], sam["psnr_db"], none["psnr_db"], t["transmittance"]["psnr_db"],
     t["thickness"]["psnr_db"], [round(p["rmse"], 3) for p in pts]))
@@ -149,6 +150,8 @@ expect_error "unknown technique" "$tmp/scene.json" -o "$tmp/x" --techniques sam,
 grep -q '"foo"' "$tmp/err.txt" && grep -q "thickness" "$tmp/err.txt" \
   || fail "unknown technique message: $(cat "$tmp/err.txt")"
 expect_error "bad sweep" "$tmp/scene.json" -o "$tmp/x" --samples-sweep 3,0
+"$bin/sam_compare" "$tmp/slab.obj" -o "$tmp/x" 2> "$tmp/err.txt" && fail "sam_compare took a bare mesh"
+grep -q "needs a scene.*--write-scene" "$tmp/err.txt" || fail "bare mesh: $(cat "$tmp/err.txt")"
 expect_error "bad tolerance" "$tmp/scene.json" -o "$tmp/x" --truth-tolerance 0.7
 expect_error "missing scene" "$tmp/nope.json" -o "$tmp/x"
 expect_error "no -o" "$tmp/scene.json"

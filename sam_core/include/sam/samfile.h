@@ -185,6 +185,7 @@ typedef struct samfile_info {
     char source_file[256];     /* "" when not recorded; cut to fit */
     char source_sha256[65];    /* 64 hex digits, or "" when not recorded */
     double build_seconds;      /* the build's wall time; 0 when not recorded */
+    char map[24];              /* the builder's kind of map ("cut", "flat", "flat-scaled"); "" when not recorded */
 } samfile_info;
 
 /*

@@ -30,6 +30,9 @@ sam_status samfile_info_read(const samfile_data *data, const char *name, samfile
         snprintf(out->source_file, sizeof out->source_file, "%s", file->valuestring);
     if (cJSON_IsString(sha))
         snprintf(out->source_sha256, sizeof out->source_sha256, "%s", sha->valuestring);
+    const cJSON *map = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(info, "builder"), "map");
+    if (cJSON_IsString(map))
+        snprintf(out->map, sizeof out->map, "%s", map->valuestring);
     sam_status st = SAM_OK;
     const cJSON *material = cJSON_GetObjectItemCaseSensitive(info, "material");
     if (material) {

@@ -45,9 +45,11 @@
  *                                      vertex order (a copy pass, or none
  *                                      when the orders agree)
  *     then the engine binds that buffer and adds T x albedo in its own
- *     shader. The runtime changes GL state (programs, buffer bindings,
- *     framebuffer for the shadow maps, viewport): the engine sets its own
- *     again before it draws.
+ *     shader. The runtime changes GL state and does not restore it
+ *     (program, VAO, buffer/texture/image bindings, active texture unit,
+ *     framebuffer and draw buffers, viewport, scissor, depth test, face
+ *     culling left off, clear colour; docs/embedding.md): the engine sets
+ *     what it relies on again before it draws.
  *
  * Results stay on the GPU between the steps; the read-back functions
  * (sam_runtime_read_*) exist for tests and tools and wait for the GPU.
@@ -518,7 +520,9 @@ sam_status sam_runtime_read_thickness_translucency(sam_runtime *rt, float *rgb, 
 /* GPU time of the last run of `pass` in milliseconds (GL timer queries),
  * or a negative value when it has not run or the driver's answer cannot be
  * right (longer than the wall time since the query began: llvmpipe's for
- * texture-space diffusion). Waits for the result. */
+ * texture-space diffusion). Waits for the result. llvmpipe's queries read
+ * about 0 for compute passes (irradiance without shadow maps, translucency,
+ * deform, walk, nodes): it times their dispatch, not their work. */
 double sam_runtime_pass_ms(sam_runtime *rt, sam_pass pass);
 
 /* ---- Embedding: an engine's own buffers in, a translucency buffer out.

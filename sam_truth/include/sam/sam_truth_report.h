@@ -79,6 +79,7 @@ typedef struct sam_truth_report {
     const char *scene_path;  /* the report names its base name */
     uint32_t width, height;  /* of the view */
     uint32_t vertex_count, samples_per_vertex;
+    const char *map;         /* the kind of map SAM was scored with ("cut", "flat", "flat-scaled"; "" unknown) */
     double build_seconds;    /* of the map */
     int diffusion;           /* the view's, 0..3: none, screen, preintegrated, texture */
     int animated;            /* 1: frame and fps are reported */
