@@ -28,7 +28,8 @@
  *        (or _render_texture)       technique into an image
  *
  *   At the end
- *     sam_runtime_destroy, then the context.
+ *     sam_runtime_destroy, then the context (the other way round, the
+ *     runtime's GL calls find no context: libepoxy aborts the process).
  *
  *   Inside an engine (docs/embedding.md): the engine draws with its own
  *   mesh and shaders and poses its vertices itself (skinning, morphs).
