@@ -23,15 +23,20 @@
 #define H 2
 
 /* A W x H RGBA image of colour (v, v, v) and alpha 1. */
-static void flat(sam_image *img, float v)
+static void flat_sized(sam_image *img, uint32_t w, uint32_t h, float v)
 {
     sam_error err;
-    assert_int_equal(sam_image_create(img, W, H, 4, &err), SAM_OK);
-    for (size_t i = 0; i < (size_t)W * H; ++i) {
+    assert_int_equal(sam_image_create(img, w, h, 4, &err), SAM_OK);
+    for (size_t i = 0; i < (size_t)w * h; ++i) {
         float *p = img->pixels + i * 4;
         p[0] = p[1] = p[2] = v;
         p[3] = 1;
     }
+}
+
+static void flat(sam_image *img, float v)
+{
+    flat_sized(img, W, H, v);
 }
 
 static char *slurp(const char *path)
@@ -241,8 +246,10 @@ static void test_write_images(void **state)
     sam_truth_report_technique t[SAM_TRUTH_REPORT_TECHNIQUES];
     memset(t, 0, sizeof t);
     sam_image full, translucency;
-    flat(&full, 0.5f);
-    flat(&translucency, 0.25f);
+    /* Wide enough for the rows' names. */
+    enum { RW = 64, RH = 32 };
+    flat_sized(&full, RW, RH, 0.5f);
+    flat_sized(&translucency, RW, RH, 0.25f);
     t[1].requested = t[1].available = 1;
     t[1].full = full;
     t[1].translucency = translucency;
@@ -260,8 +267,24 @@ static void test_write_images(void **state)
     sam_image_destroy(&img);
     snprintf(path, sizeof path, "%s/translucency_row.png", dir);
     assert_int_equal(sam_image_read_png(path, &img, SAM_PNG_LINEAR, &err), SAM_OK);
-    assert_int_equal(img.width, 2 * W);
-    assert_int_equal(img.height, H);
+    assert_int_equal(img.width, 2 * RW);
+    assert_int_equal(img.height, RH);
+    sam_image_destroy(&img);
+    /* Each panel is named in white on black at its top-left ("truth",
+     * "none"), and only there: the flat grey below is untouched. */
+    snprintf(path, sizeof path, "%s/row.png", dir);
+    assert_int_equal(sam_image_read_png(path, &img, SAM_PNG_LINEAR, &err), SAM_OK);
+    for (int panel = 0; panel < 2; ++panel) {
+        size_t white = 0, changed_below = 0;
+        for (uint32_t y = 0; y < img.height; ++y)
+            for (uint32_t x = (uint32_t)panel * RW; x < (uint32_t)(panel + 1) * RW; ++x) {
+                const float *p = img.pixels + ((size_t)y * img.width + x) * img.channels;
+                white += y < 24 && p[0] == 1.0f && p[1] == 1.0f && p[2] == 1.0f;
+                changed_below += y >= 24 && (p[0] == 1.0f || p[0] == 0.0f);
+            }
+        assert_true(white > 10);
+        assert_int_equal(changed_below, 0);
+    }
     sam_image_destroy(&img);
     const char *names[] = {"truth.exr", "truth_translucency.png", "none.exr", "none_translucency.exr", "row.png"};
     for (size_t i = 0; i < sizeof names / sizeof *names; ++i) {

@@ -144,16 +144,35 @@ static sam_status write_difference(const char *dir, const char *name, const sam_
     return st;
 }
 
+/* Each panel's name at its top-left corner, white on a black outline so
+ * that it reads on a lit object and on the background alike: which panel
+ * is which changes when a technique cannot run. */
+static void label_panels(sam_image *row, const sam_image *panels, const char *const *names, int count)
+{
+    static const float black[3] = {0, 0, 0}, white[3] = {1, 1, 1};
+    const int scale = row->height >= 360 ? 2 : 1;
+    for (int i = 0, x0 = 0; i < count; x0 += (int)panels[i++].width) {
+        if (sam_image_text_width(names[i], scale) + 8 > (int)panels[i].width)
+            continue; /* a panel too narrow for its name goes without */
+        for (int d = 0; d < 9; ++d)
+            if (d != 4)
+                sam_image_draw_text(row, x0 + 4 + d % 3 - 1, 4 + d / 3 - 1, scale, black, names[i]);
+        sam_image_draw_text(row, x0 + 4, 4, scale, white, names[i]);
+    }
+}
+
 /* row.png and translucency_row.png: the `count` display and normalised
- * images side by side. */
-static sam_status write_rows(const char *dir, const sam_image *shown, const sam_image *norm, int count,
-                             sam_error *err)
+ * images side by side, each named. */
+static sam_status write_rows(const char *dir, const sam_image *shown, const sam_image *norm,
+                             const char *const *names, int count, sam_error *err)
 {
     sam_image row = {0}, row_t = {0};
     sam_status st = sam_image_row(shown, (uint32_t)count, &row, err);
     if (st == SAM_OK)
         st = sam_image_row(norm, (uint32_t)count, &row_t, err);
     if (st == SAM_OK) {
+        label_panels(&row, shown, names, count);
+        label_panels(&row_t, norm, names, count);
         char path[4096];
         st = sam_truth_report_path(path, sizeof path, dir, "row.png", err);
         if (st == SAM_OK)
@@ -181,6 +200,7 @@ sam_status sam_truth_report_write_images(const char *dir, sam_truth_report_techn
     sam_status st = write_pair(dir, "truth", truth_full, &shown[0], err);
     if (st == SAM_OK)
         st = write_pair(dir, "truth_translucency", truth_translucency, &norm[0], err);
+    const char *names[SAM_TRUTH_REPORT_TECHNIQUES + 1] = {"truth"};
     int count = 1;
     for (int t = 0; t < SAM_TRUTH_REPORT_TECHNIQUES && st == SAM_OK; ++t) {
         sam_truth_report_technique *r = &techniques[t];
@@ -188,7 +208,7 @@ sam_status sam_truth_report_write_images(const char *dir, sam_truth_report_techn
             continue;
         char name[128];
         sam_image *a = &shown[count], *b = &norm[count];
-        ++count;
+        names[count++] = sam_truth_report_technique_name(t);
         st = sam_truth_report_score(ref, &r->full, &r->translucency, &r->all, &r->normalised, a, b, err);
         if (st == SAM_OK)
             st = write_pair(dir, sam_truth_report_technique_name(t), &r->full, a, err);
@@ -203,7 +223,7 @@ sam_status sam_truth_report_write_images(const char *dir, sam_truth_report_techn
             st = write_difference(dir, name, b, &norm[0], err);
     }
     if (st == SAM_OK)
-        st = write_rows(dir, shown, norm, count, err);
+        st = write_rows(dir, shown, norm, names, count, err);
     for (int i = 1; i <= SAM_TRUTH_REPORT_TECHNIQUES; ++i) {
         sam_image_destroy(&shown[i]);
         sam_image_destroy(&norm[i]);
