@@ -154,7 +154,8 @@ static void test_write_report(void **state)
                                      .vertex_count = 1234, .samples_per_vertex = 3, .map = "flat", .build_seconds = 2.0,
                                      .diffusion = 3, .animated = 1, .frame = 15, .fps = 30, .truth_tolerance = 0.01f,
                                      .techniques = t, .self = &self, .steps = steps, .step_count = 2,
-                                     .converged = 0, .truth_max = 0.75f, .space = "atlas texel", .sweep = sweep,
+                                     .converged = 0, .truth_max = 0.75f, .translucency_share = 0.004,
+                                     .space = "atlas texel", .sweep = sweep,
                                      .sweep_count = 2, .monotonic = 1};
     sam_error err;
     assert_int_equal(sam_truth_report_write(dir, &report, &err), SAM_OK);
@@ -168,6 +169,7 @@ static void test_write_report(void **state)
         "\"diffusion\": \"texture\"",
         "\"map\": \"flat\"",
         "\"truth\": {\"samples\": 8192, \"seconds\": 3.000, \"space\": \"atlas texel\"",
+        "\"translucency_share\": 0.004,",
         "\"converged\": false",
         "\"sam_psnr_translucency_db\": null}",
         "\"self_psnr_db\": null",
@@ -196,6 +198,8 @@ static void test_write_report(void **state)
         "| 3 | 0.50 | 4.0000 | 5.0000 | 6.0000 | 7.0000 | 3.5000 | 4.2500 |",
         "flat map RMSE",
         "flat-scaled translucency RMSE",
+        "The truth's translucency is 0.4% of its light: the translucency scores judge a part of the picture "
+        "hardly seen.",
     };
     assert_all(md, md_has, sizeof md_has / sizeof *md_has);
     /* A folder that holds a report is refused unless forced. */

@@ -352,6 +352,16 @@ static sam_status write_pose(compare_state *s, const truth_result *truth, const 
     memset(&self, 0, sizeof self);
     sam_truth_report_sweep_point sweep[SAM_COMPARISON_MAX_SWEEP];
     float truth_max = sam_truth_report_max_value(&truth->translucency);
+    /* How much of the picture the translucency scores judge: on a thick
+     * object they can differ by 10 dB between techniques whose pictures
+     * do not differ visibly. */
+    double light = 0, through = 0;
+    for (size_t i = 0; i < (size_t)truth->full.width * truth->full.height; ++i)
+        for (uint32_t c = 0; c < 3; ++c) {
+            light += truth->full.pixels[i * truth->full.channels + c];
+            through += truth->translucency.pixels[i * truth->translucency.channels + c];
+        }
+    const double share = light > 0 ? through / light : 0.0;
     if (!(truth_max > 0)) {
         say(s, "warning: the ground truth has no translucency in view; normalised scores use 1");
         truth_max = 1.0f;
@@ -393,7 +403,7 @@ static sam_status write_pose(compare_state *s, const truth_result *truth, const 
         .build_seconds = s->build_seconds, .diffusion = (int)s->view.diffusion, .animated = s->animated,
         .frame = s->frame, .fps = set->fps, .truth_tolerance = set->truth_tolerance, .techniques = s->results,
         .self = &self, .steps = truth->steps, .step_count = truth->step_count, .converged = truth->converged,
-        .truth_max = truth_max, .space = space, .sweep = sweep, .sweep_count = set->sweep_count,
+        .truth_max = truth_max, .translucency_share = share, .space = space, .sweep = sweep, .sweep_count = set->sweep_count,
         .monotonic = monotonic};
     if ((st = sam_truth_report_write(s->dir, &report, err)) != SAM_OK)
         goto done;

@@ -38,9 +38,9 @@ static void json_truth(FILE *f, const sam_truth_report *r)
 {
     const sam_truth_report_step *final = &r->steps[r->step_count - 1];
     fprintf(f, "  \"truth\": {\"samples\": %llu, \"seconds\": %.3f, \"space\": \"%s\", \"translucency_max\": %.6g, "
-               "\"far_field_tolerance\": %g, \"converged\": %s, \"convergence\": [",
+               "\"translucency_share\": %.4g, \"far_field_tolerance\": %g, \"converged\": %s, \"convergence\": [",
             (unsigned long long)final->samples, final->seconds, r->space, (double)r->truth_max,
-            (double)r->truth_tolerance, r->converged ? "true" : "false");
+            r->translucency_share, (double)r->truth_tolerance, r->converged ? "true" : "false");
     for (int i = 0; i < r->step_count; ++i) {
         fprintf(f, "%s{\"samples\": %llu, \"seconds\": %.3f, \"sam_psnr_db\": ", i ? ", " : "",
                 (unsigned long long)r->steps[i].samples, r->steps[i].seconds);
@@ -174,8 +174,9 @@ static void write_md(FILE *f, const void *what)
             SAM_TRUTH_REPORT_CONVERGED_DB);
     fprintf(f, "\nPSNR on tonemapped 8-bit sRGB over the object's pixels; \"differing\" counts only pixels that "
                "differ from the truth (the paper's Fig. 11); translucency images are normalised by the truth's "
-               "maximum (%.4g).\n\n",
-            (double)r->truth_max);
+               "maximum (%.4g). The truth's translucency is %.3g%% of its light%s.\n\n",
+            (double)r->truth_max, 100.0 * r->translucency_share,
+            r->translucency_share < 0.01 ? ": the translucency scores judge a part of the picture hardly seen" : "");
     md_techniques(f, r->techniques);
     if (r->sweep_count) {
         const int flat = r->sweep[0].has_flat;

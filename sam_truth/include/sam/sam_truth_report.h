@@ -91,6 +91,7 @@ typedef struct sam_truth_report {
     const sam_truth_report_step *steps;           /* step_count >= 1; the last is the truth used */
     int step_count, converged;
     float truth_max;         /* the truth's translucency maximum the normalised images use */
+    double translucency_share; /* the truth's translucency over all its light (sums of RGB over the picture) */
     const char *space;       /* where the truth was evaluated: "pixel" or "atlas texel" */
     const sam_truth_report_sweep_point *sweep;    /* sweep_count; NULL when 0 */
     int sweep_count, monotonic;
