@@ -282,6 +282,18 @@ sam_status sam_app_stage_scene(const char *mesh_path, const char *material, cons
     note(notes, "material: %s%s", mat, material ? "" : " (not given)");
     if ((st = parse_bare(mesh_path, mat, 0, mm_per_unit, options, scene, err)) == SAM_OK)
         st = place(&ms, options->angle_deg, scene, notes, err);
+    /* The renderer takes the texture the file names (sam_runtime_scene_setup):
+     * say which, as every assumption is said. One that cannot be used is its
+     * warning. */
+    sam_image albedo;
+    char texture[600];
+    sam_error albedo_err;
+    if (st == SAM_OK && sam_mesh_load_albedo(mesh_path, &albedo, texture, sizeof texture, &albedo_err) == SAM_OK &&
+        albedo.pixels)
+        note(notes, "albedo map: %s, %ux%u, times the albedo (a scene's \"albedo_map\" replaces it)", texture,
+             albedo.width, albedo.height);
+    if (st == SAM_OK)
+        sam_image_destroy(&albedo);
 done:
     free(ms.thin);
     sam_mesh_destroy(&mesh);

@@ -57,7 +57,7 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
         char note[600];
         if ((st = sam_mesh_load_albedo(scene->mesh_path, &map, note, sizeof note, err)) != SAM_OK)
             return st;
-        if (note[0])
+        if (note[0] && !map.pixels)
             set_warning(warning, n, note);
         source = scene->mesh_path;
     }

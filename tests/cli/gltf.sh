@@ -30,6 +30,11 @@ render ear.obj obj
 render ear.glb glb
 render ear.gltf gltf
 render plain.obj plain
+grep -q "albedo map: .*checker.png (map_Kd of .*ear.obj), 64x64" "$tmp/obj.txt" \
+  || fail "the OBJ's texture is not named: $(cat "$tmp/obj.txt")"
+grep -q "albedo map: the base colour texture of .*ear.glb" "$tmp/glb.txt" \
+  || fail "the GLB's texture is not named: $(cat "$tmp/glb.txt")"
+grep -q "albedo map" "$tmp/plain.txt" && fail "an untextured OBJ named a texture: $(cat "$tmp/plain.txt")"
 same=$(png psnr "$tmp/obj.png" "$tmp/glb.png")
 echo "OBJ against GLB: $same dB; GLB against glTF: $(png psnr "$tmp/glb.png" "$tmp/gltf.png") dB;" \
   "textured against plain OBJ: $(png psnr "$tmp/obj.png" "$tmp/plain.png") dB"

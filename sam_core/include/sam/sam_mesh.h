@@ -121,9 +121,11 @@ sam_status sam_mesh_create(const sam_mesh_input *input, sam_mesh *mesh, sam_mesh
 /* The albedo texture a mesh file brings along: an OBJ's first used
  * material's map_Kd (through its mtllib; PNG, JPEG or TGA), or a glTF's
  * first base-colour texture times its baseColorFactor. A linear image in
- * `image` (caller destroys; zeroed when the file brings none). A texture
- * the file names but that cannot be used is no error: `note` (note_size
- * bytes, > 0) then says why, for a warning, and is "" otherwise.
+ * `image` (caller destroys; zeroed when the file brings none). `note`
+ * (note_size bytes, > 0) names the texture when `image` holds one (for the
+ * tools' list of what they assumed); a texture the file names but that
+ * cannot be used is no error: `image` is then empty and `note` says why,
+ * for a warning; "" when the file names none.
  * Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_IO (the mesh file cannot be
  * read), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, size_t note_size, sam_error *err);

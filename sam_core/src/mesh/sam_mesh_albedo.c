@@ -115,6 +115,8 @@ sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, 
         for (size_t i = 0; image->pixels && i < (size_t)image->width * image->height; ++i)
             for (uint32_t c = 0; c < 3; ++c)
                 image->pixels[i * image->channels + c] *= factor[c];
+        if (image->pixels)
+            snprintf(note, note_size, "the base colour texture of %s", path);
         return SAM_OK;
     }
     if (!sam_path_has_extension(path, ".obj"))
@@ -126,5 +128,7 @@ sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, 
     sam_error read_err;
     if (sam_image_read_picture(texture, image, SAM_PNG_SRGB, &read_err) != SAM_OK)
         snprintf(note, note_size, "%s: the texture it names cannot be used: %s", path, read_err.message);
+    else
+        snprintf(note, note_size, "%s (map_Kd of %s)", texture, path);
     return SAM_OK;
 }
