@@ -198,8 +198,8 @@ static void test_write_report(void **state)
         "| 3 | 0.50 | 4.0000 | 5.0000 | 6.0000 | 7.0000 | 3.5000 | 4.2500 |",
         "flat map RMSE",
         "flat-scaled translucency RMSE",
-        "The truth's translucency is 0.4% of its light: the translucency scores judge a part of the picture "
-        "hardly seen.",
+        ("The truth's translucency is 0.4% of its light: the translucency scores judge a part of the picture "
+         "hardly seen."),
     };
     assert_all(md, md_has, sizeof md_has / sizeof *md_has);
     /* A folder that holds a report is refused unless forced. */
