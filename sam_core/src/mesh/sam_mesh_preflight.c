@@ -625,42 +625,6 @@ static void note_distinct(unsigned long long v, unsigned long long *seen, int *n
         seen[(*n)++] = v;
 }
 
-/* The per-corner normals being gathered; `ok` falls to 0 (and the arrays
- * are let go) at the first kept face without them. */
-typedef struct obj_normals {
-    int ok;
-    size_t normal_cap, vertex_cap, corner_cap, face_cap;
-    uint32_t corner_count, face_count;
-} obj_normals;
-
-/* Makes room for `need` elements of `size` bytes in *buf. 0 when out of memory. */
-static int reserve(void **buf, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return 1;
-    size_t grown = *cap ? 2 * *cap : 256;
-    while (grown < need)
-        grown *= 2;
-    void *p = realloc(*buf, grown * size);
-    if (!p)
-        return 0;
-    *buf = p;
-    *cap = grown;
-    return 1;
-}
-
-static void drop_obj_normals(sam_mesh_expect *e, obj_normals *g)
-{
-    free(e->obj_normals);
-    free(e->obj_face_offsets);
-    free(e->obj_corner_vertex);
-    free(e->obj_corner_normal);
-    e->obj_normals = NULL;
-    e->obj_face_offsets = e->obj_corner_vertex = e->obj_corner_normal = NULL;
-    e->obj_normal_count = 0;
-    g->ok = 0;
-}
-
 /* A token token_number accepted, as the float the reader stores. */
 static float token_float(const char *tok, int len)
 {
@@ -668,13 +632,6 @@ static float token_float(const char *tok, int len)
     memcpy(buf, tok, (size_t)len);
     buf[len] = 0;
     return strtof(buf, NULL);
-}
-
-void sam_mesh_expect_free(sam_mesh_expect *expect)
-{
-    obj_normals unused;
-    if (expect)
-        drop_obj_normals(expect, &unused);
 }
 
 static sam_status preflight_obj(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
@@ -686,7 +643,7 @@ static sam_status preflight_obj(const char *path, const char *data, size_t size,
     text_cursor c = {data, data + size, 0};
     const char *line, *eol;
     unsigned long long nv = 0, nt = 0, nn = 0;
-    obj_normals g = {1, 0, 0, 0, 0, 0, 0};
+    sam_mesh_obj_gather g = {1, 0, 0, 0, 0, 0, 0};
     while (next_line(&c, &line, &eol)) {
         const char *tok[16];
         int len[16];
@@ -711,13 +668,11 @@ static sam_status preflight_obj(const char *path, const char *data, size_t size,
                     return sam_fail(err, SAM_ERR_FORMAT, "%s: OBJ line %d: \"%.*s\" %s", path, c.line_no,
                                     len[i] < 40 ? len[i] : 40, tok[i], kind < 0 ? NOT_A_FLOAT : "is not a valid number");
             }
-            if (counter == &nn && g.ok) {
-                if (nn >= UINT32_MAX || !reserve((void **)&expect->obj_normals, &g.normal_cap, 3 * (size_t)(nn + 1),
-                                                 sizeof *expect->obj_normals))
+            if (counter == &nn) {
+                const float v[3] = {token_float(tok[1], len[1]), token_float(tok[2], len[2]),
+                                    token_float(tok[3], len[3])};
+                if (!sam_mesh_obj_gather_normal(expect, &g, nn, v))
                     return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's normals", path);
-                for (int i = 0; i < 3; ++i)
-                    expect->obj_normals[3 * nn + (size_t)i] = token_float(tok[1 + i], len[1 + i]);
-                expect->obj_normal_count = (uint32_t)(nn + 1);
             }
             (*counter)++;
             continue;
@@ -752,18 +707,8 @@ static sam_status preflight_obj(const char *path, const char *data, size_t size,
                 (parts == 3 && !obj_index_ok(part[2], plen[2], nn, &normal)) || (parts == 2 && !plen[1]))
                 goto bad_corner;
             note_distinct(vertex, seen, &distinct);
-            if (g.ok && parts < 3) {
-                drop_obj_normals(expect, &g);
-            } else if (g.ok) {
-                /* Staged past the kept faces' corners until the face is known to be kept. */
-                const size_t at = (size_t)g.corner_count + (size_t)corner;
-                if (at >= UINT32_MAX ||
-                    !reserve((void **)&expect->obj_corner_vertex, &g.vertex_cap, at + 1, sizeof(uint32_t)) ||
-                    !reserve((void **)&expect->obj_corner_normal, &g.corner_cap, at + 1, sizeof(uint32_t)))
-                    return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's corners", path);
-                expect->obj_corner_vertex[at] = (uint32_t)vertex;
-                expect->obj_corner_normal[at] = (uint32_t)normal;
-            }
+            if (!sam_mesh_obj_gather_corner(expect, &g, (uint32_t)corner, vertex, parts == 3, normal))
+                return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's corners", path);
             corner++;
             continue;
         bad_corner:
@@ -775,17 +720,10 @@ static sam_status preflight_obj(const char *path, const char *data, size_t size,
         expect->file_faces++;
         if (distinct < 3 && expect->repeated_corner_faces++ == 0)
             expect->first_repeated_line = c.line_no;
-        if (g.ok && distinct >= 3) {
-            if (!reserve((void **)&expect->obj_face_offsets, &g.face_cap, (size_t)g.face_count + 2,
-                         sizeof *expect->obj_face_offsets))
-                return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's corners", path);
-            expect->obj_face_offsets[0] = 0;
-            g.corner_count += (uint32_t)corner;
-            expect->obj_face_offsets[++g.face_count] = g.corner_count;
-        }
+        if (distinct >= 3 && !sam_mesh_obj_gather_face(expect, &g, (uint32_t)corner))
+            return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's corners", path);
     }
-    if (g.ok && (g.face_count == 0 || !expect->obj_normals))
-        drop_obj_normals(expect, &g);
+    sam_mesh_obj_gather_finish(expect, &g);
     expect->known = 1;
     expect->vertices = nv;
     expect->faces = expect->file_faces - expect->repeated_corner_faces;
@@ -873,31 +811,4 @@ sam_status sam_mesh_preflight(const char *path, sam_mesh_expect *expect, sam_err
     }
     free(data);
     return st;
-}
-
-sam_status sam_mesh_expect_corner_normals(const sam_mesh_expect *expect, const sam_mesh_soup *soup, float **out,
-                                          sam_error *err)
-{
-    *out = NULL;
-    if (!expect->obj_face_offsets || soup->face_count != expect->faces)
-        return SAM_OK;
-    float *n = malloc(3 * (size_t)(soup->corner_count ? soup->corner_count : 1) * sizeof *n);
-    if (!n)
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory for %u corner normals", soup->corner_count);
-    for (uint32_t f = 0; f < soup->face_count; ++f) {
-        const uint32_t first = expect->obj_face_offsets[f], end = expect->obj_face_offsets[f + 1];
-        for (uint32_t c = soup->face_offsets[f]; c < soup->face_offsets[f + 1]; ++c) {
-            uint32_t k = first;
-            while (k < end && expect->obj_corner_vertex[k] != soup->corners[c])
-                k++;
-            if (k == end) {
-                free(n);
-                return SAM_OK; /* not the file's face: OpenMesh changed it */
-            }
-            memcpy(n + 3 * (size_t)c, expect->obj_normals + 3 * (size_t)expect->obj_corner_normal[k],
-                   3 * sizeof *n);
-        }
-    }
-    *out = n;
-    return SAM_OK;
 }

@@ -79,6 +79,28 @@ typedef struct sam_mesh_expect {
 
 void sam_mesh_expect_free(sam_mesh_expect *expect);
 
+/* The pre-check's gathering of an OBJ's per-corner normals into `expect`
+ * (sam_mesh_obj_normals.c), in the order it reads the file:
+ *   sam_mesh_obj_gather g = {1};   (ok, nothing gathered)
+ *   for each vn line:            sam_mesh_obj_gather_normal(e, &g, its 0-based index, its value)
+ *   for each face corner:        sam_mesh_obj_gather_corner(e, &g, its place in the face, its 0-based
+ *                                vertex, whether it names a normal, the normal's 0-based index)
+ *   after a face the reader keeps (3 or more distinct corners):
+ *                                sam_mesh_obj_gather_face(e, &g, its corner count)
+ *   at the end:                  sam_mesh_obj_gather_finish(e, &g)
+ * A corner without a normal lets everything go (the mesh keeps its vertex
+ * normals). Each returns 0 when out of memory (then free `expect`). */
+typedef struct sam_mesh_obj_gather {
+    int ok;
+    size_t normal_cap, vertex_cap, corner_cap, face_cap;
+    uint32_t corner_count, face_count;
+} sam_mesh_obj_gather;
+int sam_mesh_obj_gather_normal(sam_mesh_expect *e, sam_mesh_obj_gather *g, uint64_t index, const float v[3]);
+int sam_mesh_obj_gather_corner(sam_mesh_expect *e, sam_mesh_obj_gather *g, uint32_t corner, uint64_t vertex,
+                               int has_normal, uint64_t normal);
+int sam_mesh_obj_gather_face(sam_mesh_expect *e, sam_mesh_obj_gather *g, uint32_t corners);
+void sam_mesh_obj_gather_finish(sam_mesh_expect *e, sam_mesh_obj_gather *g);
+
 /* The file's normal at every corner of `soup` (read from the file that
  * filled `expect`), 3 * corner_count floats into *out (caller frees), the
  * normal of the first corner of the file's face at the same position.
