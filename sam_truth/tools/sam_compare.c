@@ -16,6 +16,7 @@
 
 #include "sam/sam_args.h"
 #include "sam/sam_comparison.h"
+#include "sam/sam_mesh.h"
 
 #define TOOL "sam_compare"
 /* --frames: the last frame it plays to. */
@@ -209,14 +210,12 @@ int main(int argc, char **argv)
         return r == SAM_ARGS_EXIT ? 0 : 2;
     sam_scene scene;
     sam_error err;
-    static const char *const meshes[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb"};
-    for (size_t i = 0; i < sizeof meshes / sizeof *meshes; ++i)
-        if (sam_path_has_extension(o.scene_path, meshes[i])) {
-            say("%s is a mesh; sam_compare needs a scene (lights, camera, scale): stage one with sam_render %s "
-                "-o preview.png --write-scene SCENE.json and compare that",
-                o.scene_path, o.scene_path);
-            return 1;
-        }
+    if (sam_mesh_is_mesh_path(o.scene_path)) {
+        say("%s is a mesh; sam_compare needs a scene (lights, camera, scale): stage one with sam_render %s "
+            "-o preview.png --write-scene SCENE.json and compare that",
+            o.scene_path, o.scene_path);
+        return 1;
+    }
     if (sam_scene_load(o.scene_path, &scene, &err) != SAM_OK) {
         say("%s", err.message);
         return 1;

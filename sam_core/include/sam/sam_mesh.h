@@ -130,6 +130,10 @@ sam_status sam_mesh_create(const sam_mesh_input *input, sam_mesh *mesh, sam_mesh
  * read), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, size_t note_size, sam_error *err);
 
+/* 1 when `path` ends in an extension sam_mesh_load reads (.obj, .ply,
+ * .off, .stl, .gltf, .glb; case-insensitive), else 0. */
+int sam_mesh_is_mesh_path(const char *path);
+
 /* Frees everything a mesh owns and zeroes it. Safe on a zeroed mesh. */
 void sam_mesh_destroy(sam_mesh *mesh);
 

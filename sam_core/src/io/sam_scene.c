@@ -8,6 +8,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "sam_scene_internal.h"
 
+#include "sam/sam_mesh.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -291,15 +293,6 @@ static sam_status parse_texture_space(const sam_scene_parser *p, const cJSON *it
     return SAM_OK;
 }
 
-static int is_mesh_path(const char *path)
-{
-    static const char *const extensions[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb"};
-    for (size_t i = 0; i < COUNT_OF(extensions); ++i)
-        if (sam_path_has_extension(path, extensions[i]))
-            return 1;
-    return 0;
-}
-
 static sam_status parse_root(const sam_scene_parser *p, const cJSON *root, sam_scene *scene)
 {
     static const char *const keys[] = {"mesh",         "sam",        "material",  "scale",
@@ -324,14 +317,14 @@ static sam_status parse_root(const sam_scene_parser *p, const cJSON *root, sam_s
         return st;
     /* Each key's file goes to its own reader: say so here, where sam_info
      * sees it too, not when the wrong reader fails. */
-    if (mesh && !is_mesh_path(scene->mesh_path))
+    if (mesh && !sam_mesh_is_mesh_path(scene->mesh_path))
         return sam_json_fail(&p->json, SAM_ERR_FORMAT, "mesh", "%s is %s", scene->mesh_path,
                              sam_path_has_extension(scene->mesh_path, ".sam")
                                  ? "a .sam map; give it as \"sam\""
                                  : "not a mesh file (.obj, .ply, .off, .stl, .gltf or .glb)");
     if (sam && !sam_path_has_extension(scene->sam_path, ".sam"))
         return sam_json_fail(&p->json, SAM_ERR_FORMAT, "sam", "%s is not a .sam map%s", scene->sam_path,
-                             is_mesh_path(scene->sam_path) ? "; give a mesh as \"mesh\"" : "");
+                             sam_mesh_is_mesh_path(scene->sam_path) ? "; give a mesh as \"mesh\"" : "");
 
     const cJSON *v;
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "material"))) {

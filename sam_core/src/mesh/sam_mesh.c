@@ -16,6 +16,15 @@ static sam_status finish(sam_status st, sam_mesh *mesh, sam_mesh_report *report,
     return st;
 }
 
+int sam_mesh_is_mesh_path(const char *path)
+{
+    static const char *const extensions[] = {".obj", ".ply", ".off", ".stl", ".gltf", ".glb"};
+    for (size_t i = 0; i < sizeof extensions / sizeof *extensions; ++i)
+        if (sam_path_has_extension(path, extensions[i]))
+            return 1;
+    return 0;
+}
+
 sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *report, sam_error *err)
 {
     sam_mesh_report rep;
