@@ -773,7 +773,7 @@ static const error_case error_cases[] = {
     {"{\"sam\": 5}", SAM_ERR_FORMAT, "scene.json: sam: expected a non-empty string, found 5"},
     {"{\"sam\": \"\"}", SAM_ERR_FORMAT, "scene.json: sam: expected a non-empty string, found \"\""},
     {"{\"mesh\": \"head.obj\", \"scale\": {\"size_mm\": 1}}", SAM_ERR_FORMAT,
-     "scene.json: material: missing (required with \"mesh\")"},
+     "scene.json: material: missing (required with \"mesh\" unless \"sam\" names its map)"},
     {"{\"mesh\": \"head.obj\", \"material\": \"skin\"}", SAM_ERR_FORMAT,
      "scene.json: scale: missing (required with \"mesh\""},
     {"{\"sam\": \"head.sam\", \"scale\": {\"size_mm\": 1, \"mm_per_unit\": 1}}", SAM_ERR_FORMAT,
@@ -1114,7 +1114,7 @@ static void test_load_errors_and_relative_paths(void **state)
 }
 
 /* "mesh" with "sam": the .sam is that mesh's prebuilt map; both paths
- * are kept (and written back), material and scale stay required. */
+ * are kept, and the material and scale may come from the map. */
 static void test_mesh_with_prebuilt_sam(void **state)
 {
     (void)state;
@@ -1127,8 +1127,11 @@ static void test_mesh_with_prebuilt_sam(void **state)
     assert_non_null(s.mesh_path);
     assert_non_null(s.sam_path);
     sam_scene_destroy(&s);
-    assert_int_equal(parse("{\"mesh\": \"head.obj\", \"sam\": \"head.sam\"}", &s, &err), SAM_ERR_FORMAT);
-    assert_non_null(strstr(err.message, "material: missing"));
+    /* The map records its material and scale, so the scene may leave them out. */
+    assert_int_equal(parse("{\"mesh\": \"head.obj\", \"sam\": \"head.sam\"}", &s, &err), SAM_OK);
+    assert_null(s.material);
+    assert_int_equal(s.scale_kind, SAM_SCALE_FROM_SAM);
+    sam_scene_destroy(&s);
 }
 
 /* "thickness" names the local-thickness technique, and a written scene

@@ -64,18 +64,23 @@ print("truth %d samples %.2f s; PSNR sam %s none %s transmittance %s thickness %
     truth["samples"], truth["seconds"], sam["psnr_db"], none["psnr_db"], t["transmittance"]["psnr_db"],
     t["thickness"]["psnr_db"], [round(p["rmse"], 3) for p in pts]))
 PY
-# A scene that names a prebuilt map beside its mesh: the sweep still builds
-# each N from the mesh (it used to score the prebuilt map every time).
+# A scene that names a prebuilt map beside its mesh, leaving the material
+# and scale to the map's INFO: the sweep still builds each N from the mesh
+# (it used to score the prebuilt map every time), in the map's material and
+# scale, so it scores as the mesh scene's sweep did.
 "$bin/sam_build" "$tmp/slab.obj" -o "$tmp/slab.sam" --material skin --mm-per-unit 40 --quiet 2> /dev/null \
   || fail "sam_build slab"
-sed 's/^{"mesh": "slab.obj",/{"mesh": "slab.obj", "sam": "slab.sam",/' "$tmp/scene.json" > "$tmp/prebuilt.json"
+sed 's/^{"mesh": "slab.obj",.*$/{"mesh": "slab.obj", "sam": "slab.sam",/' "$tmp/scene.json" > "$tmp/prebuilt.json"
+grep -q '"material"' "$tmp/prebuilt.json" && fail "the prebuilt scene still names a material"
 grep -q slab.sam "$tmp/prebuilt.json" || fail "the prebuilt scene names no map"
 "$bin/sam_compare" "$tmp/prebuilt.json" -o "$tmp/prebuilt" --techniques sam --samples-sweep 1,6 \
   2> "$tmp/prebuilt_log.txt" || fail "sam_compare with a prebuilt map: $(cat "$tmp/prebuilt_log.txt")"
-python3 - "$tmp/prebuilt/report.json" <<'PY' || fail "the sweep of a scene with a prebuilt map scored one map"
+python3 - "$tmp/prebuilt/report.json" "$tmp/out/report.json" <<'PY' || fail "the sweep of a scene with a prebuilt map"
 import json, sys
 pts = json.load(open(sys.argv[1]))["samples_sweep"]["points"]
 assert [p["n"] for p in pts] == [1, 6] and pts[0]["rmse"] != pts[1]["rmse"], pts
+mesh = {p["n"]: p["rmse"] for p in json.load(open(sys.argv[2]))["samples_sweep"]["points"]}
+assert all(abs(p["rmse"] - mesh[p["n"]]) <= 1e-6 * max(1.0, mesh[p["n"]]) for p in pts), (pts, mesh)
 PY
 # An animated scene: the slab bends up (period 0.8 s) and --frames 0,2 at 10 fps compares the rest pose and
 # the full bend (t = 0.2 s), each against a truth of its own pose, in frame_0000/ and frame_0002/.

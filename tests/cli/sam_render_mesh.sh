@@ -39,6 +39,20 @@ grep -q "building the map" "$tmp/again.txt" && fail "the saved scene built the m
 grep -q "^sam_render: size: 70 mm across (given)" "$tmp/given.txt" || fail "given size: $(cat "$tmp/given.txt")"
 grep -q "building the map" "$tmp/given.txt" || fail "another scale read the cached map"
 head -c 4 "$tmp/given.exr" | od -An -tx1 | grep -q "76 2f 31 01" || fail "-o given.exr is not an EXR"
+# A scene naming its prebuilt map takes the material from the map, and "size_mm" against the map's own
+# positions: the picture of the mesh's scene, and another one at twice the size (it was ignored).
+"$bin/sam_build" "$tmp/ear.obj" -o "$tmp/ear70.sam" --material marble --size-mm 70 --quiet 2>/dev/null \
+  || fail "sam_build ear70"
+for k in mesh:70 sam:70 sam:140; do
+  if [ "${k%%:*}" = mesh ]; then what='"material": "marble"'; else what='"sam": "ear70.sam"'; fi
+  printf '{"mesh": "ear.obj", %s, "scale": {"size_mm": %s}, "resolution": [48, 36],
+           "lights": [{"type": "point", "position": [0, 0, -2]}]}' "$what" "${k#*:}" > "$tmp/pre.json"
+  "$bin/sam_render" "$tmp/pre.json" -o "$tmp/pre_${k/:/_}.png" --exposure 0 "${cache[@]}" 2> "$tmp/pre.txt" \
+    || fail "prebuilt scene $k: $(cat "$tmp/pre.txt")"
+done
+[ "$(png differ "$tmp/pre_mesh_70.png" "$tmp/pre_sam_70.png")" = 0 ] \
+  || fail "the prebuilt map renders another picture than its mesh's scene"
+[ "$(png differ "$tmp/pre_sam_70.png" "$tmp/pre_sam_140.png")" = 0 ] && fail "size_mm was ignored with a prebuilt map"
 # The thin parts glow: with sam, at the same exposure, a part of the picture is clearly brighter than with none.
 for t in sam none; do
   "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/$t.png" --technique $t --exposure 0 --size-mm 70 --size 96x72 \

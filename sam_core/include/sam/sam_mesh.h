@@ -137,7 +137,9 @@ int sam_mesh_is_mesh_path(const char *path);
 /* Frees everything a mesh owns and zeroes it. Safe on a zeroed mesh. */
 void sam_mesh_destroy(sam_mesh *mesh);
 
-/* Axis-aligned bounds of the render positions (model units). */
+/* Axis-aligned bounds of the render positions (model units). Both this and
+ * sam_mesh_diagonal read only `positions` and `vertex_count`, so a mesh
+ * struct holding just those (a map's positions, say) may be passed. */
 void sam_mesh_bounds(const sam_mesh *mesh, float min[3], float max[3]);
 
 /* Length of the bounds' diagonal (model units), which --size-mm and the

@@ -330,16 +330,17 @@ static sam_status parse_root(const sam_scene_parser *p, const cJSON *root, sam_s
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "material"))) {
         if ((st = parse_material(p, v, scene)) != SAM_OK)
             return st;
-    } else if (mesh) {
-        return sam_json_fail(&p->json, SAM_ERR_FORMAT, "material", "missing (required with \"mesh\")");
+    } else if (mesh && !sam) {
+        return sam_json_fail(&p->json, SAM_ERR_FORMAT, "material",
+                             "missing (required with \"mesh\" unless \"sam\" names its map)");
     }
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "scale"))) {
         if ((st = parse_scale(p, v, scene)) != SAM_OK)
             return st;
-    } else if (mesh) {
+    } else if (mesh && !sam) {
         return sam_json_fail(&p->json, SAM_ERR_FORMAT, "scale",
-                             "missing (required with \"mesh\": {\"mm_per_unit\": x} or "
-                             "{\"size_mm\": x})");
+                             "missing (required with \"mesh\" unless \"sam\" names its map: "
+                             "{\"mm_per_unit\": x} or {\"size_mm\": x})");
     }
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "albedo"))) {
         if ((st = sam_json_vec3(&p->json, v, "albedo", 1, scene->albedo)) != SAM_OK)
