@@ -147,6 +147,24 @@ static void expect_default(int sig)
 /* The first SIGINT or SIGTERM reaches the handler (a clean cancel); the
  * next one would end the program, which a build that never reads the flag
  * (a long load) needs. */
+/* Lists of whole numbers: each entry in range, no empty entry, no more
+ * than the room given. */
+static void test_int_lists(void **state)
+{
+    (void)state;
+    long v[3];
+    int n;
+    assert_int_equal(sam_args_int_list("3,32,64", 1, 64, v, 3, &n), 1);
+    assert_int_equal(n, 3);
+    assert_int_equal(v[0], 3);
+    assert_int_equal(v[2], 64);
+    assert_int_equal(sam_args_int_list("7", 1, 64, v, 3, &n), 1);
+    assert_int_equal(n, 1);
+    static const char *const bad[] = {"", "0", "65", "3,,4", "3,", "1,2,3,4", "x", "3 4", "2.5"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; ++i)
+        assert_int_equal(sam_args_int_list(bad[i], 1, 64, v, 3, &n), 0);
+}
+
 static void test_interrupts_are_caught_once(void **state)
 {
     (void)state;
@@ -169,6 +187,7 @@ int main(void)
         cmocka_unit_test(test_values_land_in_their_targets),
         cmocka_unit_test(test_bad_input_is_named),
         cmocka_unit_test(test_help_and_version_exit),
+        cmocka_unit_test(test_int_lists),
         cmocka_unit_test(test_interrupts_are_caught_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

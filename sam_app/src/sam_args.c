@@ -88,6 +88,23 @@ static const sam_arg *find(const sam_args_spec *spec, const char *name)
     return NULL;
 }
 
+int sam_args_int_list(const char *text, long lo, long hi, long *out, int max, int *count)
+{
+    *count = 0;
+    const char *p = text;
+    while (*p) {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || (*end && *end != ',') || v < lo || v > hi || *count == max)
+            return 0;
+        out[(*count)++] = v;
+        if (*end && !end[1])
+            return 0; /* a trailing comma */
+        p = *end ? end + 1 : end;
+    }
+    return *count > 0;
+}
+
 int sam_args_size(const char *text, uint32_t *w, uint32_t *h)
 {
     long a, b;

@@ -93,22 +93,6 @@ static void say(const char *fmt, ...)
     va_end(ap);
 }
 
-/* A comma-separated list of integers in [lo, hi]; 0 on a bad entry. */
-static int parse_int_list(const char *text, long lo, long hi, long *out, int max, int *count)
-{
-    *count = 0;
-    const char *p = text;
-    while (*p) {
-        char *end;
-        long v = strtol(p, &end, 10);
-        if (end == p || (*end && *end != ',') || v < lo || v > hi || *count == max)
-            return 0;
-        out[(*count)++] = v;
-        p = *end ? end + 1 : end;
-    }
-    return *count > 0;
-}
-
 /* The command line: the scene, --force, and the comparison's settings,
  * whose sweep and frames point into this struct. */
 typedef struct options {
@@ -141,14 +125,14 @@ static int parse_techniques(const char *text, int *requested)
 static int parse_lists(const char *sweep_list, const char *frame_list, int fps_given, options *o)
 {
     sam_comparison_settings *set = &o->set;
-    if (sweep_list && !parse_int_list(sweep_list, 1, 64, o->sweep, SAM_COMPARISON_MAX_SWEEP, &set->sweep_count))
+    if (sweep_list && !sam_args_int_list(sweep_list, 1, 64, o->sweep, SAM_COMPARISON_MAX_SWEEP, &set->sweep_count))
         return sam_args_fail(TOOL,
                              "--samples-sweep must be up to %d comma-separated whole numbers in 1..64, got \"%s\"",
                              SAM_COMPARISON_MAX_SWEEP, sweep_list);
     set->sweep = set->sweep_count ? o->sweep : NULL;
     if (!frame_list)
         return fps_given ? sam_args_fail(TOOL, "--fps sets the times of --frames; give --frames too") : SAM_ARGS_OK;
-    if (!parse_int_list(frame_list, 0, MAX_FRAME, o->frames, SAM_COMPARISON_MAX_FRAMES, &set->frame_count))
+    if (!sam_args_int_list(frame_list, 0, MAX_FRAME, o->frames, SAM_COMPARISON_MAX_FRAMES, &set->frame_count))
         return sam_args_fail(TOOL, "--frames must be up to %d comma-separated frame numbers in 0..%d, got \"%s\"",
                              SAM_COMPARISON_MAX_FRAMES, MAX_FRAME, frame_list);
     for (int i = 1; i < set->frame_count; ++i)

@@ -34,4 +34,21 @@ for scene in scenes:
     assert "texture" in scene["sam_over_tsm"] or any("skipped" in f for f in scene["frames"] if f["technique"] == "tsm")
 PY
 ls "$tmp/results"/*.tmp* 2>/dev/null && fail "temporary files left in $tmp/results"
+# bench_limit on a small marble slab lit from below: the cut map with more
+# samples comes nearer the vertex-sum limit, and the limit is near the truth.
+"$bin/sam_meshgen" slab -o "$tmp/slab.obj" --resolution 24 --thickness 0.05 > /dev/null 2>&1 || fail "meshgen slab"
+printf '{"mesh": "slab.obj", "material": "marble", "scale": {"mm_per_unit": 50}, "resolution": [32, 32],
+  "lights": [{"type": "directional", "direction": [0, -1, 0], "intensity": 2.0}]}' > "$tmp/slab.json"
+"$bin/bench_limit" "$tmp/slab.json" --samples 2,16 --queries 48 --pairs 256 --truth-samples 65536 \
+  --json "$tmp/limit.json" --csv "$tmp/limit.csv" > "$tmp/limit.txt" 2>&1 || fail "bench_limit: $(cat "$tmp/limit.txt")"
+python3 - "$tmp/limit.json" "$tmp/limit.csv" <<'PY' || fail "bench_limit's results: $(cat "$tmp/limit.txt")"
+import csv, json, sys
+r = json.load(open(sys.argv[1]))
+maps = {(m["map"], m["n"]): m for m in r["maps"]}
+assert set(maps) == {("cut", 2), ("cut", 16), ("flat", 16)}, maps
+assert maps[("cut", 16)]["vs_limit"]["rmse"] < 0.5 * maps[("cut", 2)]["vs_limit"]["rmse"], maps
+assert abs(r["limit_vs_truth"]["bias"]) < 0.05, r
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert len(rows) == r["queries"] and "cut16_g" in rows[0] and "flat16_b" in rows[0], rows[0]
+PY
 echo "bench: quick suite ok"

@@ -94,6 +94,12 @@ int sam_args_fail(const char *tool, const char *fmt, ...)
 #endif
     ;
 
+/* Parses a comma-separated list of whole numbers, each in [lo, hi], into
+ * out (room for `max`), their number in *count. Returns 0 on an empty list,
+ * a bad or out-of-range entry, or more than `max` entries; out and *count
+ * are then unspecified. */
+int sam_args_int_list(const char *text, long lo, long hi, long *out, int max, int *count);
+
 /* Parses a picture size "WxH" (each a whole number in 1..16384) into `w`
  * and `h`. Returns 0, writing nothing, on anything else. */
 int sam_args_size(const char *text, uint32_t *w, uint32_t *h);
