@@ -10,11 +10,15 @@
  *     receiver (eq. 13-14) of K_oi (eq. 11, Monte Carlo with --pairs point
  *     pairs, another seed than the maps') times the runtime's L_d at i:
  *     what a map holding every back-side vertex exactly would give;
+ *   - the point-pair limit: the same sum over every other vertex, with K
+ *     from the pairs of points that pass eq. 13-14 themselves
+ *     (sam_build_form_factor_pointwise): where the per-vertex test alone
+ *     leaves a vertex map, seen apart from L_d's;
  *   - the ground truth's eq. 7 at the same vertices (sam_truth: L_d and the
  *     back-side test per surface point, --truth-samples points).
  * Prints each map's error against the limit and against the truth (RMSE
  * over the three channels as a share of the reference's RMS, and the mean
- * bias), and the limit's against the truth. A map whose error against the
+ * bias), and both limits' against the truth. A map whose error against the
  * limit falls with N converges; the limit's error against the truth is
  * what no budget removes (the mesh's vertices cannot carry it).
  *
@@ -57,6 +61,7 @@ typedef struct limit_refs {
     uint32_t *topo;   /* count topo vertices */
     uint32_t *render; /* count: the render vertex standing for each */
     double *limit;    /* 3 * count */
+    double *point;    /* 3 * count: the point-pair limit */
     double *truth;    /* 3 * count */
 } limit_refs;
 
@@ -148,7 +153,7 @@ static void map_translucency(const sam_scene *scene, sam_build_map map, long n, 
         samfile_free(&sam);
 }
 
-/* The vertex-sum limit at every receiver, from the runtime's L_d. */
+/* Both limits at every receiver, from the runtime's L_d. */
 static void vertex_limit(const sam_mesh *mesh, const sam_profile *profile, float mm_per_unit, const float *ld,
                          uint32_t pairs, limit_refs *refs)
 {
@@ -158,30 +163,37 @@ static void vertex_limit(const sam_mesh *mesh, const sam_profile *profile, float
     sam_error err;
     if (sam_build_context_create(mesh, profile, mm_per_unit, &settings, &ctx, &err) != SAM_OK)
         die("build context", &err);
-    fprintf(stderr, "%s: the vertex-sum limit at %u vertices, %u pairs per form factor\n", PROGRAM, refs->count,
-            pairs);
+    fprintf(stderr, "%s: the limits at %u vertices, %u pairs per form factor\n", PROGRAM, refs->count, pairs);
     const long count = (long)refs->count;
 #pragma omp parallel for schedule(dynamic)
     for (long q = 0; q < count; ++q) {
         const uint32_t o = refs->topo[q];
-        double sum[3] = {0, 0, 0};
+        double sum[3] = {0, 0, 0}, point[3] = {0, 0, 0};
         for (uint32_t i = 0; i < mesh->topo_count; ++i) {
-            if (i == o || !sam_build_is_back_side(ctx, o, i))
+            if (i == o)
                 continue;
             float k[3], k_error;
-            sam_build_form_factor(ctx, o, i, pairs, LIMIT_SEED, k, &k_error);
             const float *l = ld + 3 * (size_t)mesh->topo_rep[i];
+            sam_build_form_factor_pointwise(ctx, o, i, pairs, LIMIT_SEED, k, &k_error);
+            for (int c = 0; c < 3; ++c)
+                point[c] += (double)k[c] * l[c];
+            if (!sam_build_is_back_side(ctx, o, i))
+                continue;
+            sam_build_form_factor(ctx, o, i, pairs, LIMIT_SEED, k, &k_error);
             for (int c = 0; c < 3; ++c)
                 sum[c] += (double)k[c] * l[c];
         }
-        for (int c = 0; c < 3; ++c)
+        for (int c = 0; c < 3; ++c) {
             refs->limit[3 * q + c] = sum[c];
+            refs->point[3 * q + c] = point[c];
+        }
     }
     sam_build_context_destroy(ctx);
 }
 
 /* Every receiver's values: vertex, x, y, z (model units), then R, G, B of
- * the limit, the truth and each map (the cut's at each N, the flat map). */
+ * the limit, the point-pair limit, the truth and each map (the cut's at
+ * each N, the flat map). */
 static void write_csv(const char *path, const sam_mesh *mesh, const limit_refs *refs, const double *t,
                       const long *n, int n_count)
 {
@@ -189,10 +201,11 @@ static void write_csv(const char *path, const sam_mesh *mesh, const limit_refs *
     bench_json_open(PROGRAM, path, &out);
     fprintf(out.fp, "vertex,x,y,z");
     static const char rgb[] = "rgb";
-    for (int m = -2; m <= n_count; ++m)
+    static const char *const refs_names[3] = {"limit", "point_limit", "truth"};
+    for (int m = -3; m <= n_count; ++m)
         for (int c = 0; c < 3; ++c) {
             if (m < 0)
-                fprintf(out.fp, ",%s_%c", m == -2 ? "limit" : "truth", rgb[c]);
+                fprintf(out.fp, ",%s_%c", refs_names[m + 3], rgb[c]);
             else
                 fprintf(out.fp, ",%s%ld_%c", m == n_count ? "flat" : "cut", n[m < n_count ? m : n_count - 1],
                         rgb[c]);
@@ -201,10 +214,11 @@ static void write_csv(const char *path, const sam_mesh *mesh, const limit_refs *
     for (uint32_t q = 0; q < refs->count; ++q) {
         const float *p = mesh->positions + 3 * (size_t)refs->render[q];
         fprintf(out.fp, "%u,%.7g,%.7g,%.7g", refs->render[q], p[0], p[1], p[2]);
-        for (int m = -2; m <= n_count; ++m)
+        for (int m = -3; m <= n_count; ++m)
             for (int c = 0; c < 3; ++c)
                 fprintf(out.fp, ",%.7g",
-                        m == -2 ? refs->limit[3 * q + c]
+                        m == -3   ? refs->limit[3 * q + c]
+                        : m == -2 ? refs->point[3 * q + c]
                         : m == -1 ? refs->truth[3 * q + c]
                                   : t[3 * (size_t)refs->count * m + 3 * q + c]);
         fprintf(out.fp, "\n");
@@ -219,7 +233,8 @@ static void usage(FILE *out)
                  "\n"
                  "Compares the per-vertex translucency of the scene's cut map at each N of LIST (default\n"
                  "3,16,32,64) and of the flat map at the largest N with what every back-side vertex would give\n"
-                 "(the vertex-sum limit, P Monte Carlo pairs per form factor, default 256) and with the ground\n"
+                 "(the vertex-sum limit, P Monte Carlo pairs per form factor, default 256), with the same sum\n"
+                 "over point pairs that pass eq. 13-14 themselves (the point-pair limit), and with the ground\n"
                  "truth's eq. 7 (S surface samples, default 1048576), at Q evenly spread vertices (default 256).\n"
                  "The scene must name its mesh. --json writes the table, --csv every vertex's values.\n"
                  "\n"
@@ -273,11 +288,12 @@ int main(int argc, char **argv)
     refs.topo = malloc(refs.count * sizeof *refs.topo);
     refs.render = malloc(refs.count * sizeof *refs.render);
     refs.limit = malloc(3 * sizeof *refs.limit * refs.count);
+    refs.point = malloc(3 * sizeof *refs.point * refs.count);
     refs.truth = malloc(3 * sizeof *refs.truth * refs.count);
     const int map_count = n_count + 1;
     double *t = malloc(3 * sizeof *t * refs.count * (size_t)map_count);
     float *ld = malloc(3 * sizeof *ld * mesh.vertex_count);
-    if (!refs.topo || !refs.render || !refs.limit || !refs.truth || !t || !ld)
+    if (!refs.topo || !refs.render || !refs.limit || !refs.point || !refs.truth || !t || !ld)
         die("memory", NULL);
     for (uint32_t q = 0; q < refs.count; ++q) {
         refs.topo[q] = q * stride;
@@ -308,14 +324,18 @@ int main(int argc, char **argv)
         fprintf(out.fp, "{\n  \"scene\": \"%s\", \"queries\": %u, \"pairs\": %ld, \"truth_samples\": %.0f,\n",
                 scene_path, refs.count, pairs, truth_samples);
     }
-    limit_error lt = error_of(refs.limit, refs.truth, refs.count);
+    limit_error lt = error_of(refs.limit, refs.truth, refs.count), pt = error_of(refs.point, refs.truth, refs.count);
     printf("%s: %u of %u vertices, limit with %ld pairs, truth with %.0f samples\n", scene_path, refs.count,
            mesh.topo_count, pairs, truth_samples);
     printf("| map | N | RMSE vs limit | bias vs limit | RMSE vs truth | bias vs truth |\n"
            "| --- | --- | --- | --- | --- | --- |\n");
     printf("| vertex-sum limit | all | | | %.2f%% | %+.2f%% |\n", 100 * lt.rmse, 100 * lt.bias);
+    printf("| point-pair limit | all | | | %.2f%% | %+.2f%% |\n", 100 * pt.rmse, 100 * pt.bias);
     if (json_path)
-        fprintf(out.fp, "  \"limit_vs_truth\": {\"rmse\": %.6f, \"bias\": %.6f},\n  \"maps\": [\n", lt.rmse, lt.bias);
+        fprintf(out.fp,
+                "  \"limit_vs_truth\": {\"rmse\": %.6f, \"bias\": %.6f},\n"
+                "  \"point_limit_vs_truth\": {\"rmse\": %.6f, \"bias\": %.6f},\n  \"maps\": [\n",
+                lt.rmse, lt.bias, pt.rmse, pt.bias);
     for (int m = 0; m < map_count; ++m) {
         const int flat = m == n_count;
         const long nm = flat ? n[n_count - 1] : n[m];
@@ -339,6 +359,7 @@ int main(int argc, char **argv)
     free(refs.topo);
     free(refs.render);
     free(refs.limit);
+    free(refs.point);
     free(refs.truth);
     free(t);
     free(ld);

@@ -282,6 +282,51 @@ static void test_fold_form_factor_against_quadrature(void **state)
     sam_mesh_destroy(&mesh);
 }
 
+/* The topo vertex nearest (x, y, z). */
+static uint32_t nearest_topo(const sam_mesh *mesh, float x, float y, float z)
+{
+    uint32_t best = 0;
+    float best_d = INFINITY;
+    for (uint32_t t = 0; t < mesh->topo_count; ++t) {
+        const float *p = mesh->positions + 3 * (size_t)mesh->topo_rep[t];
+        const float d = (p[0] - x) * (p[0] - x) + (p[1] - y) * (p[1] - y) + (p[2] - z) * (p[2] - z);
+        if (d < best_d)
+            best = t, best_d = d;
+    }
+    return best;
+}
+
+/* eq. 14 asked of point pairs (sam_build_form_factor_pointwise) on a 2.5 mm
+ * marble slab, receiver on top 5 mm from an edge: a fan under it, whose
+ * points all face away, gets the plain K exactly (the same points); a fan
+ * beside it on top gets none; the fan of a vertex on the bottom edge,
+ * whose normal is the mean of the bottom's and the side's, loses the
+ * part of the side that faces up. */
+static void test_pointwise_form_factor(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    sam_test_shape_mesh("slab", 24, 50.0, 2.5, 0, &mesh);
+    sam_profile marble;
+    sam_build_context *ctx = flat_context(&mesh, "marble", &marble);
+    const uint32_t o = nearest_topo(&mesh, 20.0f, 1.25f, 0.0f), below = nearest_topo(&mesh, 20.0f, -1.25f, 0.0f);
+    const uint32_t beside = nearest_topo(&mesh, 18.0f, 1.25f, 0.0f), edge = nearest_topo(&mesh, 25.0f, -1.25f, 0.0f);
+    float plain[3], point[3], e;
+    assert_true(sam_build_is_back_side(ctx, o, below));
+    sam_build_form_factor(ctx, o, below, 256, 5, plain, &e);
+    sam_build_form_factor_pointwise(ctx, o, below, 256, 5, point, &e);
+    assert_true(mean3(plain) > 0.0f);
+    assert_memory_equal(plain, point, sizeof plain);
+    sam_build_form_factor_pointwise(ctx, o, beside, 256, 5, point, &e);
+    assert_true(point[0] == 0.0f && point[1] == 0.0f && point[2] == 0.0f);
+    sam_build_form_factor(ctx, o, edge, 256, 5, plain, &e);
+    sam_build_form_factor_pointwise(ctx, o, edge, 256, 5, point, &e);
+    printf("bottom edge: K %.4g plain, %.4g point by point\n", mean3(plain), mean3(point));
+    assert_true(mean3(point) > 0.5f * mean3(plain) && mean3(point) < mean3(plain));
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
 /* The fast builder against the brute-force reference: the chosen samples
  * capture >= 97% of the reference's top-N transport (median over vertices),
  * and the two builders' K for the same pairs agree within the Monte Carlo
@@ -775,6 +820,7 @@ int main(void)
         cmocka_unit_test(test_constant_profile),
         cmocka_unit_test(test_near_form_factor_against_quadrature),
         cmocka_unit_test(test_fold_form_factor_against_quadrature),
+        cmocka_unit_test(test_pointwise_form_factor),
         cmocka_unit_test(test_matches_reference_ear),
         cmocka_unit_test(test_matches_reference_knot),
         cmocka_unit_test(test_matches_reference_blobs),

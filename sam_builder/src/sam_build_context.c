@@ -236,16 +236,20 @@ void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_
     }
 }
 
-void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
-                                uint32_t samples, uint64_t seed, float k[3], float *k_error)
+/* K_oi over point pairs; with `pointwise`, eq. 14 is asked of each pair
+ * too (sam_build_form_factor_pointwise). */
+static void form_factor_pairs(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
+                              uint32_t samples, uint64_t seed, int pointwise, float k[3], float *k_error)
 {
     sam_rng rng;
     sam_rng_seed(&rng, seed, o, i);
     double sum[3] = {0, 0, 0}, sum_mean = 0, sum_sq = 0;
     for (uint32_t s = 0; s < samples; ++s) {
-        float xi[3], rd[4];
+        float xi[3], ni[3], rd[4];
         const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)s;
-        sam_build_sample_fan(ctx, i, &rng, xi, NULL);
+        sam_build_sample_fan(ctx, i, &rng, xi, pointwise ? ni : NULL);
+        if (pointwise && ni[0] * xo[3] + ni[1] * xo[4] + ni[2] * xo[5] >= 0.0f)
+            continue;
         /* The part of F'_i in front of this point's tangent plane sends it
          * nothing. The vertex test (eq. 13-14 between the fans' centres)
          * takes whole fans: where a fold brings a fan within a fraction of
@@ -274,8 +278,15 @@ void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const 
     *k_error = (float)(area * sqrt(var / (samples > 1 ? samples - 1 : 1)));
 }
 
-void sam_build_form_factor(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples, uint64_t seed,
-                           float k[3], float *k_error)
+void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
+                                uint32_t samples, uint64_t seed, float k[3], float *k_error)
+{
+    form_factor_pairs(ctx, o, points, i, samples, seed, 0, k, k_error);
+}
+
+/* One K_oi with o's points of its own (the public entry points). */
+static void form_factor_alone(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples, uint64_t seed,
+                              int pointwise, float k[3], float *k_error)
 {
     float *points = malloc((size_t)samples * SAM_BUILD_POINT_FLOATS * sizeof *points);
     if (!points) {
@@ -284,6 +295,18 @@ void sam_build_form_factor(const sam_build_context *ctx, uint32_t o, uint32_t i,
         return;
     }
     sam_build_receiver_points(ctx, o, samples, seed, points);
-    sam_build_form_factor_from(ctx, o, points, i, samples, seed, k, k_error);
+    form_factor_pairs(ctx, o, points, i, samples, seed, pointwise, k, k_error);
     free(points);
+}
+
+void sam_build_form_factor(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples, uint64_t seed,
+                           float k[3], float *k_error)
+{
+    form_factor_alone(ctx, o, i, samples, seed, 0, k, k_error);
+}
+
+void sam_build_form_factor_pointwise(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples,
+                                     uint64_t seed, float k[3], float *k_error)
+{
+    form_factor_alone(ctx, o, i, samples, seed, 1, k, k_error);
 }

@@ -47,8 +47,8 @@ r = json.load(open(sys.argv[1]))
 maps = {(m["map"], m["n"]): m for m in r["maps"]}
 assert set(maps) == {("cut", 2), ("cut", 16), ("flat", 16)}, maps
 assert maps[("cut", 16)]["vs_limit"]["rmse"] < 0.5 * maps[("cut", 2)]["vs_limit"]["rmse"], maps
-assert abs(r["limit_vs_truth"]["bias"]) < 0.05, r
+assert abs(r["limit_vs_truth"]["bias"]) < 0.05 and abs(r["point_limit_vs_truth"]["bias"]) < 0.05, r
 rows = list(csv.DictReader(open(sys.argv[2])))
-assert len(rows) == r["queries"] and "cut16_g" in rows[0] and "flat16_b" in rows[0], rows[0]
+assert len(rows) == r["queries"] and "cut16_g" in rows[0] and "flat16_b" in rows[0] and "point_limit_r" in rows[0], rows[0]
 PY
 echo "bench: quick suite ok"

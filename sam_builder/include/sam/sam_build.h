@@ -164,6 +164,16 @@ void sam_build_context_destroy(sam_build_context *ctx);
 void sam_build_form_factor(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples,
                            uint64_t seed, float k[3], float *k_error);
 
+/* K_oi as sam_build_form_factor estimates it (the same points), but with
+ * eq. 14 asked of each point pair too, between the vertex normals
+ * interpolated at its two points, and for any two topo vertices o != i,
+ * not only those that pass eq. 13-14 as vertices: the ground truth's test,
+ * point by point. The builders do not use it; bench_limit measures with it
+ * how far the per-vertex test leaves a vertex map from the truth.
+ * Thread-safe. */
+void sam_build_form_factor_pointwise(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples,
+                                     uint64_t seed, float k[3], float *k_error);
+
 /* The reduced fan area F'_t of topo vertex t in mm^2 (eq. 16). */
 float sam_build_fan_area(const sam_build_context *ctx, uint32_t t);
 
