@@ -2,10 +2,12 @@
  * bench_limit: does a map converge on what per-vertex transport can carry,
  * and how far is that from the ground truth?
  *
- * For one scene, at up to --queries evenly spread (topo) vertices, three
- * translucencies T (RGB):
- *   - each map's, as the runtime computes it at rest (read back): the cut
- *     map at every N of --samples, and the flat map at the largest N;
+ * For one scene, at up to --queries (topo) vertices spread evenly over the
+ * vertex order, the maps' translucency T (RGB) as the runtime computes it
+ * at rest (read back), of the cut map at every N of --samples and of the
+ * flat map at the largest, each built from the scene's mesh (a prebuilt
+ * map the scene names gives only its material and scale), against three
+ * references:
  *   - the vertex-sum limit: the sum over every back-side vertex i of the
  *     receiver (eq. 13-14) of K_oi (eq. 11, Monte Carlo with --pairs point
  *     pairs, another seed than the maps') times the runtime's L_d at i:
@@ -24,7 +26,7 @@
  *
  * Usage: bench_limit SCENE [--samples LIST] [--pairs P] [--queries Q]
  *                          [--truth-samples S] [--json FILE] [--csv FILE]
- * --csv writes every receiver: its vertex, position, the limit's, the
+ * --csv writes every receiver: its vertex, position, both limits', the
  * truth's and each map's T, to see where the errors lie.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -85,10 +87,11 @@ static limit_error error_of(const double *a, const double *ref, uint32_t count)
 
 /* The scene's map of kind `map` with N samples on a new runtime, lit as
  * sam_compare lights it, its rest T at the receivers in `t` (3 * count).
+ * The map's vertices must be `mesh`'s, over which the limits are summed.
  * The first call (ld != NULL) also reads L_d (3 per render vertex) and
  * computes the truth at the receivers. */
-static void map_translucency(const sam_scene *scene, sam_build_map map, long n, limit_refs *refs, double *t,
-                             float *ld, uint64_t truth_samples, samfile_data *sam_out, sam_profile *profile,
+static void map_translucency(const sam_scene *scene, const sam_mesh *mesh, sam_build_map map, long n,
+                             limit_refs *refs, double *t, float *ld, uint64_t truth_samples, sam_profile *profile,
                              float *mm_per_unit)
 {
     sam_build_settings settings;
@@ -101,8 +104,15 @@ static void map_translucency(const sam_scene *scene, sam_build_map map, long n, 
     int has_environment;
     sam_error err;
     fprintf(stderr, "%s: building the %s map, N = %ld\n", PROGRAM, sam_build_map_name(map), n);
-    if (sam_app_scene_object(scene, &settings, NULL, NULL, &sam, profile, mm_per_unit, NULL, &err) != SAM_OK ||
-        sam_runtime_create(&sam, profile, *mm_per_unit, &rt, &err) != SAM_OK ||
+    if (sam_app_scene_object(scene, &settings, NULL, NULL, &sam, profile, mm_per_unit, NULL, &err) != SAM_OK)
+        die(scene->mesh_path, &err);
+    if (sam.vertex_count != mesh->vertex_count ||
+        memcmp(sam.positions, mesh->positions, 3 * sizeof(float) * mesh->vertex_count)) {
+        fprintf(stderr, "%s: %s: the map's %u vertices are not the mesh's %u as loaded here\n", PROGRAM,
+                scene->mesh_path, sam.vertex_count, mesh->vertex_count);
+        exit(1);
+    }
+    if (sam_runtime_create(&sam, profile, *mm_per_unit, &rt, &err) != SAM_OK ||
         sam_runtime_scene_setup(rt, scene, sh, &has_environment, NULL, 0, &err) != SAM_OK ||
         sam_runtime_irradiance(rt, &err) != SAM_OK || sam_runtime_translucency(rt, 0, 0.0f, 1, &err) != SAM_OK)
         die(scene->mesh_path, &err);
@@ -147,10 +157,7 @@ static void map_translucency(const sam_scene *scene, sam_build_map map, long n, 
     }
     free(rgb);
     sam_runtime_destroy(rt);
-    if (sam_out)
-        *sam_out = sam;
-    else
-        samfile_free(&sam);
+    samfile_free(&sam);
 }
 
 /* Both limits at every receiver, from the runtime's L_d. */
@@ -195,7 +202,7 @@ static void vertex_limit(const sam_mesh *mesh, const sam_profile *profile, float
  * the limit, the point-pair limit, the truth and each map (the cut's at
  * each N, the flat map). */
 static void write_csv(const char *path, const sam_mesh *mesh, const limit_refs *refs, const double *t,
-                      const long *n, int n_count)
+                      const long *n, int n_count, long n_max)
 {
     sam_atomic_file out;
     bench_json_open(PROGRAM, path, &out);
@@ -207,8 +214,7 @@ static void write_csv(const char *path, const sam_mesh *mesh, const limit_refs *
             if (m < 0)
                 fprintf(out.fp, ",%s_%c", refs_names[m + 3], rgb[c]);
             else
-                fprintf(out.fp, ",%s%ld_%c", m == n_count ? "flat" : "cut", n[m < n_count ? m : n_count - 1],
-                        rgb[c]);
+                fprintf(out.fp, ",%s%ld_%c", m == n_count ? "flat" : "cut", m < n_count ? n[m] : n_max, rgb[c]);
         }
     fprintf(out.fp, "\n");
     for (uint32_t q = 0; q < refs->count; ++q) {
@@ -232,10 +238,12 @@ static void usage(FILE *out)
                  "                   [--json FILE] [--csv FILE]\n"
                  "\n"
                  "Compares the per-vertex translucency of the scene's cut map at each N of LIST (default\n"
-                 "3,16,32,64) and of the flat map at the largest N with what every back-side vertex would give\n"
+                 "3,16,32,64; each N once) and of the flat map at the largest N, built from the scene's mesh,\n"
+                 "with what every back-side vertex would give\n"
                  "(the vertex-sum limit, P Monte Carlo pairs per form factor, default 256), with the same sum\n"
                  "over point pairs that pass eq. 13-14 themselves (the point-pair limit), and with the ground\n"
-                 "truth's eq. 7 (S surface samples, default 1048576), at Q evenly spread vertices (default 256).\n"
+                 "truth's eq. 7 (S surface samples, default 1048576), at up to Q vertices (default 256), spread\n"
+                 "evenly over the vertex order.\n"
                  "The scene must name its mesh. --json writes the table, --csv every vertex's values.\n"
                  "\n"
                  "examples:\n"
@@ -247,12 +255,12 @@ int main(int argc, char **argv)
 {
     const char *scene_path, *list = "3,16,32,64", *json_path = NULL, *csv_path = NULL;
     long pairs = 256, queries = 256;
-    double truth_samples = 1 << 20;
+    long truth_samples = 1 << 20;
     const sam_arg args[] = {
         {"--samples", SAM_ARG_STRING, &list, .value = "LIST"},
         {"--pairs", SAM_ARG_INT, &pairs, .value = "P", .lo = 4, .hi = 65536},
         {"--queries", SAM_ARG_INT, &queries, .value = "Q", .lo = 1, .hi = 1 << 20},
-        {"--truth-samples", SAM_ARG_DOUBLE, &truth_samples, .value = "S", .lo = SAM_TRUTH_MIN_SAMPLES,
+        {"--truth-samples", SAM_ARG_INT, &truth_samples, .value = "S", .lo = SAM_TRUTH_MIN_SAMPLES,
          .hi = SAM_TRUTH_MAX_SAMPLES},
         {"--json", SAM_ARG_STRING, &json_path, .value = "FILE"},
         {"--csv", SAM_ARG_STRING, &csv_path, .value = "FILE"},
@@ -268,10 +276,17 @@ int main(int argc, char **argv)
     if (!sam_args_int_list(list, 1, 64, n, MAX_SAMPLE_COUNTS, &n_count))
         return sam_args_fail(PROGRAM, "--samples must be up to %d comma-separated whole numbers in 1..64, got \"%s\"",
                              MAX_SAMPLE_COUNTS, list);
+    long n_max = 0;
+    for (int i = 0; i < n_count; ++i) {
+        for (int j = 0; j < i; ++j)
+            if (n[j] == n[i])
+                return sam_args_fail(PROGRAM, "--samples gives N = %ld twice in \"%s\"", n[i], list);
+        n_max = n[i] > n_max ? n[i] : n_max;
+    }
     sam_error err;
     sam_scene scene;
     if (sam_scene_load(scene_path, &scene, &err) != SAM_OK)
-        die(scene_path, &err);
+        die("scene", &err);
     if (!scene.mesh_path)
         return sam_args_fail(PROGRAM, "%s names no mesh: the limit is summed over the mesh's vertices", scene_path);
     sam_mesh mesh;
@@ -300,32 +315,34 @@ int main(int argc, char **argv)
         refs.render[q] = mesh.topo_rep[q * stride];
     }
 
-    samfile_data first;
+    /* Every map is built from the mesh, at each N and kind; a prebuilt map
+     * gives its material and scale. */
     sam_profile profile;
     float mm_per_unit;
+    sam_scene built = scene;
+    if (scene.sam_path) {
+        samfile_data prebuilt;
+        if (sam_app_scene_object(&scene, NULL, NULL, NULL, &prebuilt, &profile, &mm_per_unit, NULL, &err) != SAM_OK)
+            die("scene", &err);
+        samfile_free(&prebuilt);
+        sam_app_scene_from_mesh(&scene, &profile, mm_per_unit, &built);
+    }
     for (int m = 0; m < map_count; ++m) {
         const int flat = m == n_count;
-        map_translucency(&scene, flat ? SAM_BUILD_MAP_FLAT : SAM_BUILD_MAP_CUT, flat ? n[n_count - 1] : n[m], &refs,
-                         t + 3 * (size_t)refs.count * m, m == 0 ? ld : NULL, (uint64_t)truth_samples,
-                         m == 0 ? &first : NULL, &profile, &mm_per_unit);
+        map_translucency(&built, &mesh, flat ? SAM_BUILD_MAP_FLAT : SAM_BUILD_MAP_CUT, flat ? n_max : n[m], &refs,
+                         t + 3 * (size_t)refs.count * m, m == 0 ? ld : NULL, (uint64_t)truth_samples, &profile,
+                         &mm_per_unit);
     }
-    /* The limit sums over the mesh's vertices with the map's L_d: they
-     * must be the map's vertices. */
-    if (first.vertex_count != mesh.vertex_count ||
-        memcmp(first.positions, mesh.positions, 3 * sizeof(float) * mesh.vertex_count))
-        return sam_args_fail(PROGRAM, "%s: the map's %u vertices are not the mesh's %u", scene.mesh_path,
-                             first.vertex_count, mesh.vertex_count);
-    samfile_free(&first);
     vertex_limit(&mesh, &profile, mm_per_unit, ld, (uint32_t)pairs, &refs);
 
     sam_atomic_file out = {0};
     if (json_path) {
         bench_json_open(PROGRAM, json_path, &out);
-        fprintf(out.fp, "{\n  \"scene\": \"%s\", \"queries\": %u, \"pairs\": %ld, \"truth_samples\": %.0f,\n",
+        fprintf(out.fp, "{\n  \"scene\": \"%s\", \"queries\": %u, \"pairs\": %ld, \"truth_samples\": %ld,\n",
                 scene_path, refs.count, pairs, truth_samples);
     }
     limit_error lt = error_of(refs.limit, refs.truth, refs.count), pt = error_of(refs.point, refs.truth, refs.count);
-    printf("%s: %u of %u vertices, limit with %ld pairs, truth with %.0f samples\n", scene_path, refs.count,
+    printf("%s: %u of %u vertices, limits with %ld pairs, truth with %ld samples\n", scene_path, refs.count,
            mesh.topo_count, pairs, truth_samples);
     printf("| map | N | RMSE vs limit | bias vs limit | RMSE vs truth | bias vs truth |\n"
            "| --- | --- | --- | --- | --- | --- |\n");
@@ -338,7 +355,7 @@ int main(int argc, char **argv)
                 lt.rmse, lt.bias, pt.rmse, pt.bias);
     for (int m = 0; m < map_count; ++m) {
         const int flat = m == n_count;
-        const long nm = flat ? n[n_count - 1] : n[m];
+        const long nm = flat ? n_max : n[m];
         const double *tm = t + 3 * (size_t)refs.count * m;
         limit_error el = error_of(tm, refs.limit, refs.count), et = error_of(tm, refs.truth, refs.count);
         printf("| %s | %ld | %.2f%% | %+.2f%% | %.2f%% | %+.2f%% |\n", flat ? "flat" : "cut", nm, 100 * el.rmse,
@@ -354,7 +371,7 @@ int main(int argc, char **argv)
         bench_json_commit(PROGRAM, &out);
     }
     if (csv_path)
-        write_csv(csv_path, &mesh, &refs, t, n, n_count);
+        write_csv(csv_path, &mesh, &refs, t, n, n_count, n_max);
     sam_gl_context_destroy(gl);
     free(refs.topo);
     free(refs.render);

@@ -144,9 +144,6 @@ static void expect_default(int sig)
     assert_true(now.sa_handler == SIG_DFL);
 }
 
-/* The first SIGINT or SIGTERM reaches the handler (a clean cancel); the
- * next one would end the program, which a build that never reads the flag
- * (a long load) needs. */
 /* Lists of whole numbers: each entry in range, no empty entry, no more
  * than the room given. */
 static void test_int_lists(void **state)
@@ -160,11 +157,14 @@ static void test_int_lists(void **state)
     assert_int_equal(v[2], 64);
     assert_int_equal(sam_args_int_list("7", 1, 64, v, 3, &n), 1);
     assert_int_equal(n, 1);
-    static const char *const bad[] = {"", "0", "65", "3,,4", "3,", "1,2,3,4", "x", "3 4", "2.5"};
+    static const char *const bad[] = {"", "0", "65", "3,,4", "3,", "1,2,3,4", "x", "3 4", "2.5", " 3", "+3", "3, 4"};
     for (size_t i = 0; i < sizeof bad / sizeof *bad; ++i)
         assert_int_equal(sam_args_int_list(bad[i], 1, 64, v, 3, &n), 0);
 }
 
+/* The first SIGINT or SIGTERM reaches the handler (a clean cancel); the
+ * next one would end the program, which a build that never reads the flag
+ * (a long load) needs. */
 static void test_interrupts_are_caught_once(void **state)
 {
     (void)state;

@@ -1,4 +1,5 @@
 /* sam_app_scene_object: a scene's object as a map, read or built. */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -45,6 +46,15 @@ static sam_status read_prebuilt(const sam_scene *scene, samfile_data *sam, sam_p
     }
     if (st == SAM_OK && !(*mm_per_unit > 0))
         st = sam_fail(err, SAM_ERR_FORMAT, "%s: no scale (INFO has no mm_per_unit)", scene->sam_path);
+    /* The map's cuts and candidates were chosen for its own material and
+     * scale: rendered with others, it is not the map the scene would get. */
+    if (st == SAM_OK && scene->material && info.has_material && strcmp(scene->profile.name, info.profile.name))
+        fprintf(stderr, "warning: %s was built for %s; the scene renders it as %s (a map built for %s would "
+                "look otherwise)\n", scene->sam_path, info.profile.name, scene->profile.name, scene->profile.name);
+    if (st == SAM_OK && info.mm_per_unit > 0 && fabsf(*mm_per_unit / info.mm_per_unit - 1.0f) > 0.01f)
+        fprintf(stderr, "warning: %s was built at %g mm per unit; the scene renders it at %g (a map built at %g "
+                "would look otherwise)\n", scene->sam_path, (double)info.mm_per_unit, (double)*mm_per_unit,
+                (double)*mm_per_unit);
     if (st != SAM_OK)
         samfile_free(sam);
     return st;
@@ -85,4 +95,14 @@ sam_status sam_app_scene_object(const sam_scene *scene, const sam_build_settings
     st = sam_build_samfile(&mesh, profile, *mm_per_unit, settings, &source, progress, user, sam, built_seconds, err);
     sam_mesh_destroy(&mesh);
     return st;
+}
+
+void sam_app_scene_from_mesh(const sam_scene *scene, const sam_profile *profile, float mm_per_unit,
+                             sam_scene *out)
+{
+    *out = *scene;
+    out->sam_path = NULL;
+    out->profile = *profile;
+    out->scale_kind = SAM_SCALE_MM_PER_UNIT;
+    out->scale_value = mm_per_unit;
 }

@@ -93,6 +93,8 @@ int sam_args_int_list(const char *text, long lo, long hi, long *out, int max, in
     *count = 0;
     const char *p = text;
     while (*p) {
+        if (*p < '0' || *p > '9')
+            return 0; /* strtol would take spaces and signs */
         char *end;
         long v = strtol(p, &end, 10);
         if (end == p || (*end && *end != ',') || v < lo || v > hi || *count == max)

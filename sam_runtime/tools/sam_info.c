@@ -11,6 +11,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "sam/sam_app_scene.h"
 #include "sam/sam_args.h"
 #include "sam/sam_gl.h"
 #include "sam/sam_mesh.h"
@@ -163,15 +164,35 @@ static int info_scene(const char *path)
         fprintf(stderr, "sam_info: %s\n", err.message);
         return 1;
     }
+    /* A prebuilt map is read as sam_render reads it: checked against the
+     * mesh, its material and scale resolved. */
+    sam_profile map_profile;
+    float map_mm = 0;
+    if (scene.sam_path) {
+        samfile_data sam;
+        if (sam_app_scene_object(&scene, NULL, NULL, NULL, &sam, &map_profile, &map_mm, NULL, &err) != SAM_OK) {
+            sam_scene_destroy(&scene);
+            fprintf(stderr, "sam_info: %s: %s\n", path, err.message);
+            return 1;
+        }
+        samfile_free(&sam);
+    }
     printf("%s: scene\n", path);
     printf("  object:            %s\n", scene.mesh_path ? scene.mesh_path : scene.sam_path);
-    printf("  material:          %s\n", scene.material ? scene.material : "(from the .sam)");
+    if (scene.mesh_path && scene.sam_path)
+        printf("  map:               %s (prebuilt)\n", scene.sam_path);
+    if (scene.material)
+        printf("  material:          %s\n", scene.material);
+    else
+        printf("  material:          %s (from the .sam)\n", map_profile.name);
     if (scene.scale_kind == SAM_SCALE_MM_PER_UNIT)
         printf("  scale:             %g mm per unit\n", scene.scale_value);
     else if (scene.scale_kind == SAM_SCALE_SIZE_MM)
         printf("  scale:             %g mm diagonal\n", scene.scale_value);
     else
-        printf("  scale:             (from the .sam)\n");
+        printf("  scale:             %g mm per unit (from the .sam)\n", (double)map_mm);
+    if (scene.sam_path && scene.scale_kind == SAM_SCALE_SIZE_MM)
+        printf("                     %g mm per unit on the map's positions\n", (double)map_mm);
     size_t count[4] = {0, 0, 0, 0};
     for (size_t i = 0; i < scene.light_count; ++i)
         count[scene.lights[i].type]++;

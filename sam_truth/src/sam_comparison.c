@@ -266,13 +266,8 @@ static sam_status score_map(const compare_state *s, const sam_truth_report_refer
     float mm;
     /* Built from the mesh: a scene's prebuilt map ("sam") scored the same
      * at every N and kind of a sweep. */
-    sam_scene from_mesh = *s->scene;
-    from_mesh.sam_path = NULL;
-    /* The material and scale of the map scored above: a scene naming its
-     * map may leave them to the map's INFO. */
-    from_mesh.profile = s->profile;
-    from_mesh.scale_kind = SAM_SCALE_MM_PER_UNIT;
-    from_mesh.scale_value = s->mm_per_unit;
+    sam_scene from_mesh;
+    sam_app_scene_from_mesh(s->scene, &s->profile, s->mm_per_unit, &from_mesh);
     sam_status st = sam_app_scene_object(&from_mesh, &settings, build_progress, &ps, &sam, &profile, &mm,
                                          build_seconds, err);
     if (st != SAM_OK)

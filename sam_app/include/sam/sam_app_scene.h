@@ -26,10 +26,22 @@ extern "C" {
  * zeroed. Errors: those of samfile_read, samfile_info_read, sam_mesh_load
  * and sam_build_samfile; SAM_ERR_FORMAT when the .sam records no material
  * or scale the scene does not give, or was built from another mesh (the
- * message names both files and their hashes). */
+ * message names both files and their hashes). A prebuilt map given another
+ * material or a scale more than 1% off its own by the scene gets a warning
+ * on stderr: it was built for its own, and renders otherwise than a map
+ * built for the scene's. */
 sam_status sam_app_scene_object(const sam_scene *scene, const sam_build_settings *settings,
                                 sam_build_progress_fn progress, void *user, samfile_data *sam, sam_profile *profile,
                                 float *mm_per_unit, double *built_seconds, sam_error *err);
+
+/* A shallow copy of `scene` in *out whose map is built from its mesh with
+ * `profile` and `mm_per_unit` (those sam_app_scene_object gave): how a tool
+ * rebuilds a scene's map at another N or kind, also when the scene names a
+ * prebuilt map. `out` shares the scene's strings and arrays: do not destroy
+ * it, and do not use it after the scene is destroyed. The scene must name
+ * a mesh. */
+void sam_app_scene_from_mesh(const sam_scene *scene, const sam_profile *profile, float mm_per_unit,
+                             sam_scene *out);
 
 #ifdef __cplusplus
 }

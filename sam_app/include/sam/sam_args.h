@@ -94,7 +94,8 @@ int sam_args_fail(const char *tool, const char *fmt, ...)
 #endif
     ;
 
-/* Parses a comma-separated list of whole numbers, each in [lo, hi], into
+/* Parses a comma-separated list of whole numbers (digits only: no spaces
+ * or signs), each in [lo, hi], into
  * out (room for `max`), their number in *count. Returns 0 on an empty list,
  * a bad or out-of-range entry, or more than `max` entries; out and *count
  * are then unspecified. */
