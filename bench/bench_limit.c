@@ -338,8 +338,10 @@ int main(int argc, char **argv)
     sam_atomic_file out = {0};
     if (json_path) {
         bench_json_open(PROGRAM, json_path, &out);
-        fprintf(out.fp, "{\n  \"scene\": \"%s\", \"queries\": %u, \"pairs\": %ld, \"truth_samples\": %ld,\n",
-                scene_path, refs.count, pairs, truth_samples);
+        fprintf(out.fp, "{\n  \"scene\": ");
+        bench_json_string(out.fp, scene_path);
+        fprintf(out.fp, ", \"queries\": %u, \"pairs\": %ld, \"truth_samples\": %ld,\n", refs.count, pairs,
+                truth_samples);
     }
     limit_error lt = error_of(refs.limit, refs.truth, refs.count), pt = error_of(refs.point, refs.truth, refs.count);
     printf("%s: %u of %u vertices, limits with %ld pairs, truth with %ld samples\n", scene_path, refs.count,

@@ -120,6 +120,22 @@ static inline void bench_json_commit(const char *program, sam_atomic_file *file)
         bench_die(program, "results", &err);
 }
 
+/* `text` as a JSON string, quotes included: a path may hold quotes,
+ * backslashes or control characters. */
+static inline void bench_json_string(FILE *json, const char *text)
+{
+    fputc('"', json);
+    for (const unsigned char *c = (const unsigned char *)text; *c; ++c) {
+        if (*c == '"' || *c == '\\')
+            fprintf(json, "\\%c", *c);
+        else if (*c < 0x20)
+            fprintf(json, "\\u%04x", *c);
+        else
+            fputc(*c, json);
+    }
+    fputc('"', json);
+}
+
 /* A scene file's object on a new runtime, lit as sam_render and sam_compare
  * light it: the scene in `scene`, its map in `sam` (built from the mesh),
  * its material and scale, and in `sh` and `*has_environment` (may be NULL)
