@@ -415,9 +415,10 @@ static double half_lit_ld(const cut_fixture *f, uint32_t t)
 }
 
 /* Six blobs in a 60 mm cube in skin (whose light reaches 10 mm), and in a
- * 300 mm cube in marble (50 mm), lit on one half of the scene. A node's L_d is its members' mean, so a node holding surfaces
- * that face alike on several blobs lends a receiver in the shadow the
- * light of a blob it cannot reach. Built with normals weighed by the whole
+ * 300 mm cube in marble (50 mm), lit on one half of the scene. A node's
+ * L_d is its members' mean, so a node holding surfaces that face alike on
+ * several blobs lends a receiver in the shadow the light of a blob it
+ * cannot reach. Built with normals weighed by the whole
  * scene's extent at every size, the cut's T was 12.5% and 7.0% off the
  * brute-force sum; with nodes in a cone of normals split by position while
  * wider than the reach, 2.0% and 1.1% (sam_build_tree.c). */

@@ -63,8 +63,9 @@ extern "C" {
  * N > 32 change; 1.6: a cut node wholly behind its receiver hands its K to
  * the smallest node around where its light comes from, no smaller than
  * its spread; 1.7: a cluster whose normals lie within a cone splits by
- * position while it is wider than the profile's reach across), and the tools' map cache keys on it, so that no cached map outlives the builder that
- * made it. */
+ * position while it is wider than the profile's reach across), and the
+ * tools' map cache keys on it, so that no cached map outlives the builder
+ * that made it. */
 #define SAM_BUILD_VERSION "1.7"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
