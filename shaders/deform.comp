@@ -38,19 +38,33 @@ vec3 key(int k, uint v)
     return k < 0 ? rest[v].xyz : keys[uint(k) * u_vertex_count + v].xyz;
 }
 
+// sin(x) / x. GLSL leaves sin's precision to the driver, and an NVIDIA
+// H200's sin erred near 0 by far more than float rounding: a bend whose
+// strength passes through 0, as every periodic one does, divided that error
+// by a curvature near 1e-7, and vertices jumped by 0.4 of the mesh's size
+// (tests/test_gl_deform.c, one period on). Below a quarter radian the
+// series is exact to float rounding.
+float sinc(float x)
+{
+    float x2 = x * x;
+    return abs(x) < 0.25 ? 1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0)) : sin(x) / x;
+}
+
 vec3 deform(int i, vec3 p)
 {
     vec3 a = u_axis[i], n = u_direction[i], v = p - u_center[i];
     float u = dot(v, a);
     if (u_type[i] == BEND) {
-        float w = dot(v, n), k = u_param[i].x, phi = k * u, sn = sin(phi), h = sin(0.5 * phi);
-        // sin(phi) / k and 2 sin^2(phi / 2) / k stay exact as k -> 0.
-        float along = sn / k - w * sn, across = w * cos(phi) + 2.0 * h * h / k;
+        // sin(phi) / k = u sinc(phi), and 2 sin^2(phi / 2) / k = u phi sinc^2(phi / 2) / 2,
+        // exact as k -> 0; cos(phi) = 1 - 2 sin^2(phi / 2).
+        float w = dot(v, n), phi = u_param[i].x * u, s = sinc(phi), hs = sinc(0.5 * phi);
+        float h2 = 0.5 * u * phi * hs * hs; // 2 sin^2(phi / 2) / k
+        float along = u * s - w * phi * s, across = w * (1.0 - h2 * u_param[i].x) + h2;
         return u_center[i] + (v - u * a - w * n) + along * a + across * n;
     }
     if (u_type[i] == TWIST) {
-        float phi = u_param[i].x * u;
-        return u_center[i] + v * cos(phi) + cross(a, v) * sin(phi) + a * (u * (1.0 - cos(phi)));
+        float phi = u_param[i].x * u, hs = sinc(0.5 * phi), one_minus_cos = 0.5 * phi * phi * hs * hs;
+        return u_center[i] + v * (1.0 - one_minus_cos) + cross(a, v) * (phi * sinc(phi)) + a * (u * one_minus_cos);
     }
     if (u_type[i] == SQUASH)
         return u_center[i] + (u * u_param[i].x) * a + (v - u * a) * u_param[i].y;
