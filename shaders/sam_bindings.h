@@ -37,10 +37,9 @@
 #define SAM_B_REST_K 22         /* {uint index; uvec2 packed K} per sample, slot-major: its K at rest */
 #define SAM_B_LIMIT 23          /* bindings a context must offer */
 
-/* Tree levels the node pass sums per dispatch (nodes.comp): 2 was the
- * fastest of 1, 2 and 4 on an H200 and within 0.25 ms of 4 on llvmpipe
- * (docs/performance.md). */
-#define SAM_NODE_BAND_LEVELS 2
+/* The node pass (nodes.comp) counts each node's arrived children where
+ * the posed translucency pass, which runs after it, binds the rest pose. */
+#define SAM_B_NODE_ARRIVALS SAM_B_REST_POSITIONS
 
 /* The deform pass reads its inputs where the normals and samples usually
  * are: it writes positions only, and the normals pass runs after it. */

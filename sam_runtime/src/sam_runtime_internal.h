@@ -155,8 +155,8 @@ typedef struct sam_rt_nodes {
     GLuint program, light_program; /* all of a node, or its L_d alone (SAM_NODES_LIGHT) */
     int rest_geometry;       /* 1 while the node buffer holds the rest pose's centroids, areas and normals */
     GLuint rest_nodes;       /* the node buffer of the rest pose, once a pose was set; else 0 */
-    uint32_t node_count, level_count;
-    uint32_t *level_offsets; /* level_count + 1, host copy for the dispatches */
+    GLuint arrivals;         /* uint per node, 0 between passes (nodes.comp) */
+    uint32_t node_count;
 } sam_rt_nodes;
 
 /* sam_runtime_technique.c: transmittance's distance reads and the

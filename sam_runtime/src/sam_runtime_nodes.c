@@ -15,9 +15,7 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
     float *zero = calloc((nc ? nc : 1) * 16, sizeof *zero);
     float *tau = malloc((nc ? samples : 1) * sizeof *tau);
     uint32_t *parent = malloc(total * sizeof *parent);
-    t->level_count = sam->level_count;
-    t->level_offsets = malloc(((size_t)sam->level_count + 1) * sizeof *t->level_offsets);
-    if (!zero || !tau || !parent || !t->level_offsets) {
+    if (!zero || !tau || !parent) {
         free(zero);
         free(tau);
         free(parent);
@@ -30,8 +28,6 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
         for (size_t v = 0; v < nv; ++v)
             for (size_t k = 0; k < stride; ++k)
                 tau[k * nv + v] = sam->sample_tau[v * stride + k];
-    if (nc)
-        memcpy(t->level_offsets, sam->level_offsets, ((size_t)sam->level_count + 1) * sizeof *t->level_offsets);
     for (size_t i = 0; i < total; ++i)
         parent[i] = SAMFILE_NO_SAMPLE;
     for (size_t j = 0; j < 2 * nc; ++j)
@@ -43,8 +39,17 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
         (st = sam_runtime_upload(rt, SAM_B_NODE_CHILDREN, nc ? (const void *)sam->node_children : none,
                                  (nc ? nc : 1) * 2 * sizeof(uint32_t), err)) == SAM_OK &&
         (st = sam_runtime_upload(rt, SAM_B_NODE_PARENTS, parent, total * sizeof(uint32_t), err)) == SAM_OK &&
-        (st = sam_gl_compute_program("nodes.comp", NULL, &t->program, err)) == SAM_OK)
-        st = sam_gl_compute_program("nodes.comp", "#define SAM_NODES_LIGHT 1\n", &t->light_program, err);
+        (st = sam_gl_compute_program("nodes.comp", NULL, &t->program, err)) == SAM_OK &&
+        (st = sam_gl_compute_program("nodes.comp", "#define SAM_NODES_LIGHT 1\n", &t->light_program, err)) ==
+            SAM_OK) {
+        /* Zeros: no child has arrived anywhere (nodes.comp). */
+        glGenBuffers(1, &t->arrivals);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, t->arrivals);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)((nc ? nc : 1) * sizeof(uint32_t)), zero, GL_DYNAMIC_DRAW);
+        if (glGetError() != GL_NO_ERROR)
+            st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not allocate the counters of %zu nodes",
+                          nc);
+    }
     free(zero);
     free(tau);
     free(parent);
@@ -58,8 +63,9 @@ void sam_runtime_nodes_destroy(sam_runtime *rt)
     if (rt->nodes.rest_nodes)
         glDeleteBuffers(1, &rt->nodes.rest_nodes);
     rt->nodes.rest_nodes = 0;
-    free(rt->nodes.level_offsets);
-    rt->nodes.level_offsets = NULL;
+    if (rt->nodes.arrivals)
+        glDeleteBuffers(1, &rt->nodes.arrivals);
+    rt->nodes.arrivals = 0;
 }
 
 uint32_t sam_runtime_node_count(const sam_runtime *rt)
@@ -77,21 +83,11 @@ void sam_runtime_nodes_update(sam_runtime *rt)
     GLuint p = light ? t->light_program : t->program;
     glUseProgram(p);
     glUniform1ui(glGetUniformLocation(p, "u_vertex_count"), rt->vertex_count);
-    GLint first = glGetUniformLocation(p, "u_first"), count = glGetUniformLocation(p, "u_count"),
-          band_end = glGetUniformLocation(p, "u_band_end");
     sam_runtime_bind_buffers(rt);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_NODE_ARRIVALS, t->arrivals);
     sam_runtime_begin_timer(rt, SAM_PASS_NODES);
-    const uint32_t *lo = t->level_offsets, bands = (t->level_count + SAM_NODE_BAND_LEVELS - 1) / SAM_NODE_BAND_LEVELS;
-    for (uint32_t b = bands; b-- > 0;) {
-        const uint32_t top = b * SAM_NODE_BAND_LEVELS,
-                       end = top + SAM_NODE_BAND_LEVELS < t->level_count ? top + SAM_NODE_BAND_LEVELS : t->level_count;
-        const uint32_t n = lo[top + 1] - lo[top];
-        glUniform1ui(first, lo[top]);
-        glUniform1ui(count, n);
-        glUniform1ui(band_end, lo[end]);
-        glDispatchCompute((n + 63) / 64, 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    }
+    glDispatchCompute((rt->vertex_count + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     sam_runtime_end_timer(rt, SAM_PASS_NODES);
     if (!light)
         t->rest_geometry = !rt->deform.posed;

@@ -1,7 +1,7 @@
 /* The node pass of a cut map (samfile.h, version 2): each tree node's area
  * and its area-weighted centroid, mean normal and L_d, summed from the
- * deepest level up so that every child is ready before its parent
- * (state in rt->nodes). A flat map has no nodes and the pass does nothing.
+ * vertices up so that every child is ready before its parent (state in
+ * rt->nodes). A flat map has no nodes and the pass does nothing.
  * Not installed. */
 #ifndef SAM_RUNTIME_NODES_H
 #define SAM_RUNTIME_NODES_H
@@ -15,10 +15,10 @@
 sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sam_error *err);
 void sam_runtime_nodes_destroy(sam_runtime *rt);
 
-/* Records the pass for the current positions, normals and L_d, in bands
- * of SAM_NODE_BAND_LEVELS levels from the deepest (nodes.comp); at rest,
- * after one full pass there, L_d alone. The translucency pass calls it
- * first. */
+/* Records the pass for the current positions, normals and L_d, one
+ * dispatch from the vertices up (nodes.comp); at rest, after one full pass
+ * there, L_d alone. Leaves SAM_B_NODE_ARRIVALS bound to its own buffer. The
+ * translucency pass calls it first. */
 void sam_runtime_nodes_update(sam_runtime *rt);
 
 /* While the buffers hold the rest pose: the nodes' rest centroids and

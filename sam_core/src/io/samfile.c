@@ -207,9 +207,9 @@ static sam_status check_adjacency(const samfile_data *d, const char *name, sam_s
 /* The tree's rules (samfile.h): levels partition the nodes in order, a
  * node's children are vertices or nodes of the next level, which also
  * rules out cycles, and every vertex and node has at most one parent, every
- * node below level 0 exactly one: the runtime sums a subtree of a few
- * levels per invocation (shaders/nodes.comp), which a node shared by two
- * parents or skipped by all would break. */
+ * node below level 0 exactly one: the runtime sums a node when the second
+ * of its two children reaches it (shaders/nodes.comp), which a node shared
+ * by two parents or skipped by all would break. */
 static sam_status check_tree(const samfile_data *d, const char *name, sam_status bad, sam_error *err)
 {
     const uint32_t vc = d->vertex_count, nc = d->node_count, *lo = d->level_offsets;
