@@ -454,13 +454,20 @@ static void test_shadows_block_light(void **state)
         assert_true(worst_hidden == 0.0);
         assert_true(worst_lit <= 1e-4);
     }
-    /* Five shadowed point lights are more than the runtime keeps maps for. */
-    sam_light many[5];
+    /* Distant point lights take the 4 maps fitted to the object, then the
+     * 4 cubes; five point lights inside the object's bounds need five
+     * cubes, more than the runtime keeps. */
+    sam_light many[9];
     memset(many, 0, sizeof many);
-    for (int i = 0; i < 5; ++i)
+    for (int i = 0; i < 9; ++i)
         many[i].shadow = 1, many[i].intensity = 1, many[i].position[1] = 3.0f + (float)i;
+    assert_int_equal(sam_runtime_set_lights(rt, many, 8, &err), SAM_OK);
+    assert_int_equal(sam_runtime_set_lights(rt, many, 9, &err), SAM_ERR_UNSUPPORTED);
+    assert_non_null(strstr(err.message, "9 distant point lights"));
+    for (int i = 0; i < 5; ++i)
+        many[i].position[1] = -0.5f;
     assert_int_equal(sam_runtime_set_lights(rt, many, 5, &err), SAM_ERR_UNSUPPORTED);
-    assert_non_null(strstr(err.message, "5 shadowed point/area"));
+    assert_non_null(strstr(err.message, "5 shadowed area or nearby point lights"));
     free(gpu);
     free(cpu);
     sam_runtime_destroy(rt);

@@ -84,8 +84,9 @@ enum { ATLAS_IRRADIANCE, ATLAS_STRETCH, ATLAS_TEMP, ATLAS_LEVEL_A, ATLAS_LEVEL_B
 /* sam_runtime_lights.c */
 typedef struct sam_rt_lights {
     sam_light *lights;
+    unsigned char *cube; /* per light: 1 when its shadow map is a cube (sam_runtime_set_lights says which) */
     uint32_t count;
-    uint32_t cube_count, flat_count; /* shadowed point/area and spot/directional lights */
+    uint32_t cube_count, flat_count; /* shadowed lights with a cube map, with a 2D map */
     int has_environment;
     float sh[9][3];
 } sam_rt_lights;

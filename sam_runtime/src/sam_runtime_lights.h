@@ -10,8 +10,10 @@
 sam_status sam_runtime_lights_create(sam_runtime *rt, sam_error *err);
 void sam_runtime_lights_destroy(sam_runtime *rt);
 
-/* 1 when light `l` casts a cube shadow map (point and area lights cast all
- * round), 0 for a flat one (spot and directional). */
-int sam_runtime_light_casts_cube(const sam_light *l);
+/* The half-angle, in radians, of the cone that the object's bounding
+ * sphere (rt->centre, rt->radius, widened by the shadow lookups' reach)
+ * fills seen from `position`; pi/2 from inside it. A point light's 2D
+ * shadow map is fitted to this cone. */
+float sam_runtime_object_half_angle(const sam_runtime *rt, const float position[3]);
 
 #endif

@@ -1,6 +1,7 @@
-/* Shadow maps (sam_runtime_shadows.h): a 512^2 cube of distances for point
- * and area lights, a 1024^2 depth map for spot and directional lights;
- * shaders/shadows.glsl filters both. */
+/* Shadow maps (sam_runtime_shadows.h): a 512^2 cube of distances for area
+ * lights and for point lights close to the object, a 1024^2 map for spot
+ * and directional lights and for the other point lights (fitted to the
+ * object); shaders/shadows.glsl filters both. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -102,18 +103,28 @@ void sam_runtime_render_shadows(sam_runtime *rt)
             rt->shadows.cube_far[cube] = far_plane;
         } else {
             uint32_t flat = s.map;
-            const float *d = l->direction;
+            float d[3], dc = sqrtf((l->position[0] - rt->centre[0]) * (l->position[0] - rt->centre[0]) +
+                                   (l->position[1] - rt->centre[1]) * (l->position[1] - rt->centre[1]) +
+                                   (l->position[2] - rt->centre[2]) * (l->position[2] - rt->centre[2]));
+            memcpy(d, l->direction, sizeof d);
+            if (l->type == SAM_LIGHT_POINT && dc > 0) /* it looks at the object */
+                for (int c = 0; c < 3; ++c)
+                    d[c] = (rt->centre[c] - l->position[c]) / dc;
             float up[3] = {0, 1, 0};
             if (fabsf(d[1]) > 0.9f)
                 up[0] = 1, up[1] = 0;
             sam_mat4 vp;
             float far_plane = 0.0f;
-            if (l->type == SAM_LIGHT_SPOT) {
-                float dc = sqrtf((l->position[0] - rt->centre[0]) * (l->position[0] - rt->centre[0]) +
-                                 (l->position[1] - rt->centre[1]) * (l->position[1] - rt->centre[1]) +
-                                 (l->position[2] - rt->centre[2]) * (l->position[2] - rt->centre[2]));
+            if (l->type != SAM_LIGHT_DIRECTIONAL) {
                 far_plane = 1.01f * (dc + rt->radius);
-                float fov = fminf(2.0f * l->outer_angle_deg, 170.0f) * 3.14159265f / 180.0f;
+                /* A point light looks at the object, fitted to the cone it
+                 * fills now: a deforming object may have grown since
+                 * sam_runtime_set_lights chose the map, up to the same
+                 * 170 degrees a spot's map spans at most. */
+                float fov = l->type == SAM_LIGHT_POINT
+                                ? 2.0f * sam_runtime_object_half_angle(rt, l->position)
+                                : l->outer_angle_deg * 3.14159265f / 90.0f;
+                fov = fminf(fov, 170.0f * 3.14159265f / 180.0f);
                 float target[3] = {l->position[0] + d[0], l->position[1] + d[1], l->position[2] + d[2]};
                 vp = sam_mat4_mul(sam_mat4_perspective(fov, 1.0f, 1e-3f * far_plane, far_plane),
                                   sam_mat4_look_at(l->position, target, up));
@@ -142,11 +153,10 @@ void sam_runtime_render_shadows(sam_runtime *rt)
 int sam_runtime_next_shadow(const sam_runtime *rt, sam_runtime_shadow *s)
 {
     for (; s->next < rt->lights.count; ++s->next) {
-        const sam_light *l = &rt->lights.lights[s->next];
-        if (!l->shadow)
+        if (!rt->lights.lights[s->next].shadow)
             continue;
+        s->cube = rt->lights.cube[s->next];
         s->light = s->next++;
-        s->cube = sam_runtime_light_casts_cube(l);
         s->map = s->cube ? s->cubes++ : s->flats++;
         return 1;
     }

@@ -23,7 +23,7 @@ sam_mat4 sam_runtime_cube_face(const float origin[3], float far_plane, int face)
 /* One step of a walk over the shadowed lights (sam_runtime_next_shadow). */
 typedef struct sam_runtime_shadow {
     uint32_t light; /* index in rt->lights.lights */
-    int cube;       /* 1: a cube map (point and area lights); 0: a flat map (spot and directional) */
+    int cube;       /* 1: a cube map (area lights, point lights close to the object); 0: a flat map (the others) */
     uint32_t map;   /* its index among the cube maps, or among the flat ones */
     uint32_t next, cubes, flats; /* the walk's own state */
 } sam_runtime_shadow;

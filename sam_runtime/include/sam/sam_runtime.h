@@ -306,11 +306,15 @@ sam_status sam_runtime_set_thickness(sam_runtime *rt, const float *mm, uint32_t 
 sam_status sam_runtime_set_thickness_distortion(sam_runtime *rt, float distortion, sam_error *err);
 
 /* The lights of a scene (copied; `count` <= SAM_LIGHT_MAX_COUNT). Lights
- * with `shadow` get a shadow map: a 512^2 cube of distances for point
- * lights and for area lights (seen from the polygon's centroid), a 1024^2
- * depth map with 4x4-texel PCF for spot and directional lights; at most 4
- * of each kind. Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_UNSUPPORTED (too
- * many shadowed lights, naming the counts). */
+ * with `shadow` get a shadow map with 4x4-texel PCF: a 1024^2 map for spot
+ * and directional lights, and for point lights that see the object's
+ * bounding sphere within a cone of 120 degrees (fitted to that cone each
+ * frame); a 512^2 cube of distances for area lights (seen from the
+ * polygon's centroid) and the other point lights. At most 4 cubes and 4
+ * 1024^2 maps: distant point lights take a cube once the 1024^2 maps are
+ * spent. Which kind a point light gets is chosen here, from the current
+ * bounds (sam_runtime_bounds). Errors: SAM_ERR_INVALID_ARGUMENT,
+ * SAM_ERR_UNSUPPORTED (too many shadowed lights, naming the counts). */
 sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size_t count, sam_error *err);
 
 /* The environment's radiance SH (sam_light_sh9_from_latlong), or NULL for none. */
