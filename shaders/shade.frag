@@ -85,9 +85,7 @@ vec3 table_rgb(int which, float x, float y)
 // footprint at the light's distance, stretched on slanted surfaces.
 float penumbra_mm(Light l, vec3 p, float n_dot_l)
 {
-    int type = int(l.color_type.w);
-    float texel = type == 2 ? 0.0 : 2.0 * distance(l.position.xyz, p) / (type == 0 ? 512.0 : 1024.0);
-    return 4.0 * texel * u_mm_per_unit / max(abs(n_dot_l), 0.2);
+    return 4.0 * shadow_texel(l, p) * u_mm_per_unit / max(abs(n_dot_l), 0.2);
 }
 
 vec3 preintegrated_front(vec3 n, vec3 p)

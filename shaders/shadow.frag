@@ -1,7 +1,7 @@
 #version 430 core
 in vec3 v_world;
 
-uniform int u_distance;     // 1: write distance to u_light / u_far (cube and spot maps)
+uniform int u_distance;     // 1: write distance to u_light / u_far (all but directional maps)
 uniform vec3 u_light;
 uniform float u_far;
 

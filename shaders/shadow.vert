@@ -1,6 +1,6 @@
 #version 430 core
-// Depth of the mesh seen from a light. Cube maps (point and area lights)
-// and spot maps store the distance to the light over u_far; directional
+// Depth of the mesh seen from a light. Cube maps and the spot and point
+// lights' 2D maps store the distance to the light over u_far; directional
 // maps the projected (orthographic, so linear) depth.
 layout(location = 0) in vec4 a_position;
 

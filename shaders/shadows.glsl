@@ -1,16 +1,19 @@
 #version 430 core
-// Shadow maps: point and area lights (from the area's centroid) get a cube
-// map of distance / far; spot and directional lights a 2D depth map seen
-// through u_flat_matrix. Light.params.z is the map index, -1 for none;
-// params.w is 1 for a cube map. Lookups happen at the vertex moved along
-// its normal by u_normal_offset (model units), against self-shadowing.
+// Shadow maps: area lights (from the area's centroid) and point lights
+// close to the object get a cube map of distance / far; spot and
+// directional lights and the other point lights a 2D map seen through
+// u_flat_matrix (sam_runtime_set_lights chooses). Light.params.z is the map
+// index, -1 for none; params.w is 1 for a cube map. Lookups happen at the
+// vertex moved along its normal by u_normal_offset (model units), against
+// self-shadowing.
 uniform samplerCubeShadow u_cube_shadow[4];
 uniform float u_cube_far[4];
 uniform vec3 u_cube_origin[4];
 uniform sampler2DShadow u_flat_shadow[4];
 uniform mat4 u_flat_matrix[4];
 uniform vec3 u_flat_origin[4];
-uniform float u_flat_far[4];      // > 0: the map holds distance / far (spot)
+uniform float u_flat_far[4];      // > 0: the map holds distance / far (spot, point)
+uniform float u_flat_texel[4];    // far > 0: a texel's width per unit of distance; else in model units
 uniform float u_normal_offset;
 uniform float u_depth_bias;
 
@@ -53,4 +56,18 @@ float shadow(Light l, vec3 p, vec3 n)
         for (int x = -1; x <= 1; ++x)
             sum += texture(u_flat_shadow[index], vec3(uvz.xy + vec2(x, y) * texel, uvz.z - u_depth_bias));
     return sum / 9.0;
+}
+
+// The width of a texel of light l's shadow map at p, in model units; 0
+// without a map.
+float shadow_texel(Light l, vec3 p)
+{
+    int index = int(l.params.z);
+    if (index < 0)
+        return 0.0;
+    if (l.params.w != 0.0) {
+        vec3 d = p - u_cube_origin[index];
+        return 2.0 * max(abs(d.x), max(abs(d.y), abs(d.z))) / float(textureSize(u_cube_shadow[index], 0).x);
+    }
+    return u_flat_far[index] > 0.0 ? u_flat_texel[index] * distance(p, u_flat_origin[index]) : u_flat_texel[index];
 }

@@ -12,10 +12,10 @@
 #include "technique.glsl"
 
 uniform sampler2DArray u_tsm_flat;     // layer 2k: (u, v, distance, 1); 2k + 1: (normal, 1)
-// Point lights' cubes as 2D layers 12k + face and 12k + 6 + face (a cube
-// map array would do, but sampling one crashes llvmpipe's LLVM 15), and the
-// faces' view-projections from the origin: their x and y do not depend on
-// the origin's position or the far plane.
+// Cube-mapped point lights' faces as 2D layers 12k + face and 12k + 6 +
+// face (a cube map array would do, but sampling one crashes llvmpipe's
+// LLVM 15), and the faces' view-projections from the origin: their x and y
+// do not depend on the origin's position or the far plane.
 uniform sampler2DArray u_tsm_cube;
 uniform mat4 u_cube_face[6];
 uniform sampler2DArray u_levels;       // layer i: the irradiance convolved by G(v_i)

@@ -106,6 +106,7 @@ typedef struct sam_rt_shadows {
     sam_mat4 flat_matrix[MAX_FLAT_SHADOWS];
     float flat_origin[MAX_FLAT_SHADOWS][3], flat_far[MAX_FLAT_SHADOWS]; /* far = 0: projected depth */
     float flat_range[MAX_FLAT_SHADOWS]; /* directional: model units from window depth 0 to 1 */
+    float flat_texel[MAX_FLAT_SHADOWS]; /* a texel's width per unit of distance (perspective) or in model units */
 } sam_rt_shadows;
 
 /* sam_runtime_deform.c */

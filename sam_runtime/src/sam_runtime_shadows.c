@@ -128,12 +128,14 @@ void sam_runtime_render_shadows(sam_runtime *rt)
                 float target[3] = {l->position[0] + d[0], l->position[1] + d[1], l->position[2] + d[2]};
                 vp = sam_mat4_mul(sam_mat4_perspective(fov, 1.0f, 1e-3f * far_plane, far_plane),
                                   sam_mat4_look_at(l->position, target, up));
+                rt->shadows.flat_texel[flat] = 2.0f * tanf(0.5f * fov) / FLAT_SHADOW_SIZE;
             } else {
                 float r = 1.01f * rt->radius;
                 float eye[3] = {rt->centre[0] - d[0] * 2 * r, rt->centre[1] - d[1] * 2 * r,
                                 rt->centre[2] - d[2] * 2 * r};
                 vp = sam_mat4_mul(sam_mat4_ortho(-r, r, -r, r, 0.0f, 4 * r), sam_mat4_look_at(eye, rt->centre, up));
                 rt->shadows.flat_range[flat] = 4 * r;
+                rt->shadows.flat_texel[flat] = 2 * r / FLAT_SHADOW_SIZE;
             }
             if (!rt->shadows.flat_tex[flat])
                 rt->shadows.flat_tex[flat] = shadow_texture(GL_TEXTURE_2D, FLAT_SHADOW_SIZE);
@@ -187,6 +189,7 @@ void sam_runtime_bind_shadows(const sam_runtime *rt, GLuint p)
     glUniformMatrix4fv(glGetUniformLocation(p, "u_flat_matrix"), MAX_FLAT_SHADOWS, GL_FALSE, rt->shadows.flat_matrix[0].m);
     glUniform3fv(glGetUniformLocation(p, "u_flat_origin"), MAX_FLAT_SHADOWS, &rt->shadows.flat_origin[0][0]);
     glUniform1fv(glGetUniformLocation(p, "u_flat_far"), MAX_FLAT_SHADOWS, rt->shadows.flat_far);
+    glUniform1fv(glGetUniformLocation(p, "u_flat_texel"), MAX_FLAT_SHADOWS, rt->shadows.flat_texel);
     glUniform1f(glGetUniformLocation(p, "u_normal_offset"), 0.01f * rt->radius);
     glUniform1f(glGetUniformLocation(p, "u_depth_bias"), 0.002f);
 }

@@ -156,8 +156,8 @@ static sam_status ensure_tsm_maps(sam_runtime *rt, sam_error *err)
     if (glGetError() != GL_NO_ERROR) {
         release_tsm_maps(&rt->technique);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY,
-                        "render: the GL could not allocate translucent shadow maps for %u spot/directional and %u "
-                        "point lights",
+                        "render: the GL could not allocate translucent shadow maps for %u lights with 2D shadow maps "
+                        "and %u with cube maps",
                         rt->lights.flat_count, rt->lights.cube_count);
     }
     rt->technique.tsm_flat_count = rt->lights.flat_count;
