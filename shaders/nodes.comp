@@ -97,6 +97,8 @@ void main()
     for (uint j = parents[v]; j != NO_PARENT; j = parents[u_vertex_count + j]) {
         if (atomicAdd(arrivals[j], 1u) == 0u)
             return;
+        // The sibling's node is read after its arrival was seen.
+        memoryBarrierBuffer();
         arrivals[j] = 0u;
         sum_node(j);
         // The node must be visible before its arrival at its parent is.

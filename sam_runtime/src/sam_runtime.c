@@ -130,6 +130,12 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
     *out = NULL;
     if (!sam || !profile || !(mm_per_unit > 0))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: no .sam, no profile or a scale <= 0");
+    /* An engine may build its samfile_data by hand: an index out of range
+     * would be read on the GPU, and a tree node shared by two parents
+     * would leave the node pass's arrival counter wrong for good. */
+    sam_status st = samfile_validate(sam, err);
+    if (st != SAM_OK)
+        return st;
     sam_runtime *rt = calloc(1, sizeof *rt);
     if (!rt)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory");
@@ -141,7 +147,6 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
     sam_profile_total_reflectance(profile, rt->total_reflectance);
     glGenBuffers(SAM_B_COUNT, rt->buffer);
     glGenQueries(SAM_PASS_COUNT, rt->query);
-    sam_status st;
     if ((st = upload_mesh(rt, sam, err)) == SAM_OK && (st = sam_profile_fit_gaussians(profile, &rt->fit, err)) == SAM_OK) {
         measure(rt, sam);
         make_vertex_array(rt, sam->uvs != NULL);

@@ -126,8 +126,11 @@ sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size
     }
     st = sam_runtime_upload(rt, SAM_B_LIGHTS, g, (count ? count : 1) * sizeof *g, err);
     free(g);
-    if (st == SAM_OK)
-        rt->lights.count = (uint32_t)count;
+    /* The arrays hold the new lights either way; without their buffer, no
+     * light is read. */
+    rt->lights.count = st == SAM_OK ? (uint32_t)count : 0;
+    if (st != SAM_OK)
+        rt->lights.cube_count = rt->lights.flat_count = 0;
     return st;
 }
 

@@ -43,6 +43,8 @@ sam_status sam_runtime_nodes_create(sam_runtime *rt, const samfile_data *sam, sa
         (st = sam_gl_compute_program("nodes.comp", "#define SAM_NODES_LIGHT 1\n", &t->light_program, err)) ==
             SAM_OK) {
         /* Zeros: no child has arrived anywhere (nodes.comp). */
+        while (glGetError() != GL_NO_ERROR)
+            ;
         glGenBuffers(1, &t->arrivals);
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, t->arrivals);
         glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)((nc ? nc : 1) * sizeof(uint32_t)), zero, GL_DYNAMIC_DRAW);

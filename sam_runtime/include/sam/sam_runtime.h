@@ -72,9 +72,9 @@
  * table(N.L, m)) (d'Eon Sec. 6; k = pi rho_s, the specular lobe's scale),
  * plus the environment's SH-9 irradiance times the cosine-weighted mean of
  * rho_dt over the hemisphere. A cut map's samples may name tree nodes
- * (samfile.h): the node pass sums, level by level from the deepest, each
- * node's area and its area-weighted centroid, normal and L_d from its two
- * children, so a node is to the translucency pass what a vertex is. The
+ * (samfile.h): the node pass sums, from the vertices up, each node's area
+ * and its area-weighted centroid, normal and L_d from its two children, so
+ * a node is to the translucency pass what a vertex is. The
  * translucency pass evaluates eq. 12 with
  * K = K' F'_b R_d(|v_b - v|) (eq. 15) at rest (computed once per map,
  * sam_runtime_set_rest_k) and, on a deformed pose, K carried from rest
@@ -119,9 +119,10 @@ typedef enum sam_pass {
  * or scale is applied to K' as eq. 15 applies a pose (a tenth of the
  * scale gives a hundredth of the light, not an error), which sam_render
  * allows on purpose (a scene's material overrides its map's).
- * Errors: SAM_ERR_UNSUPPORTED (a buffer larger than the context's storage
- * block limit), SAM_ERR_FORMAT (shader errors, naming file:line),
- * SAM_ERR_OUT_OF_MEMORY. */
+ * Errors: those of samfile_validate (`sam` breaks a rule of samfile.h; a
+ * map read by samfile_read never does), SAM_ERR_UNSUPPORTED (a buffer
+ * larger than the context's storage block limit), SAM_ERR_FORMAT (shader
+ * errors, naming file:line), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
                               sam_runtime **rt, sam_error *err);
 void sam_runtime_destroy(sam_runtime *rt);
@@ -424,8 +425,9 @@ typedef struct sam_render_view {
  * shadowed pixel adds sum_i w_i exp(-d^2 / 2 v_i) fadeOut_i level_i(uv_A),
  * d the distance through the object corrected by d'Eon's cosine term,
  * fadeOut_i rising from 0 at the pixel's own UV to 1 at 6 sqrt(v_i) mm
- * away. A TSM costs 32 MiB (spot, directional) or 48 MiB (point) of maps,
- * and the levels atlas_size^2 * 16 bytes each.
+ * away. A TSM costs 32 MiB of maps for a 2D shadow map, 48 MiB for a cube
+ * (sam_runtime_set_lights says which light gets which), and the levels
+ * atlas_size^2 * 16 bytes each.
  * THICKNESS (Barre-Brisebois and Bouchard, GDC 2011, local thickness) runs
  * a per-vertex pass first and shades its result exactly where T goes (so
  * every diffusion mode applies): T = E_back G(t), t the vertex's thickness
