@@ -39,11 +39,11 @@ vec3 key(int k, uint v)
 }
 
 // sin(x) / x. GLSL leaves sin's precision to the driver, and an NVIDIA
-// H200's sin erred near 0 by far more than float rounding: a bend whose
-// strength passes through 0, as every periodic one does, divided that error
-// by a curvature near 1e-7, and vertices jumped by 0.4 of the mesh's size
-// (tests/test_gl_deform.c, one period on). Below a quarter radian the
-// series is exact to float rounding.
+// H200's sin of a tiny angle is not the angle: one period on, a periodic
+// bend's curvature is sin(2 pi) times its own, about 1e-16, and sin(k u) / k
+// lost the distance u along the axis, moving vertices by 0.4 of the mesh's
+// size (tests/test_gl_deform.c). Below a quarter radian the series is
+// exact to float rounding.
 float sinc(float x)
 {
     float x2 = x * x;
