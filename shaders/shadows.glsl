@@ -17,6 +17,13 @@ uniform float u_flat_texel[4];    // far > 0: a texel's width per unit of distan
 uniform float u_normal_offset;
 uniform float u_depth_bias;
 
+// A face texel of cube map `index` spans 2 m / size across the direction
+// d from its origin, m = d's major component.
+float cube_texel(int index, vec3 d)
+{
+    return 2.0 * max(abs(d.x), max(abs(d.y), abs(d.z))) / float(textureSize(u_cube_shadow[index], 0).x);
+}
+
 // Needs lights.glsl (Light).
 float shadow(Light l, vec3 p, vec3 n)
 {
@@ -31,9 +38,7 @@ float shadow(Light l, vec3 p, vec3 n)
         // pixels a step on a head's ear at 1080p.
         vec3 d = q - u_cube_origin[index];
         float len = length(d), ref = len / u_cube_far[index] - u_depth_bias;
-        // A face texel spans 2 m / size across the direction, m = d's major component.
-        float m = max(abs(d.x), max(abs(d.y), abs(d.z)));
-        float texel = 2.0 * m / float(textureSize(u_cube_shadow[index], 0).x);
+        float texel = cube_texel(index, d);
         vec3 t = normalize(cross(d, abs(d.z) < 0.9 * len ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0)));
         vec3 b = cross(d / len, t);
         float sum = 0.0;
@@ -65,9 +70,7 @@ float shadow_texel(Light l, vec3 p)
     int index = int(l.params.z);
     if (index < 0)
         return 0.0;
-    if (l.params.w != 0.0) {
-        vec3 d = p - u_cube_origin[index];
-        return 2.0 * max(abs(d.x), max(abs(d.y), abs(d.z))) / float(textureSize(u_cube_shadow[index], 0).x);
-    }
+    if (l.params.w != 0.0)
+        return cube_texel(index, p - u_cube_origin[index]);
     return u_flat_far[index] > 0.0 ? u_flat_texel[index] * distance(p, u_flat_origin[index]) : u_flat_texel[index];
 }
