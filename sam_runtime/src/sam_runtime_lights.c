@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sam/sam_vec3.h"
 #include "sam_runtime_gpu.h"
 #include "sam_runtime_lights.h"
 
@@ -30,7 +31,7 @@ float sam_runtime_object_half_angle(const sam_runtime *rt, const float position[
     /* 3% wider: lookups move 1% of the radius off the surface
      * (shadows.glsl), and the filter reads a texel beyond. */
     const float d[3] = {rt->centre[0] - position[0], rt->centre[1] - position[1], rt->centre[2] - position[2]};
-    const float dc = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), r = 1.03f * rt->radius;
+    const float dc = sqrtf(sam_vec3_dot(d, d)), r = 1.03f * rt->radius;
     return dc > r ? asinf(r / dc) : 1.5707963f;
 }
 

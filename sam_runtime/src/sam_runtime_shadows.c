@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sam/sam_vec3.h"
 #include "sam_runtime_gpu.h"
 #include "sam_runtime_lights.h"
 #include "sam_runtime_shadows.h"
@@ -67,6 +68,14 @@ sam_mat4 sam_runtime_cube_face(const float origin[3], float far_plane, int face)
                         sam_mat4_look_at(origin, target, face_up[face]));
 }
 
+/* The object's centre seen from `p`: the vector into `d`, its length returned. */
+static float to_centre(const sam_runtime *rt, const float p[3], float d[3])
+{
+    for (int c = 0; c < 3; ++c)
+        d[c] = rt->centre[c] - p[c];
+    return sqrtf(sam_vec3_dot(d, d));
+}
+
 void sam_runtime_render_shadows(sam_runtime *rt)
 {
     if (!rt->lights.cube_count && !rt->lights.flat_count)
@@ -90,10 +99,7 @@ void sam_runtime_render_shadows(sam_runtime *rt)
                     for (int c = 0; c < 3; ++c)
                         o[c] += l->vertices[k][c] / (float)l->vertex_count;
             }
-            float dc = sqrtf((o[0] - rt->centre[0]) * (o[0] - rt->centre[0]) +
-                             (o[1] - rt->centre[1]) * (o[1] - rt->centre[1]) +
-                             (o[2] - rt->centre[2]) * (o[2] - rt->centre[2]));
-            float far_plane = 1.01f * (dc + rt->radius);
+            float to[3], far_plane = 1.01f * (to_centre(rt, o, to) + rt->radius);
             if (!rt->shadows.cube_tex[cube])
                 rt->shadows.cube_tex[cube] = shadow_texture(GL_TEXTURE_CUBE_MAP, CUBE_SHADOW_SIZE);
             for (int f = 0; f < 6; ++f)
@@ -103,13 +109,11 @@ void sam_runtime_render_shadows(sam_runtime *rt)
             rt->shadows.cube_far[cube] = far_plane;
         } else {
             uint32_t flat = s.map;
-            float d[3], dc = sqrtf((l->position[0] - rt->centre[0]) * (l->position[0] - rt->centre[0]) +
-                                   (l->position[1] - rt->centre[1]) * (l->position[1] - rt->centre[1]) +
-                                   (l->position[2] - rt->centre[2]) * (l->position[2] - rt->centre[2]));
-            memcpy(d, l->direction, sizeof d);
+            float d[3], dc = to_centre(rt, l->position, d);
             if (l->type == SAM_LIGHT_POINT && dc > 0) /* it looks at the object */
-                for (int c = 0; c < 3; ++c)
-                    d[c] = (rt->centre[c] - l->position[c]) / dc;
+                sam_vec3_normalize(d);
+            else
+                memcpy(d, l->direction, sizeof d);
             float up[3] = {0, 1, 0};
             if (fabsf(d[1]) > 0.9f)
                 up[0] = 1, up[1] = 0;
