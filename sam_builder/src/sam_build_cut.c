@@ -181,8 +181,8 @@ static uint32_t carrier(const sam_build_context *ctx, const sam_build_tree *tree
  * partly behind o mixes in members in front of it, on a thin part the
  * other face's light or shadow: on the knot in ketchup the cut's
  * translucency then erred by 2.3 times what it does with this. Such a node,
- * of at most EXACT_MEMBERS members (larger ones are not asked member by
- * member), hands its K to the node around its back-side member nearest
+ * of at most EXACT_MEMBERS members (concentrate narrows a larger one
+ * first), hands its K to the node around its back-side member nearest
  * `centre` (where its light comes from): the largest node on the way down
  * to that member that lies wholly behind o, else the member's parent
  * (whose tau, as every node's, leans towards `centre`). Not the member
@@ -232,25 +232,36 @@ static uint32_t focus(const sam_build_context *ctx, const sam_build_tree *tree, 
     }
 }
 
-/* The node that holds wholly-behind cut node `id`'s K: the smallest node
- * on the way down that holds `centre` (where its light comes from, the
- * K-weighted centre, mm) in its box and is at least `spread` (the K-weighted
- * spread about it, mm) in half-diagonal; of two such children, the one
- * whose centroid is nearer. The runtime reads a node's L_d as its members'
- * area mean, while its light comes mostly from its edge nearest the
- * receiver: where L_d changes across it (a shadow's edge, the terminator
- * around a tube), the whole node's mean stands for light its K does not
- * see. Read from the cut node itself, the knot's translucency erred by 1.6
- * times, the area-lit slab's by 1.8 times what it does here
- * (docs/builder.md). No smaller than the spread: such a node would read
- * L_d at one point of an area the light comes from. Descendants of a node
- * wholly behind are wholly behind too, and carried as every node is. */
-static uint32_t concentrate(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t id,
-                            const float centre[3], float spread)
+/* The node that holds cut node `id`'s K: the smallest node on the way down
+ * that holds `centre` (where its light comes from, the K-weighted centre,
+ * mm) in its box and is at least `spread` (the K-weighted spread about it,
+ * mm) in half-diagonal; of two such children, the one whose centroid is
+ * nearer. The runtime reads a node's L_d as its members' area mean, while
+ * its light comes mostly from its edge nearest the receiver: where L_d
+ * changes across it (a shadow's edge, the terminator around a tube), the
+ * whole node's mean stands for light its K does not see. Read from the cut
+ * node itself, the knot's translucency erred by 1.6 times, the area-lit
+ * slab's by 1.8 times what it does here (docs/builder.md). No smaller than
+ * the spread: such a node would read L_d at one point of an area the light
+ * comes from. Descendants of a node wholly behind are wholly behind too,
+ * and carried as every node is.
+ *
+ * A node partly behind (`mixed`) goes down only while it has more than
+ * EXACT_MEMBERS members, and only into children that reach o: focus takes
+ * it from there, member by member. Such a node, split by normal near the
+ * root, can span a whole figure while its K comes from a crease a
+ * millimetre from the receiver: on a 100 mm figure in marble (the
+ * statue), the lips' K read the mean L_d of surfaces facing alike over the
+ * whole body, lit from behind, where the lips' own back side lies in
+ * shadow: a glow around the mouth 40 times the vertex sum (docs/builder.md). */
+static uint32_t concentrate(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id,
+                            const float centre[3], float spread, int mixed)
 {
     const uint32_t n = ctx->mesh->topo_count;
     for (;;) {
         const sam_build_node *node = &tree->node[id - n];
+        if (mixed && node->count <= EXACT_MEMBERS)
+            return id;
         uint32_t next = UINT32_MAX;
         float next_d = INFINITY;
         for (int c = 0; c < 2; ++c) {
@@ -265,7 +276,9 @@ static uint32_t concentrate(const sam_build_context *ctx, const sam_build_tree *
                 diagonal2 += (k->hi[a] - k->lo[a]) * (k->hi[a] - k->lo[a]);
             }
             const float d = sam_build_distance(centre, k->centroid);
-            if (inside && 0.25f * diagonal2 >= spread * spread && d < next_d) {
+            sam_bounds_range b;
+            if (inside && 0.25f * diagonal2 >= spread * spread && d < next_d &&
+                (!mixed || sam_build_node_side(ctx, k, o, &b) != SAM_BUILD_SIDE_OUT)) {
                 next = kid;
                 next_d = d;
             }
@@ -503,8 +516,9 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         }
         if (e[c].id >= n) {
             const float *centre = sc->centre + 3 * (size_t)c;
-            const uint32_t held = e[c].back ? concentrate(ctx, tree, e[c].id, centre, sc->spread[c])
-                                            : focus(ctx, tree, o, e[c].id, centre);
+            uint32_t held = concentrate(ctx, tree, o, e[c].id, centre, sc->spread[c], !e[c].back);
+            if (!e[c].back)
+                held = focus(ctx, tree, o, held, centre);
             e[c].id = carrier(ctx, tree, o, held, e[c].k, centre);
             e[c].tau = node_tau(ctx, tree, e[c].id - n, centre);
         }

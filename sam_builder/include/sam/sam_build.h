@@ -63,10 +63,12 @@ extern "C" {
  * N > 32 change; 1.6: a cut node wholly behind its receiver hands its K to
  * the smallest node around where its light comes from, no smaller than
  * its spread; 1.7: a cluster whose normals lie within a cone splits by
- * position while it is wider than the profile's reach across), and the
+ * position while it is wider than the profile's reach across; 1.8: a cut
+ * node partly behind its receiver with more members than are asked one by
+ * one first goes down towards where its light comes from), and the
  * tools' map cache keys on it, so that no cached map outlives the builder
  * that made it. */
-#define SAM_BUILD_VERSION "1.7"
+#define SAM_BUILD_VERSION "1.8"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
