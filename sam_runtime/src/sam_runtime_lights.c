@@ -26,12 +26,19 @@ void sam_runtime_lights_destroy(sam_runtime *rt)
     rt->lights.cube = NULL;
 }
 
+float sam_runtime_to_centre(const sam_runtime *rt, const float p[3], float d[3])
+{
+    for (int c = 0; c < 3; ++c)
+        d[c] = rt->centre[c] - p[c];
+    return sqrtf(sam_vec3_dot(d, d));
+}
+
 float sam_runtime_object_half_angle(const sam_runtime *rt, const float position[3])
 {
     /* 3% wider: lookups move 1% of the radius off the surface
      * (shadows.glsl), and the filter reads a texel beyond. */
-    const float d[3] = {rt->centre[0] - position[0], rt->centre[1] - position[1], rt->centre[2] - position[2]};
-    const float dc = sqrtf(sam_vec3_dot(d, d)), r = 1.03f * rt->radius;
+    float d[3];
+    const float dc = sam_runtime_to_centre(rt, position, d), r = 1.03f * rt->radius;
     return dc > r ? asinf(r / dc) : 1.5707963f;
 }
 

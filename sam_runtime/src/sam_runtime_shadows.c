@@ -68,14 +68,6 @@ sam_mat4 sam_runtime_cube_face(const float origin[3], float far_plane, int face)
                         sam_mat4_look_at(origin, target, face_up[face]));
 }
 
-/* The object's centre seen from `p`: the vector into `d`, its length returned. */
-static float to_centre(const sam_runtime *rt, const float p[3], float d[3])
-{
-    for (int c = 0; c < 3; ++c)
-        d[c] = rt->centre[c] - p[c];
-    return sqrtf(sam_vec3_dot(d, d));
-}
-
 void sam_runtime_render_shadows(sam_runtime *rt)
 {
     if (!rt->lights.cube_count && !rt->lights.flat_count)
@@ -99,7 +91,7 @@ void sam_runtime_render_shadows(sam_runtime *rt)
                     for (int c = 0; c < 3; ++c)
                         o[c] += l->vertices[k][c] / (float)l->vertex_count;
             }
-            float to[3], far_plane = 1.01f * (to_centre(rt, o, to) + rt->radius);
+            float to[3], far_plane = 1.01f * (sam_runtime_to_centre(rt, o, to) + rt->radius);
             if (!rt->shadows.cube_tex[cube])
                 rt->shadows.cube_tex[cube] = shadow_texture(GL_TEXTURE_CUBE_MAP, CUBE_SHADOW_SIZE);
             for (int f = 0; f < 6; ++f)
@@ -109,7 +101,7 @@ void sam_runtime_render_shadows(sam_runtime *rt)
             rt->shadows.cube_far[cube] = far_plane;
         } else {
             uint32_t flat = s.map;
-            float d[3], dc = to_centre(rt, l->position, d);
+            float d[3], dc = sam_runtime_to_centre(rt, l->position, d);
             if (l->type == SAM_LIGHT_POINT && dc > 0) /* it looks at the object */
                 sam_vec3_normalize(d);
             else
