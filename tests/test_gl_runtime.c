@@ -365,23 +365,29 @@ static void test_irradiance_matches_cpu(void **state)
 }
 
 /* Two slabs, the smaller 1 unit below the larger, as a .sam. */
-static void two_slabs(samfile_data *out, sam_profile *profile)
+/* A 2 x 2 slab `thickness` thick, its top at y = 0.1, over a 1 x 1 x 0.2
+ * slab whose top lies `gap` below its bottom, as a .sam in marble at 10 mm
+ * per unit. */
+static void two_slabs(double thickness, double gap, samfile_data *out, sam_profile *profile)
 {
     sam_shape_params sp;
     sam_error err;
     assert_int_equal(sam_shape_default_params("slab", &sp, &err), SAM_OK);
     sam_shape_mesh a, b;
-    sp.resolution = 16, sp.size = sp.depth = 2.0, sp.thickness = 0.2;
+    sp.resolution = 16, sp.size = sp.depth = 2.0, sp.thickness = thickness;
     assert_int_equal(sam_shape_generate("slab", &sp, &a, &err), SAM_OK);
-    sp.resolution = 8, sp.size = sp.depth = 1.0;
+    sp.resolution = 8, sp.size = sp.depth = 1.0, sp.thickness = 0.2;
     assert_int_equal(sam_shape_generate("slab", &sp, &b, &err), SAM_OK);
     uint32_t nv = a.vertex_count + b.vertex_count, nt = a.triangle_count + b.triangle_count;
     float *pos = malloc(nv * 3 * sizeof *pos);
     uint32_t *tri = malloc(nt * 3 * sizeof *tri);
-    memcpy(pos, a.positions, a.vertex_count * 3 * sizeof *pos);
+    for (uint32_t v = 0; v < a.vertex_count; ++v) {
+        memcpy(pos + 3 * v, a.positions + 3 * v, 3 * sizeof *pos);
+        pos[3 * v + 1] += (float)(0.1 - 0.5 * thickness);
+    }
     for (uint32_t v = 0; v < b.vertex_count; ++v) {
         memcpy(pos + 3 * (a.vertex_count + v), b.positions + 3 * v, 3 * sizeof *pos);
-        pos[3 * (a.vertex_count + v) + 1] -= 1.0f;
+        pos[3 * (a.vertex_count + v) + 1] += (float)(0.1 - thickness - gap - 0.1);
     }
     memcpy(tri, a.triangles, a.triangle_count * 3 * sizeof *tri);
     for (uint32_t t = 0; t < 3 * b.triangle_count; ++t)
@@ -391,12 +397,71 @@ static void two_slabs(samfile_data *out, sam_profile *profile)
     sam_mesh mesh;
     assert_int_equal(sam_mesh_create(&in, &mesh, NULL, &err), SAM_OK);
     assert_int_equal(sam_profile_preset("marble", profile, &err), SAM_OK);
-    assert_int_equal(sam_build_samfile(&mesh, profile, 10.0f, NULL, NULL, NULL, NULL, out, NULL, &err), SAM_OK);
+    sam_build_settings set;
+    sam_build_default_settings(&set);
+    set.map = SAM_BUILD_MAP_FLAT; /* only L_d is read */
+    assert_int_equal(sam_build_samfile(&mesh, profile, 10.0f, &set, NULL, NULL, NULL, out, NULL, &err), SAM_OK);
     sam_mesh_destroy(&mesh);
     sam_shape_mesh_destroy(&a);
     sam_shape_mesh_destroy(&b);
     free(pos);
     free(tri);
+}
+
+/* Each kind of shadowed light at height `height` above two_slabs(thickness,
+ * gap): the lower slab's top, away from the rims, takes none of its light,
+ * and the upper slab's top exactly its unshadowed light. */
+static void check_slab_shadow(sam_runtime *rt, const samfile_data *d, double thickness, double gap, float height)
+{
+    const float lower_top = (float)(0.1 - thickness - gap);
+    uint32_t nv = d->vertex_count;
+    float *gpu = malloc(nv * 3 * sizeof *gpu);
+    double *cpu = malloc(nv * 3 * sizeof *cpu);
+    sam_error err;
+    const char *names[4] = {"point", "spot", "directional", "area"};
+    for (int type = 0; type < 4; ++type) {
+        sam_light l;
+        memset(&l, 0, sizeof l);
+        l.type = (sam_light_type)type;
+        l.color[0] = l.color[1] = l.color[2] = 1.0f;
+        l.intensity = 5.0f;
+        l.shadow = 1;
+        memcpy(l.position, (float[3]){0.05f, height, 0.1f}, 3 * sizeof(float));
+        memcpy(l.direction, (float[3]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
+        l.inner_angle_deg = 30.0f, l.outer_angle_deg = 45.0f;
+        l.vertex_count = 4;
+        float quad[4][3] = {{-0.2f, height, -0.2f}, {-0.2f, height, 0.2f}, {0.2f, height, 0.2f}, {0.2f, height, -0.2f}};
+        memcpy(l.vertices, quad, sizeof quad);
+        memcpy(l.normal, (float[3]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
+        assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+        sam_runtime_set_environment(rt, NULL);
+        assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+        assert_int_equal(sam_runtime_read_irradiance(rt, gpu, &err), SAM_OK);
+        cpu_irradiance(d, rt, &l, 1, NULL, cpu);
+        uint32_t hidden = 0, lit = 0;
+        double worst_hidden = 0, worst_lit = 0;
+        for (uint32_t v = 0; v < nv; ++v) {
+            const float *p = d->positions + 3 * v;
+            if (fabsf(p[0]) > 0.45f || fabsf(p[2]) > 0.45f)
+                continue; /* away from rims, where normals bend */
+            if (fabsf(p[1] - 0.1f) < 1e-4f) { /* the top of the upper slab: in full light */
+                lit++;
+                worst_lit = fmax(worst_lit, fabs(gpu[3 * v] - cpu[3 * v]) / cpu[3 * v]);
+            } else if (fabsf(p[1] - lower_top) < 1e-4f) { /* the top of the lower slab: behind it */
+                hidden++;
+                assert_true(cpu[3 * v] > 0);
+                worst_hidden = fmax(worst_hidden, gpu[3 * v] / cpu[3 * v]);
+            }
+        }
+        printf("%s light %g above, occluder %g thick, %g above: %u occluded vertices get at most %.2e of their "
+               "unshadowed light; %u lit ones are within %.2e of it\n",
+               names[type], height, thickness, gap, hidden, worst_hidden, lit, worst_lit);
+        assert_true(hidden > 20 && lit > 20);
+        assert_true(worst_hidden == 0.0);
+        assert_true(worst_lit <= 1e-4);
+    }
+    free(gpu);
+    free(cpu);
 }
 
 /* A vertex occluded from a shadowed light by another object gets none of
@@ -406,54 +471,11 @@ static void test_shadows_block_light(void **state)
     (void)state;
     samfile_data d;
     sam_profile profile;
-    two_slabs(&d, &profile);
+    two_slabs(0.2, 0.8, &d, &profile);
     sam_runtime *rt;
     sam_error err;
     assert_int_equal(sam_runtime_create(&d, &profile, 10.0f, &rt, &err), SAM_OK);
-    uint32_t nv = d.vertex_count;
-    float *gpu = malloc(nv * 3 * sizeof *gpu);
-    double *cpu = malloc(nv * 3 * sizeof *cpu);
-    const char *names[4] = {"point", "spot", "directional", "area"};
-    for (int type = 0; type < 4; ++type) {
-        sam_light l;
-        memset(&l, 0, sizeof l);
-        l.type = (sam_light_type)type;
-        l.color[0] = l.color[1] = l.color[2] = 1.0f;
-        l.intensity = 5.0f;
-        l.shadow = 1;
-        memcpy(l.position, (float[3]){0.05f, 3.0f, 0.1f}, 3 * sizeof(float));
-        memcpy(l.direction, (float[3]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
-        l.inner_angle_deg = 30.0f, l.outer_angle_deg = 45.0f;
-        l.vertex_count = 4;
-        float quad[4][3] = {{-0.2f, 3.0f, -0.2f}, {-0.2f, 3.0f, 0.2f}, {0.2f, 3.0f, 0.2f}, {0.2f, 3.0f, -0.2f}};
-        memcpy(l.vertices, quad, sizeof quad);
-        memcpy(l.normal, (float[3]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
-        assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
-        sam_runtime_set_environment(rt, NULL);
-        assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
-        assert_int_equal(sam_runtime_read_irradiance(rt, gpu, &err), SAM_OK);
-        cpu_irradiance(&d, rt, &l, 1, NULL, cpu);
-        uint32_t hidden = 0, lit = 0;
-        double worst_hidden = 0, worst_lit = 0;
-        for (uint32_t v = 0; v < nv; ++v) {
-            const float *p = d.positions + 3 * v;
-            if (fabsf(p[0]) > 0.45f || fabsf(p[2]) > 0.45f)
-                continue; /* away from rims, where normals bend */
-            if (fabsf(p[1] - 0.1f) < 1e-4f) { /* the top of the upper slab: in full light */
-                lit++;
-                worst_lit = fmax(worst_lit, fabs(gpu[3 * v] - cpu[3 * v]) / cpu[3 * v]);
-            } else if (fabsf(p[1] + 0.9f) < 1e-4f) { /* the top of the lower slab: behind it */
-                hidden++;
-                assert_true(cpu[3 * v] > 0);
-                worst_hidden = fmax(worst_hidden, gpu[3 * v] / cpu[3 * v]);
-            }
-        }
-        printf("%s light: %u occluded vertices get at most %.2e of their unshadowed light; %u lit ones are "
-               "within %.2e of it\n", names[type], hidden, worst_hidden, lit, worst_lit);
-        assert_true(hidden > 20 && lit > 20);
-        assert_true(worst_hidden == 0.0);
-        assert_true(worst_lit <= 1e-4);
-    }
+    check_slab_shadow(rt, &d, 0.2, 0.8, 3.0f);
     /* Distant point lights take the 4 maps fitted to the object, then the
      * 4 cubes; five point lights inside the object's bounds need five
      * cubes, more than the runtime keeps. */
@@ -468,8 +490,27 @@ static void test_shadows_block_light(void **state)
         many[i].position[1] = -0.5f;
     assert_int_equal(sam_runtime_set_lights(rt, many, 5, &err), SAM_ERR_UNSUPPORTED);
     assert_non_null(strstr(err.message, "5 shadowed area or nearby point lights"));
-    free(gpu);
-    free(cpu);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+/* A thin sheet a little above a surface, as a crease or a lip holds one:
+ * under the sheet no light arrives. Lookups offset by 1% of the object's
+ * radius and a depth bias of 0.2% of the map's range, together more than
+ * the 0.015 between sheet and surface, let a point light through whole;
+ * offsets of about a texel of the map (0.003 to 0.007 here, lights 2
+ * units above) hold it. */
+static void test_thin_near_occluder_blocks_light(void **state)
+{
+    (void)state;
+    const double thickness = 0.005, gap = 0.01; /* the object is 2.8 across */
+    samfile_data d;
+    sam_profile profile;
+    two_slabs(thickness, gap, &d, &profile);
+    sam_runtime *rt;
+    sam_error err;
+    assert_int_equal(sam_runtime_create(&d, &profile, 10.0f, &rt, &err), SAM_OK);
+    check_slab_shadow(rt, &d, thickness, gap, 2.0f);
     sam_runtime_destroy(rt);
     samfile_free(&d);
 }
@@ -653,6 +694,7 @@ int main(void)
         cmocka_unit_test(test_temporal_smoothing),
         cmocka_unit_test(test_irradiance_matches_cpu),
         cmocka_unit_test(test_shadows_block_light),
+        cmocka_unit_test(test_thin_near_occluder_blocks_light),
         cmocka_unit_test(test_diffusion_energy_and_blur),
         cmocka_unit_test(test_preintegrated_wraps_light),
     };
