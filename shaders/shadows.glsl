@@ -58,9 +58,7 @@ float shadow(Light l, vec3 p, vec3 n)
     if (index < 0)
         return 1.0;
     float w = shadow_texel(l, p);
-    vec3 to_light = int(l.color_type.w) == 2 ? -l.direction.xyz
-                    : normalize((l.params.w != 0.0 ? u_cube_origin[index] : u_flat_origin[index]) - p);
-    float c = clamp(dot(n, to_light), -1.0, 1.0);
+    float c = clamp(dot(n, light_direction(l, p)), -1.0, 1.0);
     vec3 q = p + n * (w * (SHADOW_SLOPE_TEXELS * sqrt(1.0 - c * c) + SHADOW_NORMAL_TEXELS));
     if (l.params.w != 0.0) {
         // 3x3 taps of the hardware 2x2 compare filter, a texel apart in the
