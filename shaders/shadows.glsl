@@ -14,7 +14,6 @@ uniform mat4 u_flat_matrix[4];
 uniform vec3 u_flat_origin[4];
 uniform float u_flat_far[4];      // > 0: the map holds distance / far (spot, point)
 uniform float u_flat_texel[4];    // far > 0: a texel's width per unit of distance; else in model units
-uniform float u_normal_offset;
 uniform float u_flat_range[4];    // directional maps: model units per unit of stored depth
 // The lookup's offsets, in texels of the map at the vertex (shadow_texel):
 // along the normal SHADOW_SLOPE_TEXELS x sin(angle to the light) plus
@@ -24,10 +23,8 @@ uniform float u_flat_range[4];    // directional maps: model units per unit of s
 // a along the normal puts it a / cos(theta) nearer than the plane below
 // it, so a = 2 w sin(theta) keeps a plane out of its own shadow. The
 // constant parts are for the facets around a vertex, which a smooth normal
-// does not follow. Offsets of 1% of the object's size before let light
-// through any occluder nearer than that: 5,151 of the statue's 110k
-// vertices that face its point light took all of it where a ray from the
-// vertex is blocked.
+// does not follow. Offsets tied to the object's size instead let light
+// through any occluder nearer than they reach (docs/runtime.md).
 #define SHADOW_SLOPE_TEXELS 2.0
 #define SHADOW_NORMAL_TEXELS 0.5
 #define SHADOW_DEPTH_TEXELS 0.5

@@ -30,6 +30,7 @@ uniform vec4 u_fit[8];
 // The shadow maps read as distances (sampler objects without comparison).
 uniform samplerCube u_cube_distance[4];
 uniform sampler2D u_flat_distance[4];
+uniform float u_normal_offset;          // model units into the object for light_thickness's lookup
 
 // sum_i w_i exp(-d^2 / (2 v_i)) for a thickness of d mm. Jimenez et al.
 // write exp(-d^2 / v_i), but with G(v, r) = exp(-r^2 / 2v) / (2 pi v) the

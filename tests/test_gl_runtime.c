@@ -364,7 +364,6 @@ static void test_irradiance_matches_cpu(void **state)
     samfile_free(&d);
 }
 
-/* Two slabs, the smaller 1 unit below the larger, as a .sam. */
 /* A 2 x 2 slab `thickness` thick, its top at y = 0.1, over a 1 x 1 x 0.2
  * slab whose top lies `gap` below its bottom, as a .sam in marble at 10 mm
  * per unit. */

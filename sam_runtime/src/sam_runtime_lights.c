@@ -35,8 +35,8 @@ float sam_runtime_to_centre(const sam_runtime *rt, const float p[3], float d[3])
 
 float sam_runtime_object_half_angle(const sam_runtime *rt, const float position[3])
 {
-    /* 3% wider: lookups move 1% of the radius off the surface
-     * (shadows.glsl), and the filter reads a texel beyond. */
+    /* 3% wider: lookups move up to 3 texels off the surface
+     * (shadows.glsl), and the filter reads 2 texels beyond. */
     float d[3];
     const float dc = sam_runtime_to_centre(rt, position, d), r = 1.03f * rt->radius;
     return dc > r ? asinf(r / dc) : 1.5707963f;

@@ -186,6 +186,5 @@ void sam_runtime_bind_shadows(const sam_runtime *rt, GLuint p)
     glUniform3fv(glGetUniformLocation(p, "u_flat_origin"), MAX_FLAT_SHADOWS, &rt->shadows.flat_origin[0][0]);
     glUniform1fv(glGetUniformLocation(p, "u_flat_far"), MAX_FLAT_SHADOWS, rt->shadows.flat_far);
     glUniform1fv(glGetUniformLocation(p, "u_flat_texel"), MAX_FLAT_SHADOWS, rt->shadows.flat_texel);
-    glUniform1f(glGetUniformLocation(p, "u_normal_offset"), 0.01f * rt->radius);
     glUniform1fv(glGetUniformLocation(p, "u_flat_range"), MAX_FLAT_SHADOWS, rt->shadows.flat_range);
 }

@@ -92,6 +92,7 @@ void sam_runtime_bind_technique(const sam_runtime *rt, GLuint p, int mode, GLuin
         snprintf(name, sizeof name, cube ? "u_cube_distance[%d]" : "u_flat_distance[%d]", k);
         glUniform1i(glGetUniformLocation(p, name), (GLint)unit);
     }
+    glUniform1f(glGetUniformLocation(p, "u_normal_offset"), 0.01f * rt->radius);
     glActiveTexture(GL_TEXTURE0 + UNIT_OVERRIDE);
     glBindTexture(GL_TEXTURE_2D, override_tex);
     glActiveTexture(GL_TEXTURE0);
