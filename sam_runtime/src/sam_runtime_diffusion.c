@@ -10,6 +10,7 @@ sam_status sam_runtime_diffusion_create(sam_runtime *rt, sam_error *err)
 {
     sam_status st;
     if ((st = sam_gl_compute_program("sss_prefilter.comp", NULL, &rt->diffusion.prefilter_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("sss_mips.comp", NULL, &rt->diffusion.mips_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("sss_blur.comp", NULL, &rt->diffusion.blur_program, err)) != SAM_OK ||
         (st = sam_gl_compute_program("sss_compose.comp", NULL, &rt->diffusion.compose_program, err)) != SAM_OK)
         return st;
@@ -19,6 +20,7 @@ sam_status sam_runtime_diffusion_create(sam_runtime *rt, sam_error *err)
 void sam_runtime_diffusion_destroy(sam_runtime *rt)
 {
     sam_runtime_delete_program(&rt->diffusion.prefilter_program);
+    sam_runtime_delete_program(&rt->diffusion.mips_program);
     sam_runtime_delete_program(&rt->diffusion.blur_program);
     sam_runtime_delete_program(&rt->diffusion.compose_program);
 }
@@ -69,6 +71,32 @@ static void tap_shares(const sam_separable_kernel *kernel, float *share)
     }
 }
 
+/* Levels 1 and on of the blur's light and depth mips from level 0, one
+ * dispatch for both per level (shaders/sss_mips.comp); the two textures
+ * are bound to texture units 0 and 1 on return. */
+static void build_mips(sam_runtime *rt, const sam_render_view *view, const GLuint mips[2])
+{
+    for (int m = 0; m < 2; ++m) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)m);
+        glBindTexture(GL_TEXTURE_2D, mips[m]);
+    }
+    GLuint p = rt->diffusion.mips_program;
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "u_light_mips"), 0);
+    glUniform1i(glGetUniformLocation(p, "u_depth_mips"), 1);
+    GLint above = glGetUniformLocation(p, "u_above");
+    uint32_t w = view->width, h = view->height;
+    for (GLint level = 1; w > 1 || h > 1; ++level) {
+        w = w > 1 ? w / 2 : 1;
+        h = h > 1 ? h / 2 : 1;
+        glUniform1f(above, (float)(level - 1));
+        glBindImageTexture(SAM_IMAGE_TARGET, mips[0], level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(SAM_IMAGE_DEPTH, mips[1], level, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        glDispatchCompute((w + 7) / 8, (h + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    }
+}
+
 void sam_runtime_screen_space_diffusion(sam_runtime *rt, const sam_render_view *view, const GLuint tex[5],
                                         const GLuint mips[2])
 {
@@ -96,12 +124,8 @@ void sam_runtime_screen_space_diffusion(sam_runtime *rt, const sam_render_view *
         glBindImageTexture(SAM_IMAGE_TARGET, mips[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glBindImageTexture(SAM_IMAGE_DEPTH, mips[1], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
         glDispatchCompute(gx, gy, 1);
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-        for (int m = 0; m < 2; ++m) {
-            glActiveTexture(GL_TEXTURE0 + (GLenum)m);
-            glBindTexture(GL_TEXTURE_2D, mips[m]);
-            glGenerateMipmap(GL_TEXTURE_2D);
-        }
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        build_mips(rt, view, mips);
         glUseProgram(b);
         glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
         glBindImageTexture(SAM_IMAGE_SOURCE, source, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);

@@ -182,7 +182,7 @@ typedef struct sam_rt_thickness {
 
 /* sam_runtime_diffusion.c */
 typedef struct sam_rt_diffusion {
-    GLuint prefilter_program, blur_program, compose_program;
+    GLuint prefilter_program, mips_program, blur_program, compose_program;
     sam_separable_kernel kernel; /* of the last screen-space render's kind and taps */
     sam_sss_kernel kernel_kind;
     int preint_ready;
