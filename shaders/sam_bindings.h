@@ -60,6 +60,9 @@
 /* The texture-space blur reads, per triangle, what lies across its edges
  * and its chart (sam_uv_crossings) where the rest pose would be. */
 #define SAM_B_TSD_CROSSINGS SAM_B_REST_POSITIONS
+/* ... and lists the texels whose taps leave their chart where the
+ * posed box would be, for a second dispatch (tsd_blur.comp). */
+#define SAM_B_TSD_DEFERRED SAM_B_BOUNDS
 
 /* Image units of the compute passes over view-sized and atlas images
  * (each program numbers its own). */

@@ -13,8 +13,28 @@
 // light neither leaks into nor vanishes through the atlas's empty space;
 // with a bilinear read that is rgb + (1 - alpha) centre, since empty
 // texels hold zero.
+//
+// Two dispatches per pass: the first blurs every texel whose taps all
+// stay on its chart and lists the others; the second (SAM_TSD_LISTED, an
+// indirect dispatch over the list) blurs those, crossings and all. In one
+// dispatch a texel near a seam held up every invocation of its SIMD group
+// or warp while it walked: on an H200 the knot's blurs took 19 times as
+// long with the crossing as without (docs/performance.md).
 #include "sam_bindings.h"
+#ifdef SAM_TSD_LISTED
+layout(local_size_x = 64) in;
+#else
 layout(local_size_x = 8, local_size_y = 8) in;
+#endif
+
+// The texels left to the second dispatch: its indirect dispatch
+// arguments (groups of 64, 1, 1), their count, then each texel as
+// x | y << 16.
+layout(std430, binding = SAM_B_TSD_DEFERRED) buffer Deferred {
+    uvec3 deferred_groups;
+    uint deferred_count;
+    uint deferred[];
+};
 
 uniform sampler2D u_source;   // linear filtering, clamped to the edge
 uniform sampler2D u_level;    // the level's input: the second pass's source is the first's output
@@ -55,17 +75,16 @@ vec4 first_pass_at(vec2 at, vec2 side_texels, uint chart, vec2 texel, vec2 lo, v
     return vec4(sum, land.a);
 }
 
-void main()
+// Blurs texel p into u_target; returns true where it leaves p to the
+// second dispatch instead (a tap off its chart, in the first dispatch).
+bool blur(ivec2 p)
 {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= u_size.x || p.y >= u_size.y)
-        return;
     vec4 centre = texelFetch(u_source, p, 0);
     // Culled, clipped and empty texels: nothing to blur (the optimisations'
     // saving), and nothing the mesh will read.
     if (centre.a <= 0.0) {
         imageStore(u_target, p, centre);
-        return;
+        return false;
     }
     vec3 stretch = imageLoad(u_stretch, p).xyz;
     float mm = u_direction.x != 0 ? stretch.x : stretch.y;
@@ -84,6 +103,10 @@ void main()
         off[k] = chart != NO_CROSSING && k != 3 && !(t > 0u && crossings[t - 1u].w == chart);
         any_off = any_off || off[k];
     }
+#ifndef SAM_TSD_LISTED
+    if (any_off)
+        return true;
+#else
     if (any_off) {
         // The first pass's axis on the surface, for the second pass's taps that
         // land on charts turned another way: only where a tap leaves the chart.
@@ -124,8 +147,45 @@ void main()
                          : textureLod(u_source, clamp(at * texel, lo, hi), 0.0);
         }
     }
+#endif
     vec3 sum = vec3(0.0);
     for (int k = 0; k < 7; ++k)
         sum += WEIGHT[k] * (tap[k].rgb + (1.0 - tap[k].a) * centre.rgb);
     imageStore(u_target, p, vec4(sum, 1.0));
+    return false;
 }
+
+#ifdef SAM_TSD_LISTED
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    if (i < deferred_count)
+        blur(ivec2(deferred[i] & 0xFFFFu, deferred[i] >> 16));
+}
+#else
+// A group lists its texels with one atomic on the shared count: with one
+// per texel, the widest Gaussian's passes, which list nearly every texel,
+// would queue hundreds of thousands of atomics on one word.
+shared uint group_count, group_base;
+
+void main()
+{
+    if (gl_LocalInvocationIndex == 0u)
+        group_count = 0u;
+    memoryBarrierShared();
+    barrier();
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    bool listed = p.x < u_size.x && p.y < u_size.y && blur(p);
+    uint slot = listed ? atomicAdd(group_count, 1u) : 0u;
+    memoryBarrierShared();
+    barrier();
+    if (gl_LocalInvocationIndex == 0u && group_count > 0u) {
+        group_base = atomicAdd(deferred_count, group_count);
+        atomicMax(deferred_groups.x, (group_base + group_count + 63u) / 64u);
+    }
+    memoryBarrierShared();
+    barrier();
+    if (listed)
+        deferred[group_base + slot] = uint(p.x) | uint(p.y) << 16;
+}
+#endif

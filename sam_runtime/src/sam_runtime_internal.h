@@ -195,12 +195,16 @@ typedef struct sam_rt_tsd {
     char uv_reason[160];
     float uv_coverage; /* fraction of the atlas the charts cover */
     sam_uv_atlas uv_atlas; /* where the UVs lie in the atlas (the GL buffers keep the mesh's own) */
-    GLuint program, blur_program, accumulate_program, fbo;
+    GLuint program, blur_program, blur_listed_program, accumulate_program, fbo;
     /* Per triangle, what lies across its edges and its chart (a uvec4:
      * sam_uv_crossings), for the blur's walks across UV seams; `cross` is 0
      * where there are none (no usable UVs, 2^24 triangles or more). */
     GLuint crossings;
     int cross;
+    /* The texels a blur pass leaves to its second dispatch (tsd_blur.comp):
+     * 16 bytes of indirect dispatch arguments and count, then a uint per
+     * texel of the allocated atlas. */
+    GLuint deferred;
     GLuint atlas_tex[ATLAS_COUNT];
     uint32_t atlas_allocated, atlas_used; /* texture side, and the side of the last render */
     /* Every convolved level, kept for translucent shadow maps (allocated on

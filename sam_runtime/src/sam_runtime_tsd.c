@@ -39,6 +39,28 @@ static void release_maps(sam_runtime *rt)
     memset(rt->tsd.level_view, 0, sizeof rt->tsd.level_view);
     rt->tsd.level_array = 0;
     rt->tsd.level_count = 0;
+    if (rt->tsd.deferred)
+        glDeleteBuffers(1, &rt->tsd.deferred);
+    rt->tsd.deferred = 0;
+}
+
+/* The blur's list of texels for its second dispatch: the dispatch's
+ * arguments and count, then one uint per texel of a side x side atlas. */
+#define DEFERRED_HEADER 16u
+
+static sam_status ensure_deferred(sam_runtime *rt, uint32_t side, sam_error *err)
+{
+    const size_t bytes = DEFERRED_HEADER + (size_t)side * side * sizeof(uint32_t);
+    sam_status st = sam_runtime_check_block_size("the texture-space blur's list of texels", bytes, err);
+    if (st != SAM_OK)
+        return st;
+    glGenBuffers(1, &rt->tsd.deferred);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, rt->tsd.deferred);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)bytes, NULL, GL_DYNAMIC_DRAW);
+    if (glGetError() != GL_NO_ERROR)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: the GL could not allocate %zu bytes for the blur's texels",
+                        bytes);
+    return SAM_OK;
 }
 
 static sam_status ensure_atlas(sam_runtime *rt, uint32_t side, sam_error *err)
@@ -61,6 +83,11 @@ static sam_status ensure_atlas(sam_runtime *rt, uint32_t side, sam_error *err)
         release_maps(rt);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "render: the GL could not allocate %d texture-space maps of %u^2",
                         ATLAS_COUNT, side);
+    }
+    sam_status st = ensure_deferred(rt, side, err);
+    if (st != SAM_OK) {
+        release_maps(rt);
+        return st;
     }
     if (!rt->tsd.fbo)
         glGenFramebuffers(1, &rt->tsd.fbo);
@@ -142,6 +169,8 @@ sam_status sam_runtime_tsd_create(sam_runtime *rt, const samfile_data *sam, sam_
     if ((st = sam_gl_render_program("tsd_irradiance.vert", "tsd_irradiance.frag", NULL, &t->program, err)) !=
             SAM_OK ||
         (st = sam_gl_compute_program("tsd_blur.comp", NULL, &t->blur_program, err)) != SAM_OK ||
+        (st = sam_gl_compute_program("tsd_blur.comp", "#define SAM_TSD_LISTED 1\n", &t->blur_listed_program, err)) !=
+            SAM_OK ||
         (st = sam_gl_compute_program("tsd_accumulate.comp", NULL, &t->accumulate_program, err)) != SAM_OK)
         return st;
     return upload_crossings(rt, sam, err);
@@ -155,6 +184,7 @@ void sam_runtime_tsd_destroy(sam_runtime *rt)
     rt->tsd.fbo = 0;
     sam_runtime_delete_program(&rt->tsd.program);
     sam_runtime_delete_program(&rt->tsd.blur_program);
+    sam_runtime_delete_program(&rt->tsd.blur_listed_program);
     sam_runtime_delete_program(&rt->tsd.accumulate_program);
     if (rt->tsd.crossings)
         glDeleteBuffers(1, &rt->tsd.crossings);
@@ -270,6 +300,22 @@ void sam_runtime_draw_atlas(sam_runtime *rt, const sam_render_view *view, const 
         glDisable(GL_CLIP_DISTANCE0 + (GLenum)i);
 }
 
+/* Makes blur program b current, set for one pass (0: along u, 1: along v)
+ * of a Gaussian of `sigma_mm` over the atlas's used `size`; the caller
+ * binds the textures and images. */
+static void set_blur(const sam_runtime *rt, GLuint b, float sigma_mm, const GLint size[2], int pass)
+{
+    glUseProgram(b);
+    glUniform1f(glGetUniformLocation(b, "u_sigma_mm"), sigma_mm);
+    glUniform2iv(glGetUniformLocation(b, "u_size"), 1, size);
+    glUniform1i(glGetUniformLocation(b, "u_cross"), rt->tsd.cross);
+    glUniform1f(glGetUniformLocation(b, "u_mm_per_unit"), rt->mm_per_unit);
+    sam_runtime_bind_uv_atlas(rt, b);
+    glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
+    glUniform1i(glGetUniformLocation(b, "u_source"), 0);
+    glUniform1i(glGetUniformLocation(b, "u_level"), 1);
+}
+
 sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
                                      const sam_mat4 *proj, int mode, GLuint override_tex, int tsm, sam_error *err)
 {
@@ -309,28 +355,29 @@ sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *vie
         GLuint next = tsm ? rt->tsd.level_view[g] : g % 2 ? tex[ATLAS_LEVEL_B] : tex[ATLAS_LEVEL_A];
         float sigma = sqrtf(fmaxf(rt->fit.variance[g] - previous_variance, 0.0f));
         previous_variance = rt->fit.variance[g];
-        GLuint b = rt->tsd.blur_program;
-        glUseProgram(b);
-        glUniform1f(glGetUniformLocation(b, "u_sigma_mm"), sigma);
-        glUniform2iv(glGetUniformLocation(b, "u_size"), 1, size);
-        glUniform1i(glGetUniformLocation(b, "u_cross"), rt->tsd.cross);
-        glUniform1f(glGetUniformLocation(b, "u_mm_per_unit"), rt->mm_per_unit);
-        sam_runtime_bind_uv_atlas(rt, b);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_TSD_CROSSINGS, rt->tsd.crossings);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_TSD_DEFERRED, rt->tsd.deferred);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, rt->tsd.deferred);
         glBindImageTexture(SAM_IMAGE_STRETCH, tex[ATLAS_STRETCH], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         for (int pass = 0; pass < 2; ++pass) {
-            glUniform2i(glGetUniformLocation(b, "u_direction"), pass == 0, pass == 1);
             glActiveTexture(GL_TEXTURE0);
             glBindTexture(GL_TEXTURE_2D, pass == 0 ? level : tex[ATLAS_TEMP]);
-            glUniform1i(glGetUniformLocation(b, "u_source"), 0);
             glActiveTexture(GL_TEXTURE1);
             glBindTexture(GL_TEXTURE_2D, level);
             glActiveTexture(GL_TEXTURE0);
-            glUniform1i(glGetUniformLocation(b, "u_level"), 1);
             glBindImageTexture(SAM_IMAGE_TARGET, pass == 0 ? tex[ATLAS_TEMP] : next, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            /* Every texel, listing those whose taps leave their chart; then
+             * those alone (tsd_blur.comp). */
+            static const GLuint empty[4] = {0, 1, 1, 0};
+            glBufferSubData(GL_DISPATCH_INDIRECT_BUFFER, 0, sizeof empty, empty);
+            set_blur(rt, rt->tsd.blur_program, sigma, size, pass);
             glDispatchCompute(groups, groups, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+            set_blur(rt, rt->tsd.blur_listed_program, sigma, size, pass);
+            glDispatchComputeIndirect(0);
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         }
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
         GLuint a = rt->tsd.accumulate_program;
         glUseProgram(a);
         float w[3];
