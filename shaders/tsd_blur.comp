@@ -16,10 +16,11 @@
 //
 // Two dispatches per pass: the first blurs every texel whose taps all
 // stay on its chart and lists the others; the second (SAM_TSD_LISTED, an
-// indirect dispatch over the list) blurs those, crossings and all. In one
-// dispatch a texel near a seam held up every invocation of its SIMD group
-// or warp while it walked: on an H200 the knot's blurs took 19 times as
-// long with the crossing as without (docs/performance.md).
+// indirect dispatch over the list) blurs those, crossings and all, so that
+// texels on a chart do not wait in a SIMD group or warp for one that
+// walks. That saves about a seventh of a marble ear's render on llvmpipe;
+// where the Gaussians are wide against the charts nearly every texel
+// walks, and the walks themselves are the cost (docs/performance.md).
 #include "sam_bindings.h"
 #ifdef SAM_TSD_LISTED
 layout(local_size_x = 64) in;
