@@ -166,12 +166,7 @@ sam_status sam_runtime_tsd_create(sam_runtime *rt, const samfile_data *sam, sam_
     } else {
         snprintf(t->uv_reason, sizeof t->uv_reason, "the mesh has no UVs");
     }
-    if ((st = sam_gl_render_program("tsd_irradiance.vert", "tsd_irradiance.frag", NULL, &t->program, err)) !=
-            SAM_OK ||
-        (st = sam_gl_compute_program("tsd_blur.comp", NULL, &t->blur_program, err)) != SAM_OK ||
-        (st = sam_gl_compute_program("tsd_blur.comp", "#define SAM_TSD_LISTED 1\n", &t->blur_listed_program, err)) !=
-            SAM_OK ||
-        (st = sam_gl_compute_program("tsd_accumulate.comp", NULL, &t->accumulate_program, err)) != SAM_OK)
+    if ((st = sam_gl_render_program("tsd_irradiance.vert", "tsd_irradiance.frag", NULL, &t->program, err)) != SAM_OK)
         return st;
     return upload_crossings(rt, sam, err);
 }
@@ -316,13 +311,32 @@ static void set_blur(const sam_runtime *rt, GLuint b, float sigma_mm, const GLin
     glUniform1i(glGetUniformLocation(b, "u_level"), 1);
 }
 
+/* The blur's and the sum's programs, compiled on the first texture-space
+ * render: a runtime that never diffuses in texture space need not build
+ * them, and every program compiled is one more for Mesa's shader cache
+ * thread to write while LeakSanitizer scans at exit (docs/building.md). */
+static sam_status ensure_programs(sam_runtime *rt, sam_error *err)
+{
+    sam_rt_tsd *t = &rt->tsd;
+    sam_status st = SAM_OK;
+    if (!t->blur_program)
+        st = sam_gl_compute_program("tsd_blur.comp", NULL, &t->blur_program, err);
+    if (st == SAM_OK && !t->blur_listed_program)
+        st = sam_gl_compute_program("tsd_blur.comp", "#define SAM_TSD_LISTED 1\n", &t->blur_listed_program, err);
+    if (st == SAM_OK && !t->accumulate_program)
+        st = sam_gl_compute_program("tsd_accumulate.comp", NULL, &t->accumulate_program, err);
+    return st;
+}
+
 sam_status sam_runtime_texture_space(sam_runtime *rt, const sam_render_view *view, const sam_mat4 *view_proj,
                                      const sam_mat4 *proj, int mode, GLuint override_tex, int tsm, sam_error *err)
 {
     uint32_t max_side = sam_runtime_atlas_size(view);
     if (max_side < MIN_ATLAS || max_side > 4096)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "render: atlas size %u outside %d..4096", max_side, MIN_ATLAS);
-    sam_status st = ensure_atlas(rt, max_side, err);
+    sam_status st = ensure_programs(rt, err);
+    if (st == SAM_OK)
+        st = ensure_atlas(rt, max_side, err);
     if (st == SAM_OK && tsm)
         st = ensure_levels(rt, err);
     if (st != SAM_OK)
