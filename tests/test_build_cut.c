@@ -1,7 +1,7 @@
 /*
  * The cut map (sam_build_cut.c): its nodes' K against the brute-force sum
- * over every back-side vertex, a uniformly lit slab against the closed
- * form, each row's K counting only back-side vertices, determinism,
+ * over every fan behind the receiver, a uniformly lit slab against the
+ * closed form, each row's K counting only the back side, determinism,
  * and the version-2 .sam it makes.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -69,23 +69,35 @@ static double cut_total(const sam_build_result *r, uint32_t o)
     return ((double)r->k_total[3 * (size_t)o] + r->k_total[3 * (size_t)o + 1] + r->k_total[3 * (size_t)o + 2]) / 3.0;
 }
 
-/* Mean-RGB K summed over every back-side vertex of receiver o, each by
- * its own Monte Carlo form factor. */
+/* Whether any of topo vertex i's fan is behind receiver o, and its K
+ * (mean RGB) into *k: the Monte Carlo form factor over the pairs of points
+ * that pass eq. 13-14 one by one, as the cut map counts a fan. */
+static int fan_k(const cut_fixture *f, uint32_t o, uint32_t i, double *k)
+{
+    *k = 0;
+    if (sam_build_fan_back_side(f->ctx, o, i) == 0)
+        return 0;
+    float kv[3], e;
+    sam_build_form_factor_pointwise(f->ctx, o, i, 64, 1, kv, &e);
+    *k = (kv[0] + kv[1] + kv[2]) / 3.0;
+    return 1;
+}
+
+/* Mean-RGB K summed over every fan behind receiver o, each by its own
+ * Monte Carlo form factor. */
 static double brute_back_side_k(const cut_fixture *f, uint32_t o)
 {
-    double k_sum = 0;
-    for (uint32_t i = 0; i < f->mesh.topo_count; ++i) {
-        if (i == o || !sam_build_is_back_side(f->ctx, o, i))
-            continue;
-        float k[3], e;
-        sam_build_form_factor(f->ctx, o, i, 64, 1, k, &e);
-        k_sum += (k[0] + k[1] + k[2]) / 3.0;
-    }
+    double k_sum = 0, k;
+    for (uint32_t i = 0; i < f->mesh.topo_count; ++i)
+        if (fan_k(f, o, i, &k))
+            k_sum += k;
     return k_sum;
 }
 
 /* The cut carries the vertex's whole back-side transport: its K summed
- * matches the Monte Carlo K of every back-side vertex, one by one. */
+ * matches the Monte Carlo K of every fan behind it, one by one. The rims'
+ * fans (part behind, their vertex not) count too: on this ear they are 5%
+ * of the light, which rows of vertices alone lost. */
 static void test_total_matches_brute_force(void **state)
 {
     (void)state;
@@ -180,7 +192,7 @@ static void add_moment(const cut_fixture *f, uint32_t t, double moment[4])
         moment[1 + c] += (double)f->r.fan_area[t] * p[c];
 }
 
-/* Sums the Monte Carlo K of the back-side members of `id` (mean RGB),
+/* Sums the Monte Carlo K of the members of `id` whose fan is behind o (mean RGB),
  * counts the members on either side, and adds every member's fan area and
  * area-weighted position (mm) to moment[4]. */
 static double member_k(const cut_fixture *f, uint32_t o, uint32_t id, uint32_t *back, uint32_t *front,
@@ -189,14 +201,13 @@ static double member_k(const cut_fixture *f, uint32_t o, uint32_t id, uint32_t *
     const uint32_t n = f->mesh.topo_count;
     if (id < n) {
         add_moment(f, id, moment);
-        if (id == o || !sam_build_is_back_side(f->ctx, o, id)) {
+        double k;
+        if (!fan_k(f, o, id, &k)) {
             ++*front;
             return 0;
         }
         ++*back;
-        float k[3], e;
-        sam_build_form_factor(f->ctx, o, id, 64, 1, k, &e);
-        return (k[0] + k[1] + k[2]) / 3.0;
+        return k;
     }
     return member_k(f, o, f->r.node_children[2 * (size_t)(id - n)], back, front, moment) +
            member_k(f, o, f->r.node_children[2 * (size_t)(id - n) + 1], back, front, moment);
@@ -220,7 +231,7 @@ static double stored_k(const cut_fixture *f, uint32_t o, const float kprime[3], 
     return k;
 }
 
-/* A row's K is its receiver's back-side vertices' K and nothing else: on
+/* A row's K is its receiver's back-side fans' K and nothing else: on
  * scans with noisy normals a node can straddle the back side's edge, and
  * its front members must not count. Summed over the row, not per node: a
  * node partly behind hands its K to a smaller node around its back-side
@@ -260,7 +271,7 @@ static void test_node_k_counts_only_back_side_members(void **state)
             }
         }
         printf("%s: %u node samples (%u straddle the back side's edge) over %u back-side and %u other members; "
-               "the rows' stored K / their back-side vertices' K %.4f\n",
+               "the rows' stored K / their back-side fans' K %.4f\n",
                shapes[s], nodes, straddling, back, front, stored / brute);
         assert_true(nodes > 0);
         assert_true(fabs(stored / brute - 1) < 0.03);
@@ -318,12 +329,15 @@ static double runtime_ld(const cut_fixture *f, vertex_ld_fn ld_of, uint32_t id, 
 
 /* The bundled ear (a shell with a scan's uneven normals) in skin, lit
  * from one side: the translucency the cut sums (eq. 12, samples at their
- * members' mean L_d) against every back-side vertex's L_d K, one by one.
+ * members' mean L_d) against every back-side fan's L_d K, one by one.
  * Around a receiver, boxes cannot tell its front from its back side, and a
  * node only partly behind it by its boxes lent its few back-side members
  * the L_d of all its members: 1.8% off here, 25% on the Chinese dragon
  * scan, before small such nodes were classified member by member (0.6%
- * and 15%; the rest is tau's first-order move, left out here). */
+ * and 15%; the rest is tau's first-order move, left out here). Since rims
+ * count, 2.1%: the brute force reads a rim's light at its vertex, the cut
+ * at the sample nearest it, a vertex behind the receiver; lit from one
+ * side, their L_d differ most where the normal turns, at the rims. */
 /* Σ|T of the cut − Σ_back L_d K| over every `step`-th receiver, and Σ of
  * the latter (mean RGB), with each vertex's L_d from `ld_of`. Counts the
  * receivers with light into *lit. */
@@ -336,11 +350,9 @@ static double ld_error(const cut_fixture *f, vertex_ld_fn ld_of, uint32_t step, 
     for (uint32_t o = 0; o < n; o += step) {
         double brute = 0, cut = 0;
         for (uint32_t i = 0; i < n; ++i) {
-            if (i == o || !sam_build_is_back_side(f->ctx, o, i))
-                continue;
-            float k[3], e;
-            sam_build_form_factor(f->ctx, o, i, 64, 1, k, &e);
-            brute += ld_of(f, i) * (k[0] + k[1] + k[2]) / 3.0;
+            double k;
+            if (fan_k(f, o, i, &k))
+                brute += ld_of(f, i) * k;
         }
         for (uint32_t k = 0; k < b; ++k) {
             const size_t at = (size_t)o * b + k;
@@ -367,16 +379,18 @@ static void test_one_sided_light_matches_brute_force(void **state)
     const double err = ld_error(&f, one_sided_ld, 3, &total, &lit);
     printf("ear.obj, skin, lit from one side: %u receivers lit, |T cut - T brute| / T brute %.4f\n", lit, err / total);
     assert_true(lit > 100);
-    assert_true(err / total < 0.01);
+    assert_true(err / total < 0.025);
     destroy_cut(&f);
 }
 
 /* L_d rising along a marble slab and a knot, whose rows are cuts through
  * the tree (N = 8), summed as the runtime sums it (node means moved by
- * tau) against every back-side vertex's L_d K: 2.4% and 7.5% off, where
- * the K alone (L_d = 1) is 0.3% and 0.4% off. The rest is where a node
- * reads L_d: its members' mean, while its light comes mostly from its
- * edge nearest the receiver. Builder 1.5 read 2.7% and 8.0% here; its
+ * tau) against every back-side fan's L_d K: 2.9% and 8.5% off (before
+ * rims counted, 2.4% and 7.5%), where the K alone (L_d = 1) is 0.3% and
+ * 0.4% off. The rest is where a node reads L_d: its members' mean, while
+ * its light comes mostly from its edge nearest the receiver, and where a
+ * rim's light is read (the sample nearest it). Builder 1.5 read 2.7% and
+ * 8.0% here; its
  * gain in pictures, where L_d changes faster than linearly (a shadow's
  * edge, the terminator around a tube), is in docs/builder.md. */
 static void test_linear_light_is_read_where_it_comes_from(void **state)
@@ -415,7 +429,7 @@ static double half_lit_ld(const cut_fixture *f, uint32_t t)
 }
 
 /* A shape lit on one half (half_lit_ld): the cut's T against the
- * brute-force sum over every back-side vertex, at every step-th receiver,
+ * brute-force sum over every back-side fan, at every step-th receiver,
  * more than min_lit of them lit, below `bound` of it. */
 typedef struct half_lit_case {
     const char *shape;

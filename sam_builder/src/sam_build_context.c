@@ -90,6 +90,37 @@ float sam_build_bound_radius(const sam_build_context *ctx, float threshold)
 
 /* ---- the context */
 
+/* Per topo vertex, the largest distance (mm) of a fan corner (an edge
+ * midpoint or a triangle's centroid) from the vertex, and of the normals
+ * interpolated there from the vertex normal, each enlarged a little so that
+ * float rounding never makes sam_build_fan_side's shortcut claim more than
+ * its corners would. */
+static void fan_reach(const sam_mesh *mesh, const float *pos, float *reach)
+{
+    const float *normals = mesh->topo_normals;
+    for (uint32_t t = 0; t < mesh->topo_count; ++t) {
+        const float *v = pos + 3 * (size_t)t, *nv = normals + 3 * (size_t)t;
+        float far2 = 0.0f, turn2 = 0.0f;
+        for (uint32_t k = mesh->ring_offsets[t]; k < mesh->ring_offsets[t + 1]; ++k) {
+            /* The first entry has no triangle before it: its "centroid" is
+             * then its midpoint again. */
+            const uint32_t a = mesh->ring[k], b = k > mesh->ring_offsets[t] ? mesh->ring[k - 1] : t;
+            const float *pa = pos + 3 * (size_t)a, *pb = pos + 3 * (size_t)b;
+            const float *na = normals + 3 * (size_t)a, *nb = normals + 3 * (size_t)b;
+            float mid2 = 0, centre2 = 0, nmid2 = 0, ncentre2 = 0;
+            for (int c = 0; c < 3; ++c) {
+                const float mid = 0.5f * (pa[c] - v[c]), centre = (pa[c] + pb[c] - 2.0f * v[c]) / 3.0f;
+                const float nmid = 0.5f * (na[c] - nv[c]), ncentre = (na[c] + nb[c] - 2.0f * nv[c]) / 3.0f;
+                mid2 += mid * mid, centre2 += centre * centre, nmid2 += nmid * nmid, ncentre2 += ncentre * ncentre;
+            }
+            far2 = fmaxf(far2, fmaxf(mid2, centre2));
+            turn2 = fmaxf(turn2, fmaxf(nmid2, ncentre2));
+        }
+        reach[2 * (size_t)t] = sqrtf(far2) * 1.001f + 1e-6f;
+        reach[2 * (size_t)t + 1] = sqrtf(turn2) * 1.001f + 1e-6f;
+    }
+}
+
 sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *profile, float mm_per_unit,
                                     const sam_build_settings *settings, sam_build_context **out, sam_error *err)
 {
@@ -112,10 +143,11 @@ sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *pro
     const uint32_t n = mesh->topo_count, ring_total = mesh->ring_offsets[n];
     ctx->pos = malloc((size_t)n * 3 * sizeof *ctx->pos);
     ctx->fan_area = malloc((size_t)n * sizeof *ctx->fan_area);
+    ctx->fan_reach = malloc((size_t)n * 2 * sizeof *ctx->fan_reach);
     ctx->pair_cdf = malloc((size_t)ring_total * sizeof *ctx->pair_cdf);
     ctx->table = malloc((SAM_RD_TABLE_SIZE + 1) * sizeof *ctx->table);
     ctx->envelope = malloc((SAM_RD_TABLE_SIZE + 1) * sizeof *ctx->envelope);
-    if (!ctx->pos || !ctx->fan_area || !ctx->pair_cdf || !ctx->table || !ctx->envelope) {
+    if (!ctx->pos || !ctx->fan_area || !ctx->fan_reach || !ctx->pair_cdf || !ctx->table || !ctx->envelope) {
         sam_build_context_destroy(ctx);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for %u vertices", n);
     }
@@ -147,6 +179,7 @@ sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *pro
         if (ctx->fan_area[t] > ctx->max_fan_area)
             ctx->max_fan_area = ctx->fan_area[t];
     }
+    fan_reach(mesh, ctx->pos, ctx->fan_reach);
     /* The table spans twice the search radius plus two fan diameters, so
      * every Monte Carlo pair of a candidate inside the radius is tabulated. */
     ctx->search_radius = sam_profile_radius(profile, settings->radius_tolerance);
@@ -173,6 +206,7 @@ void sam_build_context_destroy(sam_build_context *ctx)
         return;
     free(ctx->pos);
     free(ctx->fan_area);
+    free(ctx->fan_reach);
     free(ctx->pair_cdf);
     free(ctx->table);
     free(ctx->envelope);
@@ -187,6 +221,11 @@ float sam_build_fan_area(const sam_build_context *ctx, uint32_t t)
 int sam_build_is_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i)
 {
     return sam_build_behind(ctx, o, i);
+}
+
+int sam_build_fan_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i)
+{
+    return o == i ? 0 : (int)sam_build_fan_side(ctx, o, i);
 }
 
 void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3], float normal[3])
@@ -236,10 +275,8 @@ void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_
     }
 }
 
-/* K_oi over point pairs; with `pointwise`, eq. 14 is asked of each pair
- * too (sam_build_form_factor_pointwise). */
-static void form_factor_pairs(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
-                              uint32_t samples, uint64_t seed, int pointwise, float k[3], float *k_error)
+void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
+                                uint32_t samples, uint64_t seed, int pointwise, float k[3], float *k_error)
 {
     sam_rng rng;
     sam_rng_seed(&rng, seed, o, i);
@@ -278,12 +315,6 @@ static void form_factor_pairs(const sam_build_context *ctx, uint32_t o, const fl
     *k_error = (float)(area * sqrt(var / (samples > 1 ? samples - 1 : 1)));
 }
 
-void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
-                                uint32_t samples, uint64_t seed, float k[3], float *k_error)
-{
-    form_factor_pairs(ctx, o, points, i, samples, seed, 0, k, k_error);
-}
-
 /* One K_oi with o's points of its own (the public entry points). */
 static void form_factor_alone(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples, uint64_t seed,
                               int pointwise, float k[3], float *k_error)
@@ -295,7 +326,7 @@ static void form_factor_alone(const sam_build_context *ctx, uint32_t o, uint32_t
         return;
     }
     sam_build_receiver_points(ctx, o, samples, seed, points);
-    form_factor_pairs(ctx, o, points, i, samples, seed, pointwise, k, k_error);
+    sam_build_form_factor_from(ctx, o, points, i, samples, seed, pointwise, k, k_error);
     free(points);
 }
 

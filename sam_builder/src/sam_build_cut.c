@@ -19,15 +19,11 @@ typedef struct cut_entry {
     float tau;      /* node_tau; 0 for a vertex */
 } cut_entry;
 
-/* Nodes partly behind a receiver by their boxes, of at most this many
- * members, are classified member by member: a few hundred back-side tests,
- * about the work of one form factor's Monte Carlo. On the head and dragon
- * scans in skin 16 members gained 0.1-1.6 dB, 64 up to 4 dB, 256 up to 8 dB
- * (and halved the build); 1024 and 4096 gave the same scores, slower. */
-#define EXACT_MEMBERS 256u
-
-/* Whether topo vertex v can send receiver o light: behind it (eq. 13-14)
- * and within the search radius. Its distance (mm) into *d when it can. */
+/* Whether topo vertex v may stand in receiver o's row as a vertex sample:
+ * itself behind o (eq. 13-14) and within the search radius. Its distance
+ * (mm) into *d when it may. The runtime drops a vertex sample whose own
+ * test fails at a pose, so a vertex only part of whose fan is behind (a
+ * rim's) counts only inside the nodes around it. */
 static int reaches(const sam_build_context *ctx, uint32_t o, uint32_t v, float *d)
 {
     if (v == o || !sam_build_behind(ctx, o, v))
@@ -36,9 +32,26 @@ static int reaches(const sam_build_context *ctx, uint32_t o, uint32_t v, float *
     return *d < ctx->search_radius;
 }
 
-/* Classifies `id` for receiver o. Returns 0 when no member can contribute
- * (all in front, all facing o's way, or all beyond the search radius). */
-static int classify(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id, cut_entry *e)
+/* Whether any of topo vertex v's fan can send receiver o light: some of it
+ * behind o (sam_build_fan_side), v within the search radius. */
+static int fan_reaches(const sam_build_context *ctx, uint32_t o, uint32_t v, float *d)
+{
+    if (v == o || sam_build_fan_side(ctx, o, v) == SAM_BUILD_FAN_NONE)
+        return 0;
+    *d = sam_build_distance(ctx->pos + 3 * (size_t)o, ctx->pos + 3 * (size_t)v);
+    return *d < ctx->search_radius;
+}
+
+/* What classify found. */
+typedef enum cut_kind {
+    CUT_OUT,   /* no member can contribute: all in front, facing o's way, or beyond the search radius */
+    CUT_ENTRY, /* a candidate for the cut, in *e */
+    CUT_RIMS   /* light through its members' rims alone (add_rim) */
+} cut_kind;
+
+/* Classifies `id` for receiver o. */
+static cut_kind classify(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id,
+                         cut_entry *e)
 {
     const uint32_t n = ctx->mesh->topo_count;
     memset(e, 0, sizeof *e);
@@ -46,29 +59,39 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
     float d;
     if (id < n) {
         if (!reaches(ctx, o, id, &d))
-            return 0;
+            return fan_reaches(ctx, o, id, &d) ? CUT_RIMS : CUT_OUT;
         e->back = 1;
         e->estimate = ctx->fan_area[id] * sam_build_rd_mean(ctx, d);
-        return 1;
+        return CUT_ENTRY;
     }
     const sam_build_node *node = &tree->node[id - n];
     sam_bounds_range b;
-    sam_build_side side = sam_build_node_side(ctx, node, o, &b);
-    if (side == SAM_BUILD_SIDE_PARTLY && node->count <= EXACT_MEMBERS) {
+    sam_build_side side = sam_build_node_side(ctx, tree, id - n, o, &b);
+    if (side == SAM_BUILD_SIDE_PARTLY && node->count <= SAM_BUILD_EXACT_MEMBERS) {
         /* Boxes cannot tell the receiver's own front from its back side:
          * around it every node is "partly" behind. Such a node that holds
          * no back-side member carried no K but took a slot, and one of a
          * few back-side members lent them the L_d of all its members,
          * front ones too: on a skin scan most of the cut was such nodes,
          * and vertices with no back side in reach got light. A small
-         * node's members are asked one by one. */
-        uint32_t behind = 0;
-        for (uint32_t m = 0; m < node->count; ++m)
-            behind += (uint32_t)reaches(ctx, o, tree->perm[node->first + m], &d);
-        side = behind == 0 ? SAM_BUILD_SIDE_OUT : behind == node->count ? SAM_BUILD_SIDE_BACK : side;
+         * node's members are asked one by one. One whose light comes
+         * through rims alone is no entry either: as one, it took the
+         * cut's slots near folds and creases and lent its slivers the L_d
+         * of members facing the other way (the statue in marble lost 2.1
+         * dB, docs/comparison.md); its rims go where rims go. */
+        uint32_t behind = 0, fans = 0;
+        for (uint32_t m = 0; m < node->count; ++m) {
+            const uint32_t v = tree->perm[node->first + m];
+            const int vertex = reaches(ctx, o, v, &d);
+            behind += (uint32_t)vertex;
+            fans += (uint32_t)(vertex || fan_reaches(ctx, o, v, &d));
+        }
+        if (behind == 0)
+            return fans ? CUT_RIMS : CUT_OUT;
+        side = fans == node->count ? SAM_BUILD_SIDE_BACK : side;
     }
     if (side == SAM_BUILD_SIDE_OUT)
-        return 0;
+        return CUT_OUT;
     const float near = sam_build_rd_mean(ctx, sqrtf(b.near2));
     e->back = side == SAM_BUILD_SIDE_BACK;
     if (e->back) {
@@ -78,7 +101,7 @@ static int classify(const sam_build_context *ctx, const sam_build_tree *tree, ui
     } else {
         e->priority = node->area * near;
     }
-    return 1;
+    return CUT_ENTRY;
 }
 
 /* Where along node j's split its light comes from: the K-weighted centre's
@@ -117,14 +140,14 @@ static float kprime_loss(const sam_build_context *ctx, const float k[3], float a
     return lost;
 }
 
-/* How many of node j's members are behind receiver o (eq. 13-14). */
+/* How many of node j's members have some of their fan behind receiver o. */
 static uint32_t members_behind(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t j)
 {
     const sam_build_node *node = &tree->node[j];
     uint32_t behind = 0;
     for (uint32_t m = 0; m < node->count; ++m) {
         const uint32_t v = tree->perm[node->first + m];
-        behind += (uint32_t)(v != o && sam_build_behind(ctx, o, v));
+        behind += (uint32_t)(v != o && sam_build_fan_side(ctx, o, v) != SAM_BUILD_FAN_NONE);
     }
     return behind;
 }
@@ -180,9 +203,9 @@ static uint32_t carrier(const sam_build_context *ctx, const sam_build_tree *tree
  * a node sample the L_d of all its members (their mean), so a node only
  * partly behind o mixes in members in front of it, on a thin part the
  * other face's light or shadow: on the knot in ketchup the cut's
- * translucency then erred by 2.3 times what it does with this. Such a node,
- * of at most EXACT_MEMBERS members (concentrate narrows a larger one
- * first), hands its K to the node around its back-side member nearest
+ * translucency then erred by 2.3 times what it does with this. Such a
+ * node, of at most SAM_BUILD_EXACT_MEMBERS members (concentrate narrows a
+ * larger one first), hands its K to the node around its back-side member nearest
  * `centre` (where its light comes from): the largest node on the way down
  * to that member that lies wholly behind o, else the member's parent
  * (whose tau, as every node's, leans towards `centre`). Not the member
@@ -196,13 +219,13 @@ static uint32_t focus(const sam_build_context *ctx, const sam_build_tree *tree, 
 {
     const uint32_t n = ctx->mesh->topo_count;
     const sam_build_node *node = &tree->node[id - n];
-    if (node->count > EXACT_MEMBERS)
+    if (node->count > SAM_BUILD_EXACT_MEMBERS)
         return id;
     uint32_t best = UINT32_MAX, at = 0, behind = 0;
     float nearest = INFINITY, d;
     for (uint32_t m = 0; m < node->count; ++m) {
         const uint32_t v = tree->perm[node->first + m];
-        if (!reaches(ctx, o, v, &d))
+        if (!fan_reaches(ctx, o, v, &d))
             continue;
         behind++;
         const float to_centre = sam_build_distance(centre, ctx->pos + 3 * (size_t)v);
@@ -247,8 +270,8 @@ static uint32_t focus(const sam_build_context *ctx, const sam_build_tree *tree, 
  * and carried as every node is.
  *
  * A node partly behind (`mixed`) goes down only while it has more than
- * EXACT_MEMBERS members, and only into children that reach o: focus takes
- * it from there, member by member. Such a node, split by normal near the
+ * SAM_BUILD_EXACT_MEMBERS members, and only into children that reach o:
+ * focus takes it from there, member by member. Such a node, split by normal near the
  * root, can span a whole figure while its K comes from a crease a
  * millimetre from the receiver: on a 100 mm figure in marble (the
  * statue), the lips' K read the mean L_d of surfaces facing alike over the
@@ -260,7 +283,7 @@ static uint32_t concentrate(const sam_build_context *ctx, const sam_build_tree *
     const uint32_t n = ctx->mesh->topo_count;
     for (;;) {
         const sam_build_node *node = &tree->node[id - n];
-        if (mixed && node->count <= EXACT_MEMBERS)
+        if (mixed && node->count <= SAM_BUILD_EXACT_MEMBERS)
             return id;
         uint32_t next = UINT32_MAX;
         float next_d = INFINITY;
@@ -278,7 +301,7 @@ static uint32_t concentrate(const sam_build_context *ctx, const sam_build_tree *
             const float d = sam_build_distance(centre, k->centroid);
             sam_bounds_range b;
             if (inside && 0.25f * diagonal2 >= spread * spread && d < next_d &&
-                (!mixed || sam_build_node_side(ctx, k, o, &b) != SAM_BUILD_SIDE_OUT)) {
+                (!mixed || sam_build_node_side(ctx, tree, kid - n, o, &b) != SAM_BUILD_SIDE_OUT)) {
                 next = kid;
                 next_d = d;
             }
@@ -330,6 +353,18 @@ typedef struct listed {
     uint32_t id;
 } listed;
 
+/* A rim of the receiver (add_rim) and its K. */
+typedef struct rim {
+    uint32_t v;
+    float k[3];
+} rim;
+
+typedef struct rim_set {
+    rim *rim;       /* LIST_TESTS */
+    uint32_t count;
+    double rest[3]; /* the K of rims beyond LIST_TESTS */
+} rim_set;
+
 typedef struct cut_scratch {
     cut_entry *entry;                 /* N + 1 */
     float *points;                    /* SAM_BUILD_POINT_FLOATS * mc_samples */
@@ -337,6 +372,7 @@ typedef struct cut_scratch {
     float *k, *centre, *spread;       /* 3N, 3N, N */
     uint32_t *stack;                  /* the tree's levels + 2 */
     listed *found;                    /* LIST_TESTS */
+    rim_set rims;
     sam_build_cut_k_scratch *k_scratch;
 } cut_scratch;
 
@@ -350,6 +386,7 @@ static void cut_scratch_free(cut_scratch *sc)
     free(sc->spread);
     free(sc->stack);
     free(sc->found);
+    free(sc->rims.rim);
     sam_build_cut_k_scratch_destroy(sc->k_scratch);
 }
 
@@ -365,9 +402,10 @@ static int cut_scratch_alloc(const sam_build_context *ctx, const sam_build_tree 
     sc->spread = malloc(n * sizeof *sc->spread);
     sc->stack = malloc(((size_t)tree->level_count + 2) * sizeof *sc->stack);
     sc->found = malloc(LIST_TESTS * sizeof *sc->found);
+    sc->rims.rim = malloc(LIST_TESTS * sizeof *sc->rims.rim);
     sc->k_scratch = sam_build_cut_k_scratch_create((uint32_t)n, (uint32_t)n * SAM_BUILD_CUT_OPENINGS);
     if (sc->entry && sc->points && sc->ids && sc->k && sc->centre && sc->spread && sc->stack && sc->found &&
-        sc->k_scratch)
+        sc->rims.rim && sc->k_scratch)
         return 1;
     cut_scratch_free(sc);
     return 0;
@@ -381,12 +419,83 @@ static int cmp_listed(const void *pa, const void *pb)
     return (a->id > b->id) - (a->id < b->id);
 }
 
+/* Keeps topo vertex v in `rims` when it is a rim of receiver o: part of
+ * its fan behind o, but not v itself, which therefore cannot be a sample
+ * (reaches says why). Its K comes from o's shared `points`, with as many
+ * pairs as a sample's (which part of the fan is behind, only the pairs
+ * tell; with 8, 16 of the 250 rows of a marble ear missed the brute force
+ * by more than 5%); fold_rims hands it to the row's sample nearest v. */
+static void add_rim(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t v, rim_set *rims)
+{
+    float d, k[3], k_error;
+    if (sam_build_behind(ctx, o, v) || !fan_reaches(ctx, o, v, &d))
+        return;
+    sam_build_form_factor_from(ctx, o, points, v, ctx->settings.mc_samples, ctx->settings.seed, 1, k, &k_error);
+    if (rims->count == LIST_TESTS) {
+        for (int ch = 0; ch < 3; ++ch)
+            rims->rest[ch] += k[ch];
+        return;
+    }
+    rim *r = &rims->rim[rims->count++];
+    r->v = v;
+    memcpy(r->k, k, sizeof k);
+}
+
+/* add_rim for every member of `id` (a topo vertex or topo_count + node). */
+static void add_rims(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, const float *points,
+                     uint32_t id, rim_set *rims)
+{
+    const uint32_t n = ctx->mesh->topo_count;
+    if (id < n) {
+        add_rim(ctx, o, points, id, rims);
+        return;
+    }
+    const sam_build_node *node = &tree->node[id - n];
+    for (uint32_t m = 0; m < node->count; ++m)
+        add_rim(ctx, o, points, tree->perm[node->first + m], rims);
+}
+
+/* Adds each rim's K to the entry of e[0, count) whose light comes from
+ * nearest it (`centre`, 3 per entry, mm), and the rest by the entries' K.
+ * Near, not over the whole row: a rim's light is its neighbours', and
+ * spread over the row, a tube lit from one side read it on the other.
+ * Entries without K get none. */
+static void fold_rims(const sam_build_context *ctx, const rim_set *rims, const float *centre, cut_entry *e,
+                      uint32_t count)
+{
+    double total[3] = {0, 0, 0};
+    for (uint32_t c = 0; c < count; ++c)
+        for (int ch = 0; ch < 3; ++ch)
+            total[ch] += e[c].k[ch];
+    if (!(total[0] + total[1] + total[2] > 0))
+        return;
+    for (uint32_t r = 0; r < rims->count; ++r) {
+        const float *p = ctx->pos + 3 * (size_t)rims->rim[r].v;
+        uint32_t best = UINT32_MAX;
+        float nearest = INFINITY;
+        for (uint32_t c = 0; c < count; ++c) {
+            const float d = sam_build_distance(p, centre + 3 * (size_t)c);
+            if (e[c].k[0] + e[c].k[1] + e[c].k[2] > 0 && d < nearest) {
+                nearest = d;
+                best = c;
+            }
+        }
+        for (int ch = 0; ch < 3; ++ch)
+            e[best].k[ch] += rims->rim[r].k[ch];
+    }
+    for (uint32_t c = 0; c < count; ++c)
+        for (int ch = 0; ch < 3; ++ch)
+            if (total[ch] > 0)
+                e[c].k[ch] += (float)(rims->rest[ch] * e[c].k[ch] / total[ch]);
+}
+
 /* The flat map's row as the cut: when the min(`budget`, LIST_JUDGED)
  * vertices behind receiver o with the most transport (point estimate) leave
  * out at most LIST_TOLERANCE of the transport of all that reach it, puts
  * the `budget` best into e[] as the cut, sets *scale to the factor that
  * makes their K carry the whole (all that reach o over those kept, by the
- * estimate) and returns their count; otherwise returns UINT32_MAX. Where
+ * estimate) and returns their count; otherwise returns UINT32_MAX. The
+ * rims it meets go to `rims` (add_rim, with o's shared `points`). Where
  * the profile is short against the fans (skin on a mesh of 10k vertices),
  * a few vertices carry nearly all the light and each of them is exact,
  * while a lightcut spent its
@@ -398,7 +507,8 @@ static int cmp_listed(const void *pa, const void *pb)
  * nodes' classification member by member. `stack` holds the tree's levels
  * + 2 entries, `found` LIST_TESTS. */
 static uint32_t list_back_side(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t budget,
-                               uint32_t *stack, listed *found, cut_entry *e, float *scale, uint64_t *tested)
+                               const float *points, uint32_t *stack, listed *found, cut_entry *e, float *scale,
+                               rim_set *rims, uint64_t *tested)
 {
     const uint32_t n = ctx->mesh->topo_count;
     uint32_t top = 0, count = 0, tests = 0;
@@ -417,12 +527,14 @@ static uint32_t list_back_side(const sam_build_context *ctx, const sam_build_tre
             if (reaches(ctx, o, id, &d)) {
                 found[count] = (listed){ctx->fan_area[id] * sam_build_rd_mean(ctx, d), id};
                 total += found[count++].estimate;
+            } else {
+                add_rim(ctx, o, points, id, rims);
             }
             continue;
         }
         const sam_build_node *node = &tree->node[id - n];
         sam_bounds_range b;
-        if (sam_build_node_side(ctx, node, o, &b) == SAM_BUILD_SIDE_OUT)
+        if (sam_build_node_side(ctx, tree, id - n, o, &b) == SAM_BUILD_SIDE_OUT)
             continue;
         stack[top++] = node->child[1];
         stack[top++] = node->child[0];
@@ -448,17 +560,22 @@ static uint32_t list_back_side(const sam_build_context *ctx, const sam_build_tre
 /* Lightcuts' loop: split the entry with the largest bound until the
  * bounds are small against the total or a split would hold more than
  * `budget` entries. An entry only partly on the back side stays a candidate
- * too: its K will count just its back-side members. Returns the cut's
- * entries, in e[]; adds the entries classified to *classified. */
+ * too: its K will count just its back-side members. What is split off
+ * with light through rims alone goes to `rims` (add_rims). Returns the
+ * cut's entries, in e[]; adds the entries classified to *classified. */
 static uint32_t lightcut(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t budget,
-                         cut_entry *e, uint64_t *classified)
+                         const float *points, cut_entry *e, rim_set *rims, uint64_t *classified)
 {
     const uint32_t n = ctx->mesh->topo_count;
     const float tol = ctx->settings.cut_tolerance;
     uint32_t count = 0;
     *classified += 1;
-    if (classify(ctx, tree, o, tree->node_count ? n : 0, &e[0]))
-        count = 1;
+    const uint32_t root = tree->node_count ? n : 0;
+    switch (classify(ctx, tree, o, root, &e[0])) {
+    case CUT_ENTRY: count = 1; break;
+    case CUT_RIMS: add_rims(ctx, tree, o, points, root, rims); break;
+    case CUT_OUT: break;
+    }
     for (;;) {
         uint32_t best = UINT32_MAX;
         double total = 0;
@@ -471,12 +588,16 @@ static uint32_t lightcut(const sam_build_context *ctx, const sam_build_tree *tre
             break;
         const sam_build_node *node = &tree->node[e[best].id - n];
         cut_entry kids[2];
-        int live[2];
+        cut_kind kind[2];
         for (int c = 0; c < 2; ++c)
-            live[c] = classify(ctx, tree, o, node->child[c], &kids[c]);
+            kind[c] = classify(ctx, tree, o, node->child[c], &kids[c]);
         *classified += 2;
+        const int live[2] = {kind[0] == CUT_ENTRY, kind[1] == CUT_ENTRY};
         if (count - 1 + (uint32_t)live[0] + (uint32_t)live[1] > budget)
             break;
+        for (int c = 0; c < 2; ++c)
+            if (kind[c] == CUT_RIMS)
+                add_rims(ctx, tree, o, points, node->child[c], rims);
         if (live[0]) {
             e[best] = kids[0];
             if (live[1])
@@ -498,22 +619,30 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     cut_entry *e = sc->entry;
     uint64_t classified = 0;
     float scale = 1.0f;
-    uint32_t count = list_back_side(ctx, tree, o, budget, sc->stack, sc->found, e, &scale, &classified);
-    if (count == UINT32_MAX)
-        count = lightcut(ctx, tree, o, budget, e, &classified);
+    rim_set *rims = &sc->rims;
+    *rims = (rim_set){rims->rim, 0, {0, 0, 0}};
+    sam_build_receiver_points(ctx, o, m, ctx->settings.seed, sc->points);
+    uint32_t count =
+        list_back_side(ctx, tree, o, budget, sc->points, sc->stack, sc->found, e, &scale, rims, &classified);
+    if (count == UINT32_MAX) {
+        /* The listing's rims lie inside the nodes the cut will hold. */
+        *rims = (rim_set){rims->rim, 0, {0, 0, 0}};
+        count = lightcut(ctx, tree, o, budget, sc->points, e, rims, &classified);
+    }
     const uint32_t kept = count;
     if (kept) {
-        sam_build_receiver_points(ctx, o, m, ctx->settings.seed, sc->points);
         for (uint32_t c = 0; c < kept; ++c)
             sc->ids[c] = e[c].id;
         sam_build_cut_k(ctx, tree, o, sc->points, sc->ids, kept, budget * SAM_BUILD_CUT_OPENINGS, sc->k_scratch, sc->k,
                         sc->centre, sc->spread);
     }
-    for (uint32_t c = 0; c < kept; ++c) {
-        for (int ch = 0; ch < 3; ++ch) {
+    for (uint32_t c = 0; c < kept; ++c)
+        for (int ch = 0; ch < 3; ++ch)
             e[c].k[ch] = scale * sc->k[3 * (size_t)c + ch];
+    fold_rims(ctx, rims, sc->centre, e, kept);
+    for (uint32_t c = 0; c < kept; ++c) {
+        for (int ch = 0; ch < 3; ++ch)
             r->k_total[3 * (size_t)o + ch] += e[c].k[ch];
-        }
         if (e[c].id >= n) {
             const float *centre = sc->centre + 3 * (size_t)c;
             uint32_t held = concentrate(ctx, tree, o, e[c].id, centre, sc->spread[c], !e[c].back);

@@ -83,16 +83,16 @@ static void straddle_estimate(const sam_build_context *ctx, const sam_build_tree
                 lo = mid + 1;
         }
         const uint32_t i = tree->perm[lo];
-        if (i == o || !sam_build_behind(ctx, o, i))
+        if (i == o || sam_build_fan_side(ctx, o, i) == SAM_BUILD_FAN_NONE)
             continue;
         /* A uniform point of the member's fan: the samples are uniform in
          * area over the node, and so the estimate is unbiased where R_d
          * is not flat across a fan either. */
-        float q[3], rd[4];
-        sam_build_sample_fan(ctx, i, rng, q, NULL);
+        float q[3], nq[3], rd[4];
+        sam_build_sample_fan(ctx, i, rng, q, nq);
         const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)(j % ctx->settings.mc_samples);
-        if (!sam_build_point_behind(xo, xo + 3, q))
-            continue; /* as in sam_build_form_factor_from */
+        if (!sam_build_point_behind(xo, xo + 3, q) || nq[0] * xo[3] + nq[1] * xo[4] + nq[2] * xo[5] >= 0.0f)
+            continue; /* as in sam_build_form_factor_from, pointwise */
         sam_build_rd(ctx, sam_build_distance(xo, q), rd);
         const float kv[3] = {weight * rd[0], weight * rd[1], weight * rd[2]};
         k_add(s, q, kv);
@@ -184,7 +184,8 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
     k_sum *s = &c->s->sum[entry];
     float r_near[4], r_far[4], rd[4], kv[3];
     if (id < n) {
-        if (id == c->o || !sam_build_behind(ctx, c->o, id))
+        const sam_build_fan fan = id == c->o ? SAM_BUILD_FAN_NONE : sam_build_fan_side(ctx, c->o, id);
+        if (fan == SAM_BUILD_FAN_NONE)
             return;
         /* A member's fan, its radius taken as sqrt(F'). */
         const float *q = ctx->pos + 3 * (size_t)id, area = ctx->fan_area[id], r = sqrtf(area);
@@ -195,6 +196,13 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
             heap_push(c->s->heap, &c->pending, (part){id, entry, area * (r_near[3] - r_far[3])});
             return;
         }
+        if (fan == SAM_BUILD_FAN_PART) {
+            /* Flat, but only part of it behind: which part, the pairs tell. */
+            float ev;
+            sam_build_form_factor_from(ctx, c->o, c->points, id, STRADDLE_SAMPLES, ctx->settings.seed, 1, kv, &ev);
+            k_add(s, q, kv);
+            return;
+        }
         sam_build_rd(ctx, d, rd);
         for (int ch = 0; ch < 3; ++ch)
             kv[ch] = area * rd[ch];
@@ -203,7 +211,7 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
     }
     const sam_build_node *node = &c->tree->node[id - n];
     sam_bounds_range b;
-    const int side = sam_build_node_side(ctx, node, c->o, &b);
+    const int side = sam_build_node_side(ctx, c->tree, id - n, c->o, &b);
     if (side == SAM_BUILD_SIDE_OUT)
         return;
     sam_build_rd(ctx, sqrtf(b.near2), r_near);
@@ -212,7 +220,7 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
         heap_push(c->s->heap, &c->pending, (part){id, entry, node->area * (r_near[3] - r_far[3])});
         return;
     }
-    if (side == SAM_BUILD_SIDE_PARTLY) {
+    if (side != SAM_BUILD_SIDE_BACK) {
         straddle_estimate(ctx, c->tree, c->o, c->points, node, &c->rng, s);
         return;
     }
@@ -250,7 +258,7 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
         if (ids[e] < n) {
             /* A vertex of the cut: the fans' Monte Carlo, as in a flat map. */
             float kv[3], ev;
-            sam_build_form_factor_from(ctx, o, points, ids[e], m, ctx->settings.seed, kv, &ev);
+            sam_build_form_factor_from(ctx, o, points, ids[e], m, ctx->settings.seed, 1, kv, &ev);
             k_add(&scratch->sum[e], ctx->pos + 3 * (size_t)ids[e], kv);
         } else {
             part_take(&c, e, ids[e]);
@@ -279,7 +287,8 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
             /* A member: the fans' Monte Carlo, with fewer samples once the
              * budget is spent. */
             float kv[3], ev;
-            sam_build_form_factor_from(ctx, o, points, at.id, open ? m : STRADDLE_SAMPLES, ctx->settings.seed, kv, &ev);
+            sam_build_form_factor_from(ctx, o, points, at.id, open ? m : STRADDLE_SAMPLES, ctx->settings.seed, 1, kv,
+                                       &ev);
             k_add(s, ctx->pos + 3 * (size_t)at.id, kv);
         }
     }

@@ -162,7 +162,7 @@ static void choose(const sam_build_context *ctx, uint32_t o, scratch *sc, uint32
     if (count)
         sam_build_receiver_points(ctx, o, m, ctx->settings.seed, points);
     for (uint32_t c = 0; c < count; ++c) {
-        sam_build_form_factor_from(ctx, o, points, cand[c].index, m, ctx->settings.seed, k[c], &kerr[c]);
+        sam_build_form_factor_from(ctx, o, points, cand[c].index, m, ctx->settings.seed, 0, k[c], &kerr[c]);
         cand[c].value = (k[c][0] + k[c][1] + k[c][2]) / 3.0f;
     }
     /* Keep each candidate's K with it while sorting by K. */

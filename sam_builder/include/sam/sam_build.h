@@ -65,10 +65,12 @@ extern "C" {
  * its spread; 1.7: a cluster whose normals lie within a cone splits by
  * position while it is wider than the profile's reach across; 1.8: a cut
  * node partly behind its receiver with more members than are asked one by
- * one first goes down towards where its light comes from), and the
+ * one first goes down towards where its light comes from; 1.9: the cut
+ * map asks eq. 13-14 of its members' fans, not their vertices, and counts
+ * a fan partly behind the receiver by its pairs of points), and the
  * tools' map cache keys on it, so that no cached map outlives the builder
  * that made it. */
-#define SAM_BUILD_VERSION "1.8"
+#define SAM_BUILD_VERSION "1.9"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
@@ -183,6 +185,13 @@ float sam_build_fan_area(const sam_build_context *ctx, uint32_t t);
 
 /* 1 when topo vertex i is on the back side of o (eq. 13-14). */
 int sam_build_is_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i);
+
+/* How much of topo vertex i's reduced fan is on the back side of vertex o:
+ * eq. 13-14 asked of the fan's points against o's vertex and normal, the
+ * vertex normals interpolated at each point. 0: none of it (and when
+ * o == i), 1: part of it may be, 2: all of it. The cut map asks this of
+ * its nodes' members; the flat map asks sam_build_is_back_side. */
+int sam_build_fan_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i);
 
 /* The builder of the map that settings.map names. `result` is filled
  * (caller destroys) on success.
