@@ -102,22 +102,27 @@ static inline sam_build_fan sam_build_fan_side(const sam_build_context *ctx, uin
         return SAM_BUILD_FAN_ALL;
     if (d0 - reach >= 0.0f || c0 - turn >= 0.0f)
         return SAM_BUILD_FAN_NONE;
-    float dmin = d0, dmax = d0, cmin = c0, cmax = c0, dprev = 0.0f, cprev = 0.0f;
+    /* Whether some corner passes each test, and whether every one does;
+     * once some pass both and not all do, the fan is partly behind. */
+    int d_some = d0 < 0.0f, d_all = d_some, c_some = c0 < 0.0f, c_all = c_some;
+    float dprev = 0.0f, cprev = 0.0f;
     for (uint32_t k = m->ring_offsets[i]; k < m->ring_offsets[i + 1]; ++k) {
         const float *pa = ctx->pos + 3 * (size_t)m->ring[k], *na = m->topo_normals + 3 * (size_t)m->ring[k];
         const float da = (pa[0] - po[0]) * no[0] + (pa[1] - po[1]) * no[1] + (pa[2] - po[2]) * no[2];
         const float ca = na[0] * no[0] + na[1] * no[1] + na[2] * no[2];
         const float dm = 0.5f * (d0 + da), cm = 0.5f * (c0 + ca);
-        dmin = fminf(dmin, dm), dmax = fmaxf(dmax, dm), cmin = fminf(cmin, cm), cmax = fmaxf(cmax, cm);
+        d_some |= dm < 0.0f, d_all &= dm < 0.0f, c_some |= cm < 0.0f, c_all &= cm < 0.0f;
         if (k > m->ring_offsets[i]) {
             const float dc = (d0 + dprev + da) / 3.0f, cc = (c0 + cprev + ca) / 3.0f;
-            dmin = fminf(dmin, dc), dmax = fmaxf(dmax, dc), cmin = fminf(cmin, cc), cmax = fmaxf(cmax, cc);
+            d_some |= dc < 0.0f, d_all &= dc < 0.0f, c_some |= cc < 0.0f, c_all &= cc < 0.0f;
         }
+        if (d_some && c_some && !(d_all && c_all))
+            return SAM_BUILD_FAN_PART;
         dprev = da, cprev = ca;
     }
-    if (dmax < 0.0f && cmax < 0.0f)
+    if (d_all && c_all)
         return SAM_BUILD_FAN_ALL;
-    return dmin < 0.0f && cmin < 0.0f ? SAM_BUILD_FAN_PART : SAM_BUILD_FAN_NONE;
+    return d_some && c_some ? SAM_BUILD_FAN_PART : SAM_BUILD_FAN_NONE;
 }
 
 /* The smallest radius beyond which every mean R_d (table) is below
