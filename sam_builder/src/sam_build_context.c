@@ -90,31 +90,43 @@ float sam_build_bound_radius(const sam_build_context *ctx, float threshold)
 
 /* ---- the context */
 
-/* Per topo vertex, the largest distance (mm) of a fan corner (an edge
- * midpoint or a triangle's centroid) from the vertex, and of the normals
- * interpolated there from the vertex normal, each enlarged a little so that
- * float rounding never makes sam_build_fan_side's shortcut claim more than
- * its corners would. */
-static void fan_reach(const sam_mesh *mesh, const float *pos, float *reach)
+void sam_build_fan_corners(const sam_build_context *ctx, uint32_t t, uint32_t k, float p[2][3], float n[2][3])
 {
-    const float *normals = mesh->topo_normals;
+    const sam_mesh *m = ctx->mesh;
+    const uint32_t a = m->ring[k], b = k > m->ring_offsets[t] ? m->ring[k - 1] : t;
+    const float *pt = ctx->pos + 3 * (size_t)t, *pa = ctx->pos + 3 * (size_t)a, *pb = ctx->pos + 3 * (size_t)b;
+    const float *nt = m->topo_normals + 3 * (size_t)t, *na = m->topo_normals + 3 * (size_t)a,
+                *nb = m->topo_normals + 3 * (size_t)b;
+    for (int c = 0; c < 3; ++c) {
+        p[0][c] = 0.5f * (pt[c] + pa[c]);
+        p[1][c] = (pt[c] + pa[c] + pb[c]) / 3.0f;
+        n[0][c] = 0.5f * (nt[c] + na[c]);
+        n[1][c] = (nt[c] + na[c] + nb[c]) / 3.0f;
+    }
+}
+
+/* Per topo vertex, the largest distance (mm) of a fan corner from the
+ * vertex, and of the normals interpolated there from the vertex normal,
+ * each enlarged a little so that float rounding never makes
+ * sam_build_fan_side's shortcut claim more than its corners would. */
+static void fan_reach(const sam_build_context *ctx, float *reach)
+{
+    const sam_mesh *mesh = ctx->mesh;
     for (uint32_t t = 0; t < mesh->topo_count; ++t) {
-        const float *v = pos + 3 * (size_t)t, *nv = normals + 3 * (size_t)t;
+        const float *v = ctx->pos + 3 * (size_t)t, *nv = mesh->topo_normals + 3 * (size_t)t;
         float far2 = 0.0f, turn2 = 0.0f;
         for (uint32_t k = mesh->ring_offsets[t]; k < mesh->ring_offsets[t + 1]; ++k) {
-            /* The first entry has no triangle before it: its "centroid" is
-             * then its midpoint again. */
-            const uint32_t a = mesh->ring[k], b = k > mesh->ring_offsets[t] ? mesh->ring[k - 1] : t;
-            const float *pa = pos + 3 * (size_t)a, *pb = pos + 3 * (size_t)b;
-            const float *na = normals + 3 * (size_t)a, *nb = normals + 3 * (size_t)b;
-            float mid2 = 0, centre2 = 0, nmid2 = 0, ncentre2 = 0;
-            for (int c = 0; c < 3; ++c) {
-                const float mid = 0.5f * (pa[c] - v[c]), centre = (pa[c] + pb[c] - 2.0f * v[c]) / 3.0f;
-                const float nmid = 0.5f * (na[c] - nv[c]), ncentre = (na[c] + nb[c] - 2.0f * nv[c]) / 3.0f;
-                mid2 += mid * mid, centre2 += centre * centre, nmid2 += nmid * nmid, ncentre2 += ncentre * ncentre;
+            float p[2][3], n[2][3];
+            sam_build_fan_corners(ctx, t, k, p, n);
+            for (int j = 0; j < 2; ++j) {
+                float d2 = 0.0f, e2 = 0.0f;
+                for (int c = 0; c < 3; ++c) {
+                    d2 += (p[j][c] - v[c]) * (p[j][c] - v[c]);
+                    e2 += (n[j][c] - nv[c]) * (n[j][c] - nv[c]);
+                }
+                far2 = fmaxf(far2, d2);
+                turn2 = fmaxf(turn2, e2);
             }
-            far2 = fmaxf(far2, fmaxf(mid2, centre2));
-            turn2 = fmaxf(turn2, fmaxf(nmid2, ncentre2));
         }
         reach[2 * (size_t)t] = sqrtf(far2) * 1.001f + 1e-6f;
         reach[2 * (size_t)t + 1] = sqrtf(turn2) * 1.001f + 1e-6f;
@@ -179,7 +191,7 @@ sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *pro
         if (ctx->fan_area[t] > ctx->max_fan_area)
             ctx->max_fan_area = ctx->fan_area[t];
     }
-    fan_reach(mesh, ctx->pos, ctx->fan_reach);
+    fan_reach(ctx, ctx->fan_reach);
     /* The table spans twice the search radius plus two fan diameters, so
      * every Monte Carlo pair of a candidate inside the radius is tabulated. */
     ctx->search_radius = sam_profile_radius(profile, settings->radius_tolerance);
@@ -285,7 +297,7 @@ void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const 
         float xi[3], ni[3], rd[4];
         const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)s;
         sam_build_sample_fan(ctx, i, &rng, xi, pointwise ? ni : NULL);
-        if (pointwise && ni[0] * xo[3] + ni[1] * xo[4] + ni[2] * xo[5] >= 0.0f)
+        if (pointwise && !sam_build_point_faces_away(xo + 3, ni))
             continue;
         /* The part of F'_i in front of this point's tangent plane sends it
          * nothing. The vertex test (eq. 13-14 between the fans' centres)

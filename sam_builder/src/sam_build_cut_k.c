@@ -91,7 +91,7 @@ static void straddle_estimate(const sam_build_context *ctx, const sam_build_tree
         float q[3], nq[3], rd[4];
         sam_build_sample_fan(ctx, i, rng, q, nq);
         const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)(j % ctx->settings.mc_samples);
-        if (!sam_build_point_behind(xo, xo + 3, q) || nq[0] * xo[3] + nq[1] * xo[4] + nq[2] * xo[5] >= 0.0f)
+        if (!sam_build_point_behind(xo, xo + 3, q) || !sam_build_point_faces_away(xo + 3, nq))
             continue; /* as in sam_build_form_factor_from, pointwise */
         sam_build_rd(ctx, sam_build_distance(xo, q), rd);
         const float kv[3] = {weight * rd[0], weight * rd[1], weight * rd[2]};

@@ -85,6 +85,14 @@ typedef enum sam_build_fan {
     SAM_BUILD_FAN_ALL   /* every point */
 } sam_build_fan;
 
+/* The corners of topo vertex t's reduced fan that ring entry k adds, in
+ * mm: the midpoint of the edge to ring[k] (p[0]) and the centroid of the
+ * triangle (t, ring[k - 1], ring[k]) (p[1]; for the first entry, which
+ * has no triangle before it, a point of that edge), with the vertex
+ * normals interpolated there (n[0], n[1], not of unit length). With the
+ * vertex, they span the fan. */
+void sam_build_fan_corners(const sam_build_context *ctx, uint32_t t, uint32_t k, float p[2][3], float n[2][3]);
+
 /* Both tests are linear in a fan point and its normal, so their extremes
  * over the fan lie at its corners: the vertex, the edge midpoints and the
  * triangles' centroids. The fan's reach around the vertex settles most
@@ -140,6 +148,13 @@ void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng
 static inline int sam_build_point_behind(const float xo[3], const float no[3], const float xi[3])
 {
     return (xi[0] - xo[0]) * no[0] + (xi[1] - xo[1]) * no[1] + (xi[2] - xo[2]) * no[2] < 0.0f;
+}
+
+/* Whether the normals n_i and n_o (of any length) of two points face apart:
+ * eq. 14 between two points of two fans. */
+static inline int sam_build_point_faces_away(const float no[3], const float ni[3])
+{
+    return ni[0] * no[0] + ni[1] * no[1] + ni[2] * no[2] < 0.0f;
 }
 
 /* The `samples` points on vertex o's reduced fan that every form factor of

@@ -78,25 +78,19 @@ static void node_bounds(const sam_build_context *ctx, const uint32_t *perm, sam_
 }
 
 /* Widens `node`'s boxes to hold the points and interpolated normals of
- * topo vertex t's reduced fan: its corners (sam_build_fan_side). */
+ * topo vertex t's reduced fan: its corners (sam_build_fan_corners). */
 static void add_fan(const sam_build_context *ctx, uint32_t t, sam_build_node *node)
 {
-    const sam_mesh *m = ctx->mesh;
-    const float *p = ctx->pos + 3 * (size_t)t, *n = m->topo_normals + 3 * (size_t)t;
-    for (uint32_t k = m->ring_offsets[t]; k < m->ring_offsets[t + 1]; ++k) {
-        const uint32_t a = m->ring[k], b = k > m->ring_offsets[t] ? m->ring[k - 1] : t;
-        const float *pa = ctx->pos + 3 * (size_t)a, *na = m->topo_normals + 3 * (size_t)a;
-        const float *pb = ctx->pos + 3 * (size_t)b, *nb = m->topo_normals + 3 * (size_t)b;
-        for (int c = 0; c < 3; ++c) {
-            const float q[2] = {0.5f * (p[c] + pa[c]), (p[c] + pa[c] + pb[c]) / 3.0f};
-            const float w[2] = {0.5f * (n[c] + na[c]), (n[c] + na[c] + nb[c]) / 3.0f};
-            for (int j = 0; j < 2; ++j) {
-                node->lo[c] = fminf(node->lo[c], q[j]);
-                node->hi[c] = fmaxf(node->hi[c], q[j]);
-                node->nlo[c] = fminf(node->nlo[c], w[j]);
-                node->nhi[c] = fmaxf(node->nhi[c], w[j]);
+    for (uint32_t k = ctx->mesh->ring_offsets[t]; k < ctx->mesh->ring_offsets[t + 1]; ++k) {
+        float p[2][3], n[2][3];
+        sam_build_fan_corners(ctx, t, k, p, n);
+        for (int j = 0; j < 2; ++j)
+            for (int c = 0; c < 3; ++c) {
+                node->lo[c] = fminf(node->lo[c], p[j][c]);
+                node->hi[c] = fmaxf(node->hi[c], p[j][c]);
+                node->nlo[c] = fminf(node->nlo[c], n[j][c]);
+                node->nhi[c] = fmaxf(node->nhi[c], n[j][c]);
             }
-        }
     }
 }
 
