@@ -49,17 +49,24 @@ typedef enum cut_kind {
     CUT_RIMS   /* light through its members' rims alone (add_rim) */
 } cut_kind;
 
-/* Classifies `id` for receiver o. */
+/* Classifies `id` for receiver o. For CUT_RIMS, the rims (topo vertices)
+ * go to rim[0, *rim_count), at most SAM_BUILD_EXACT_MEMBERS of them; both
+ * may be NULL where `id` cannot be one (a vertex that reaches o). */
 static cut_kind classify(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id,
-                         cut_entry *e)
+                         cut_entry *e, uint32_t *rim, uint32_t *rim_count)
 {
     const uint32_t n = ctx->mesh->topo_count;
     memset(e, 0, sizeof *e);
     e->id = id;
     float d;
     if (id < n) {
-        if (!reaches(ctx, o, id, &d))
-            return fan_reaches(ctx, o, id, &d) ? CUT_RIMS : CUT_OUT;
+        if (!reaches(ctx, o, id, &d)) {
+            if (!fan_reaches(ctx, o, id, &d))
+                return CUT_OUT;
+            rim[0] = id;
+            *rim_count = 1;
+            return CUT_RIMS;
+        }
         e->back = 1;
         e->estimate = ctx->fan_area[id] * sam_build_rd_mean(ctx, d);
         return CUT_ENTRY;
@@ -82,12 +89,20 @@ static cut_kind classify(const sam_build_context *ctx, const sam_build_tree *tre
         uint32_t behind = 0, fans = 0;
         for (uint32_t m = 0; m < node->count; ++m) {
             const uint32_t v = tree->perm[node->first + m];
-            const int vertex = reaches(ctx, o, v, &d);
-            behind += (uint32_t)vertex;
-            fans += (uint32_t)(vertex || fan_reaches(ctx, o, v, &d));
+            if (reaches(ctx, o, v, &d)) {
+                behind++;
+                fans++;
+            } else if (fan_reaches(ctx, o, v, &d)) {
+                if (behind == 0 && rim)
+                    rim[fans - behind] = v; /* no vertex behind so far: fans counts rims */
+                fans++;
+            }
         }
-        if (behind == 0)
+        if (behind == 0) {
+            if (rim_count)
+                *rim_count = fans;
             return fans ? CUT_RIMS : CUT_OUT;
+        }
         side = fans == node->count ? SAM_BUILD_SIDE_BACK : side;
     }
     if (side == SAM_BUILD_SIDE_OUT)
@@ -353,7 +368,7 @@ typedef struct listed {
     uint32_t id;
 } listed;
 
-/* A rim of the receiver (add_rim) and its K. */
+/* A rim of the receiver (add_rim) and its K, which weigh_rims fills. */
 typedef struct rim {
     uint32_t v;
     float k[3];
@@ -373,6 +388,7 @@ typedef struct cut_scratch {
     uint32_t *stack;                  /* the tree's levels + 2 */
     listed *found;                    /* LIST_TESTS */
     rim_set rims;
+    uint32_t *rim_ids;                /* 2 * SAM_BUILD_EXACT_MEMBERS */
     sam_build_cut_k_scratch *k_scratch;
 } cut_scratch;
 
@@ -387,6 +403,7 @@ static void cut_scratch_free(cut_scratch *sc)
     free(sc->stack);
     free(sc->found);
     free(sc->rims.rim);
+    free(sc->rim_ids);
     sam_build_cut_k_scratch_destroy(sc->k_scratch);
 }
 
@@ -403,9 +420,10 @@ static int cut_scratch_alloc(const sam_build_context *ctx, const sam_build_tree 
     sc->stack = malloc(((size_t)tree->level_count + 2) * sizeof *sc->stack);
     sc->found = malloc(LIST_TESTS * sizeof *sc->found);
     sc->rims.rim = malloc(LIST_TESTS * sizeof *sc->rims.rim);
+    sc->rim_ids = malloc(2 * SAM_BUILD_EXACT_MEMBERS * sizeof *sc->rim_ids);
     sc->k_scratch = sam_build_cut_k_scratch_create((uint32_t)n, (uint32_t)n * SAM_BUILD_CUT_OPENINGS);
     if (sc->entry && sc->points && sc->ids && sc->k && sc->centre && sc->spread && sc->stack && sc->found &&
-        sc->rims.rim && sc->k_scratch)
+        sc->rims.rim && sc->rim_ids && sc->k_scratch)
         return 1;
     cut_scratch_free(sc);
     return 0;
@@ -419,51 +437,62 @@ static int cmp_listed(const void *pa, const void *pb)
     return (a->id > b->id) - (a->id < b->id);
 }
 
-/* Keeps topo vertex v in `rims` when it is a rim of receiver o: part of
- * its fan behind o, but not v itself, which therefore cannot be a sample
- * (reaches says why). Its K comes from o's shared `points`, with as many
- * pairs as a sample's (which part of the fan is behind, only the pairs
- * tell; with 8, 16 of the 250 rows of a marble ear missed the brute force
- * by more than 5%, with 16, 13 of a ketchup knot's 144; with 8 the 10k
- * knot's build took 0.82x the time); fold_rims hands it to the row's
- * sample nearest v. */
-static void add_rim(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t v, rim_set *rims)
+/* K of rim v of receiver o from o's shared `points`, with as many pairs
+ * as a sample's (which part of the fan is behind, only the pairs tell;
+ * with 8, 16 of the 250 rows of a marble ear missed the brute force by
+ * more than 5%, with 16, 13 of a ketchup knot's 144; with 8 the 10k knot's
+ * build took 0.82x the time). */
+static void rim_k(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t v, float k[3])
 {
-    float d, k[3], k_error;
-    if (sam_build_behind(ctx, o, v) || !fan_reaches(ctx, o, v, &d))
-        return;
+    float k_error;
     sam_build_form_factor_from(ctx, o, points, v, ctx->settings.mc_samples, ctx->settings.seed, 1, k, &k_error);
-    if (rims->count == LIST_TESTS) {
+}
+
+/* Keeps rims v[0, count) of receiver o in `rims`. A rim is a vertex part
+ * of whose fan is behind o, but not the vertex itself, which therefore
+ * cannot be a sample (reaches says why). Its K waits for weigh_rims: the
+ * listing's rims are thrown away when the listing gives up, which on
+ * meshes fine against the profile is most rows. Past LIST_TESTS rims, K
+ * goes to the rest at once. fold_rims hands a rim's K to the row's sample
+ * nearest it. */
+static void keep_rims(const sam_build_context *ctx, uint32_t o, const float *points, const uint32_t *v,
+                      uint32_t count, rim_set *rims)
+{
+    for (uint32_t r = 0; r < count; ++r) {
+        if (rims->count < LIST_TESTS) {
+            rims->rim[rims->count++].v = v[r];
+            continue;
+        }
+        float k[3];
+        rim_k(ctx, o, points, v[r], k);
         for (int ch = 0; ch < 3; ++ch)
             rims->rest[ch] += k[ch];
-        return;
     }
-    rim *r = &rims->rim[rims->count++];
-    r->v = v;
-    memcpy(r->k, k, sizeof k);
 }
 
-/* add_rim for every member of `id` (a topo vertex or topo_count + node). */
-static void add_rims(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, const float *points,
-                     uint32_t id, rim_set *rims)
+/* keep_rims for topo vertex v when it is a rim of receiver o. */
+static void add_rim(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t v, rim_set *rims)
 {
-    const uint32_t n = ctx->mesh->topo_count;
-    if (id < n) {
-        add_rim(ctx, o, points, id, rims);
-        return;
-    }
-    const sam_build_node *node = &tree->node[id - n];
-    for (uint32_t m = 0; m < node->count; ++m)
-        add_rim(ctx, o, points, tree->perm[node->first + m], rims);
+    float d;
+    if (!sam_build_behind(ctx, o, v) && fan_reaches(ctx, o, v, &d))
+        keep_rims(ctx, o, points, &v, 1, rims);
 }
 
-/* Adds each rim's K to the entry of e[0, count) whose light comes from
- * nearest it (`centre`, 3 per entry, mm), and the rest by the entries' K.
- * Near, not over the whole row: a rim's light is its neighbours', and
- * spread over the row, a tube lit from one side read it on the other.
- * Entries without K get none. */
-static void fold_rims(const sam_build_context *ctx, const rim_set *rims, const float *centre, cut_entry *e,
-                      uint32_t count)
+
+/* Each kept rim's K (rim_k). */
+static void weigh_rims(const sam_build_context *ctx, uint32_t o, const float *points, rim_set *rims)
+{
+    for (uint32_t r = 0; r < rims->count; ++r)
+        rim_k(ctx, o, points, rims->rim[r].v, rims->rim[r].k);
+}
+
+/* Adds the K of receiver o's rims (weigh_rims, from o's `points`) to the
+ * entry of e[0, count) whose light comes from nearest it (`centre`, 3 per
+ * entry, mm), and the rest by the entries' K. Near, not over the whole
+ * row: a rim's light is its neighbours', and spread over the row, a tube
+ * lit from one side read it on the other. Entries without K get none. */
+static void fold_rims(const sam_build_context *ctx, uint32_t o, const float *points, rim_set *rims,
+                      const float *centre, cut_entry *e, uint32_t count)
 {
     double total[3] = {0, 0, 0};
     for (uint32_t c = 0; c < count; ++c)
@@ -471,6 +500,7 @@ static void fold_rims(const sam_build_context *ctx, const rim_set *rims, const f
             total[ch] += e[c].k[ch];
     if (!(total[0] + total[1] + total[2] > 0))
         return;
+    weigh_rims(ctx, o, points, rims);
     for (uint32_t r = 0; r < rims->count; ++r) {
         const float *p = ctx->pos + 3 * (size_t)rims->rim[r].v;
         uint32_t best = UINT32_MAX;
@@ -555,7 +585,7 @@ static uint32_t list_back_side(const sam_build_context *ctx, const sam_build_tre
     const uint32_t kept = count < budget ? count : budget;
     *scale = left_out > 0 ? (float)(total / (total - left_out)) : 1.0f;
     for (uint32_t c = 0; c < kept; ++c)
-        classify(ctx, tree, o, found[c].id, &e[c]);
+        classify(ctx, tree, o, found[c].id, &e[c], NULL, NULL);
     return kept;
 }
 
@@ -563,19 +593,21 @@ static uint32_t list_back_side(const sam_build_context *ctx, const sam_build_tre
  * bounds are small against the total or a split would hold more than
  * `budget` entries. An entry only partly on the back side stays a candidate
  * too: its K will count just its back-side members. What is split off
- * with light through rims alone goes to `rims` (add_rims). Returns the
- * cut's entries, in e[]; adds the entries classified to *classified. */
+ * with light through rims alone goes to `rims` (keep_rims; `rim_ids`
+ * holds 2 SAM_BUILD_EXACT_MEMBERS). Returns the cut's entries, in e[];
+ * adds the entries classified to *classified. */
 static uint32_t lightcut(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t budget,
-                         const float *points, cut_entry *e, rim_set *rims, uint64_t *classified)
+                         const float *points, cut_entry *e, rim_set *rims, uint32_t *rim_ids, uint64_t *classified)
 {
     const uint32_t n = ctx->mesh->topo_count;
     const float tol = ctx->settings.cut_tolerance;
     uint32_t count = 0;
     *classified += 1;
     const uint32_t root = tree->node_count ? n : 0;
-    switch (classify(ctx, tree, o, root, &e[0])) {
+    uint32_t rim_count[2] = {0, 0};
+    switch (classify(ctx, tree, o, root, &e[0], rim_ids, &rim_count[0])) {
     case CUT_ENTRY: count = 1; break;
-    case CUT_RIMS: add_rims(ctx, tree, o, points, root, rims); break;
+    case CUT_RIMS: keep_rims(ctx, o, points, rim_ids, rim_count[0], rims); break;
     case CUT_OUT: break;
     }
     for (;;) {
@@ -592,14 +624,15 @@ static uint32_t lightcut(const sam_build_context *ctx, const sam_build_tree *tre
         cut_entry kids[2];
         cut_kind kind[2];
         for (int c = 0; c < 2; ++c)
-            kind[c] = classify(ctx, tree, o, node->child[c], &kids[c]);
+            kind[c] = classify(ctx, tree, o, node->child[c], &kids[c], rim_ids + c * SAM_BUILD_EXACT_MEMBERS,
+                               &rim_count[c]);
         *classified += 2;
         const int live[2] = {kind[0] == CUT_ENTRY, kind[1] == CUT_ENTRY};
         if (count - 1 + (uint32_t)live[0] + (uint32_t)live[1] > budget)
             break;
         for (int c = 0; c < 2; ++c)
             if (kind[c] == CUT_RIMS)
-                add_rims(ctx, tree, o, points, node->child[c], rims);
+                keep_rims(ctx, o, points, rim_ids + c * SAM_BUILD_EXACT_MEMBERS, rim_count[c], rims);
         if (live[0]) {
             e[best] = kids[0];
             if (live[1])
@@ -629,7 +662,7 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     if (count == UINT32_MAX) {
         /* The listing's rims lie inside the nodes the cut will hold. */
         *rims = (rim_set){rims->rim, 0, {0, 0, 0}};
-        count = lightcut(ctx, tree, o, budget, sc->points, e, rims, &classified);
+        count = lightcut(ctx, tree, o, budget, sc->points, e, rims, sc->rim_ids, &classified);
     }
     const uint32_t kept = count;
     if (kept) {
@@ -641,7 +674,7 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     for (uint32_t c = 0; c < kept; ++c)
         for (int ch = 0; ch < 3; ++ch)
             e[c].k[ch] = scale * sc->k[3 * (size_t)c + ch];
-    fold_rims(ctx, rims, sc->centre, e, kept);
+    fold_rims(ctx, o, sc->points, rims, sc->centre, e, kept);
     for (uint32_t c = 0; c < kept; ++c) {
         for (int ch = 0; ch < 3; ++ch)
             r->k_total[3 * (size_t)o + ch] += e[c].k[ch];
