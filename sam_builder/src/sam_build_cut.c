@@ -94,7 +94,7 @@ static cut_kind classify(const sam_build_context *ctx, const sam_build_tree *tre
                 fans++;
             } else if (fan_reaches(ctx, o, v, &d)) {
                 if (behind == 0 && rim)
-                    rim[fans - behind] = v; /* no vertex behind so far: fans counts rims */
+                    rim[fans] = v; /* with no vertex behind so far, fans counts the rims */
                 fans++;
             }
         }
