@@ -46,7 +46,7 @@ static int fan_reaches(const sam_build_context *ctx, uint32_t o, uint32_t v, flo
 typedef enum cut_kind {
     CUT_OUT,   /* no member can contribute: all in front, facing o's way, or beyond the search radius */
     CUT_ENTRY, /* a candidate for the cut, in *e */
-    CUT_RIMS   /* light through its members' rims alone (add_rim) */
+    CUT_RIMS   /* light through its members' rims alone (keep_rims) */
 } cut_kind;
 
 /* Classifies `id` for receiver o. For CUT_RIMS, the rims (topo vertices)
@@ -368,7 +368,7 @@ typedef struct listed {
     uint32_t id;
 } listed;
 
-/* A rim of the receiver (add_rim) and its K, which weigh_rims fills. */
+/* A rim of the receiver (keep_rims) and its K, which weigh_rims fills. */
 typedef struct rim {
     uint32_t v;
     float k[3];
@@ -450,10 +450,9 @@ static void rim_k(const sam_build_context *ctx, uint32_t o, const float *points,
 
 /* Keeps rims v[0, count) of receiver o in `rims`. A rim is a vertex part
  * of whose fan is behind o, but not the vertex itself, which therefore
- * cannot be a sample (reaches says why). Its K waits for weigh_rims: the
- * listing's rims are thrown away when the listing gives up, which on
- * meshes fine against the profile is most rows. Past LIST_TESTS rims, K
- * goes to the rest at once. fold_rims hands a rim's K to the row's sample
+ * cannot be a sample (reaches says why). Its K waits for weigh_rims, as
+ * the listing's rims do (keep_listed_rims); past LIST_TESTS rims, K goes
+ * to the rest at once. fold_rims hands a rim's K to the row's sample
  * nearest it. */
 static void keep_rims(const sam_build_context *ctx, uint32_t o, const float *points, const uint32_t *v,
                       uint32_t count, rim_set *rims)
@@ -470,12 +469,20 @@ static void keep_rims(const sam_build_context *ctx, uint32_t o, const float *poi
     }
 }
 
-/* keep_rims for topo vertex v when it is a rim of receiver o. */
-static void add_rim(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t v, rim_set *rims)
+/* Of the listing's candidates in `rims` (vertices it met that do not
+ * reach receiver o), keeps those that are rims, in their order. Asked only
+ * once the listing holds: it gives up on most rows of a mesh fine against
+ * the profile, and its candidates' fan tests went with it. */
+static void keep_listed_rims(const sam_build_context *ctx, uint32_t o, rim_set *rims)
 {
-    float d;
-    if (!sam_build_behind(ctx, o, v) && fan_reaches(ctx, o, v, &d))
-        keep_rims(ctx, o, points, &v, 1, rims);
+    uint32_t kept = 0;
+    for (uint32_t r = 0; r < rims->count; ++r) {
+        const uint32_t v = rims->rim[r].v;
+        float d;
+        if (!sam_build_behind(ctx, o, v) && fan_reaches(ctx, o, v, &d))
+            rims->rim[kept++].v = v;
+    }
+    rims->count = kept;
 }
 
 /* Each kept rim's K (rim_k). */
@@ -526,7 +533,7 @@ static void fold_rims(const sam_build_context *ctx, uint32_t o, const float *poi
  * the `budget` best into e[] as the cut, sets *scale to the factor that
  * makes their K carry the whole (all that reach o over those kept, by the
  * estimate) and returns their count; otherwise returns UINT32_MAX. The
- * rims it meets go to `rims` (add_rim, with o's shared `points`). Where
+ * rims it meets go to `rims` (keep_listed_rims). Where
  * the profile is short against the fans (skin on a mesh of 10k vertices),
  * a few vertices carry nearly all the light and each of them is exact,
  * while a lightcut spent its
@@ -538,8 +545,8 @@ static void fold_rims(const sam_build_context *ctx, uint32_t o, const float *poi
  * nodes' classification member by member. `stack` holds the tree's levels
  * + 2 entries, `found` LIST_TESTS. */
 static uint32_t list_back_side(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t budget,
-                               const float *points, uint32_t *stack, listed *found, cut_entry *e, float *scale,
-                               rim_set *rims, uint64_t *tested)
+                               uint32_t *stack, listed *found, cut_entry *e, float *scale, rim_set *rims,
+                               uint64_t *tested)
 {
     const uint32_t n = ctx->mesh->topo_count;
     uint32_t top = 0, count = 0, tests = 0;
@@ -559,7 +566,7 @@ static uint32_t list_back_side(const sam_build_context *ctx, const sam_build_tre
                 found[count] = (listed){ctx->fan_area[id] * sam_build_rd_mean(ctx, d), id};
                 total += found[count++].estimate;
             } else {
-                add_rim(ctx, o, points, id, rims);
+                rims->rim[rims->count++].v = id; /* at most LIST_TESTS, as the tests */
             }
             continue;
         }
@@ -585,6 +592,7 @@ static uint32_t list_back_side(const sam_build_context *ctx, const sam_build_tre
     *scale = left_out > 0 ? (float)(total / (total - left_out)) : 1.0f;
     for (uint32_t c = 0; c < kept; ++c)
         classify(ctx, tree, o, found[c].id, &e[c], NULL, NULL);
+    keep_listed_rims(ctx, o, rims);
     return kept;
 }
 
@@ -657,7 +665,7 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     *rims = (rim_set){rims->rim, 0, {0, 0, 0}};
     sam_build_receiver_points(ctx, o, m, ctx->settings.seed, sc->points);
     uint32_t count =
-        list_back_side(ctx, tree, o, budget, sc->points, sc->stack, sc->found, e, &scale, rims, &classified);
+        list_back_side(ctx, tree, o, budget, sc->stack, sc->found, e, &scale, rims, &classified);
     if (count == UINT32_MAX) {
         /* The listing's rims lie inside the nodes the cut will hold. */
         *rims = (rim_set){rims->rim, 0, {0, 0, 0}};
