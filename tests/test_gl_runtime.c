@@ -193,6 +193,89 @@ static void test_translucency_matches_cpu_marble(void **state)
     check_translucency("marble", 24);
 }
 
+/* The worst relative difference of T on the GPU from `cpu`, with a floor
+ * far below anything visible (check_translucency). */
+static double worst_relative(const float *gpu, const double *cpu, uint32_t count)
+{
+    double worst = 0, peak = 0;
+    for (uint32_t i = 0; i < count; ++i)
+        peak = fmax(peak, fabs(cpu[i]));
+    assert_true(peak > 0);
+    for (uint32_t i = 0; i < count; ++i)
+        worst = fmax(worst, fabs(gpu[i] - cpu[i]) / fmax(fabs(cpu[i]), 1e-6 * peak));
+    return worst;
+}
+
+/* A map whose samples a GL's storage blocks cannot hold keeps each row's
+ * best samples that fit, scaled to the row's whole K: the fitted rows'
+ * sums on the GPU, and under L_d even across the back side the whole
+ * map's T. */
+static void test_map_too_large_keeps_best_samples(void **state)
+{
+    (void)state;
+    samfile_data d;
+    sam_profile profile;
+    build_sam_at("marble", 24, &d, &profile);
+    const uint32_t nv = d.vertex_count;
+    const size_t slot = (size_t)nv * 12;
+    sam_runtime *rt;
+    sam_error err;
+    assert_int_equal(sam_runtime_create_fitted(&d, &profile, 60.0f, slot - 1, &rt, &err), SAM_ERR_UNSUPPORTED);
+    assert_non_null(strstr(err.message, "one sample per vertex"));
+    assert_int_equal(sam_runtime_create_fitted(&d, &profile, 60.0f, 4 * slot, &rt, &err), SAM_OK);
+    assert_int_equal(sam_runtime_samples_per_vertex(rt), 4);
+    assert_int_equal(sam_runtime_fitted_note(rt, NULL, 0), 0);
+    sam_runtime_destroy(rt);
+
+    if (sam_runtime_create_fitted(&d, &profile, 60.0f, 3 * slot - 1, &rt, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    assert_int_equal(sam_runtime_samples_per_vertex(rt), 2);
+    assert_int_equal(sam_runtime_file_samples_per_vertex(rt), 4);
+    char note[512];
+    assert_int_equal(sam_runtime_fitted_note(rt, note, sizeof note), 1);
+    printf("%s\n", note);
+    assert_non_null(strstr(note, "2 of the map's 4 samples per vertex"));
+    assert_non_null(strstr(note, "--samples 2"));
+
+    samfile_data fitted = d;
+    fitted.samples_per_vertex = 2;
+    fitted.sample_index = malloc((size_t)nv * 2 * sizeof *fitted.sample_index);
+    fitted.sample_kprime = malloc((size_t)nv * 2 * 3 * sizeof *fitted.sample_kprime);
+    fitted.sample_tau = malloc((size_t)nv * 2 * sizeof *fitted.sample_tau);
+    assert_int_equal(samfile_fit_samples(&d, 2, &profile, 60.0f, fitted.sample_index, fitted.sample_kprime,
+                                         fitted.sample_tau, &err),
+                     SAM_OK);
+    float *ld = malloc(nv * 3 * sizeof *ld), *gpu = malloc(nv * 3 * sizeof *gpu);
+    double *cpu = malloc(nv * 3 * sizeof *cpu);
+    for (uint32_t i = 0; i < 3 * nv; ++i)
+        ld[i] = (float)((i * 2654435761u) % 1000) / 100.0f;
+    assert_int_equal(sam_runtime_set_irradiance(rt, ld, &err), SAM_OK);
+    assert_int_equal(sam_runtime_translucency(rt, 0, 0.016f, 1, &err), SAM_OK);
+    assert_int_equal(sam_runtime_read_translucency(rt, gpu, &err), SAM_OK);
+    cpu_translucency(&fitted, &profile, 60.0f, ld, 2, cpu);
+    const double fitted_rows = worst_relative(gpu, cpu, 3 * nv);
+    for (uint32_t i = 0; i < 3 * nv; ++i)
+        ld[i] = 1.0f;
+    assert_int_equal(sam_runtime_set_irradiance(rt, ld, &err), SAM_OK);
+    assert_int_equal(sam_runtime_translucency(rt, 0, 0.016f, 1, &err), SAM_OK);
+    assert_int_equal(sam_runtime_read_translucency(rt, gpu, &err), SAM_OK);
+    cpu_translucency(&d, &profile, 60.0f, ld, 4, cpu);
+    const double whole_rows = worst_relative(gpu, cpu, 3 * nv);
+    printf("2 of 4 samples: worst relative error %.2e against the fitted rows, %.2e against the whole map under "
+           "even light\n",
+           fitted_rows, whole_rows);
+    assert_true(fitted_rows <= 2.5e-4);
+    assert_true(whole_rows <= 2.5e-4);
+    free(fitted.sample_index);
+    free(fitted.sample_kprime);
+    free(fitted.sample_tau);
+    free(ld);
+    free(gpu);
+    free(cpu);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
 static void test_temporal_smoothing(void **state)
 {
     (void)state;
@@ -690,6 +773,7 @@ int main(void)
         cmocka_unit_test(test_translucency_matches_cpu_skin),
         cmocka_unit_test(test_translucency_matches_cpu_marble),
         cmocka_unit_test(test_translucency_matches_cpu_large_tree),
+        cmocka_unit_test(test_map_too_large_keeps_best_samples),
         cmocka_unit_test(test_temporal_smoothing),
         cmocka_unit_test(test_irradiance_matches_cpu),
         cmocka_unit_test(test_shadows_block_light),

@@ -258,6 +258,8 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, in
         goto done;
     if (warning[0])
         fprintf(stderr, "%s: warning: %s\n", tool, warning);
+    if (sam_runtime_fitted_note(rt, warning, sizeof warning))
+        fprintf(stderr, "%s: warning: %s\n", tool, warning);
     char note[256];
     if (staged) {
         if ((st = sam_app_backlight_place(rt, sam, scene, SAM_APP_STAGE_BACK_LIGHT, note, sizeof note, err)) != SAM_OK)

@@ -2,6 +2,7 @@
  * step in order, destroy takes them down. The passes live in files of their
  * own (sam_runtime_internal.h lists them). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -124,18 +125,54 @@ static void make_vertex_array(sam_runtime *rt, int has_uvs)
     glBindVertexArray(0);
 }
 
-sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
-                              sam_runtime **out, sam_error *err)
+/* `sam` as the GL can hold it: the per-sample buffers (12 bytes a slot:
+ * the samples and their rest K) must each fit one storage block, which
+ * llvmpipe and the GL minimum allow 128 MiB, about 350k vertices at the
+ * default N = 32, and `max_bytes` where it is not 0. A larger map keeps
+ * each row's best samples that fit, scaled to carry the row's whole K
+ * (samfile_fit_samples), rather than not rendering: *fitted is `sam` with
+ * its own sample arrays then (free them with free_fitted), else `sam`
+ * itself. */
+static sam_status fit_to_blocks(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
+                                size_t max_bytes, samfile_data *fitted, sam_error *err)
 {
-    *out = NULL;
-    if (!sam || !profile || !(mm_per_unit > 0))
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: no .sam, no profile or a scale <= 0");
-    /* An engine may build its samfile_data by hand: an index out of range
-     * would be read on the GPU, and a tree node shared by two parents
-     * would leave the node pass's arrival counter wrong for good. */
-    sam_status st = samfile_validate(sam, err);
-    if (st != SAM_OK)
-        return st;
+    *fitted = *sam;
+    GLint gl_limit = 0;
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &gl_limit);
+    const size_t limit = max_bytes && max_bytes < (size_t)gl_limit ? max_bytes : (size_t)gl_limit;
+    const size_t slot_bytes = (size_t)sam->vertex_count * 3 * sizeof(uint32_t), fit = limit / slot_bytes;
+    if (fit >= sam->samples_per_vertex)
+        return SAM_OK;
+    if (fit == 0)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                        "runtime: one sample per vertex of %u vertices needs %zu bytes per buffer, the limit is %zu",
+                        sam->vertex_count, slot_bytes, limit);
+    const size_t slots = (size_t)sam->vertex_count * fit;
+    fitted->samples_per_vertex = (uint32_t)fit;
+    fitted->sample_index = malloc(slots * sizeof *fitted->sample_index);
+    fitted->sample_kprime = malloc(slots * 3 * sizeof *fitted->sample_kprime);
+    fitted->sample_tau = sam->node_count ? malloc(slots * sizeof *fitted->sample_tau) : NULL;
+    if (!fitted->sample_index || !fitted->sample_kprime || (sam->node_count && !fitted->sample_tau))
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for %zu samples", slots);
+    return samfile_fit_samples(sam, (uint32_t)fit, profile, mm_per_unit, fitted->sample_index, fitted->sample_kprime,
+                               fitted->sample_tau, err);
+}
+
+static void free_fitted(const samfile_data *sam, samfile_data *fitted)
+{
+    if (fitted->sample_index != sam->sample_index)
+        free(fitted->sample_index);
+    if (fitted->sample_kprime != sam->sample_kprime)
+        free(fitted->sample_kprime);
+    if (fitted->sample_tau != sam->sample_tau)
+        free(fitted->sample_tau);
+}
+
+/* sam_runtime_create once `sam` is validated and fits the GL. */
+static sam_status create(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
+                         sam_runtime **out, sam_error *err)
+{
+    sam_status st;
     sam_runtime *rt = calloc(1, sizeof *rt);
     if (!rt)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory");
@@ -172,6 +209,32 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
     return SAM_OK;
 }
 
+sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
+                              sam_runtime **out, sam_error *err)
+{
+    return sam_runtime_create_fitted(sam, profile, mm_per_unit, 0, out, err);
+}
+
+sam_status sam_runtime_create_fitted(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
+                                     size_t max_sample_bytes, sam_runtime **out, sam_error *err)
+{
+    *out = NULL;
+    if (!sam || !profile || !(mm_per_unit > 0))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: no .sam, no profile or a scale <= 0");
+    /* An engine may build its samfile_data by hand: an index out of range
+     * would be read on the GPU, and a tree node shared by two parents
+     * would leave the node pass's arrival counter wrong for good. */
+    sam_status st = samfile_validate(sam, err);
+    if (st != SAM_OK)
+        return st;
+    samfile_data fitted;
+    if ((st = fit_to_blocks(sam, profile, mm_per_unit, max_sample_bytes, &fitted, err)) == SAM_OK &&
+        (st = create(&fitted, profile, mm_per_unit, out, err)) == SAM_OK)
+        (*out)->file_samples = sam->samples_per_vertex;
+    free_fitted(sam, &fitted);
+    return st;
+}
+
 void sam_runtime_destroy(sam_runtime *rt)
 {
     if (!rt)
@@ -204,6 +267,24 @@ uint32_t sam_runtime_vertex_count(const sam_runtime *rt)
 uint32_t sam_runtime_samples_per_vertex(const sam_runtime *rt)
 {
     return rt->stride;
+}
+
+uint32_t sam_runtime_file_samples_per_vertex(const sam_runtime *rt)
+{
+    return rt->file_samples;
+}
+
+int sam_runtime_fitted_note(const sam_runtime *rt, char *note, size_t size)
+{
+    if (rt->stride >= rt->file_samples)
+        return 0;
+    if (note && size)
+        snprintf(note, size,
+                 "the GPU holds %u of the map's %u samples per vertex (no more of %u vertices' samples fit its "
+                 "storage blocks or the limit given): each row's best %u, scaled to carry the row's whole "
+                 "transport; rebuild with --samples %u for a map that fits whole",
+                 rt->stride, rt->file_samples, rt->vertex_count, rt->stride, rt->stride);
+    return 1;
 }
 
 void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius)

@@ -225,6 +225,7 @@ typedef struct sam_rt_view {
 struct sam_runtime {
     /* The mesh and its material (sam_runtime.c). */
     uint32_t vertex_count, stride, triangle_count;
+    uint32_t file_samples; /* the .sam's samples per vertex; stride may be fewer (sam_runtime_create) */
     float mm_per_unit;
     sam_profile profile;
     sam_gaussian_fit fit;         /* the profile's 8-Gaussian fit */

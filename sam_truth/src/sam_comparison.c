@@ -515,6 +515,8 @@ static sam_status setup(compare_state *s, sam_error *err)
         return st;
     if (warning[0])
         say(s, "warning: %s", warning);
+    if (sam_runtime_fitted_note(s->rt, warning, sizeof warning))
+        say(s, "warning: %s", warning);
     sam_runtime_scene_view(s->rt, s->scene, &s->view, warning, sizeof warning);
     if (warning[0])
         say(s, "warning: %s", warning);

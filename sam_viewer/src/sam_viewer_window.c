@@ -234,6 +234,9 @@ sam_status sam_viewer_window_open(sam_viewer_window *w, const sam_viewer_window_
     uint32_t stride = sam_runtime_samples_per_vertex(w->rt);
     fprintf(stderr, "sam_view: %s, OpenGL %s; %u vertices, N = %u\n", info.renderer, info.version,
             w->sam.vertex_count, stride);
+    char note[512];
+    if (sam_runtime_fitted_note(w->rt, note, sizeof note))
+        fprintf(stderr, "sam_view: warning: %s\n", note);
     float centre[3], radius;
     sam_runtime_bounds(w->rt, centre, &radius);
     char warning[512];

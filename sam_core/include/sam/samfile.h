@@ -167,6 +167,23 @@ sam_status samfile_read_memory(const uint8_t *bytes, size_t size, const char *na
 sam_status samfile_sample_points(const samfile_data *data, const float *values, uint32_t channels, float *out,
                                  sam_error *err);
 
+/*
+ * The first `samples` of every row of `data` (as samfile_validate accepts
+ * it, which a read's always is; rows are best first), for a
+ * GL whose storage blocks cannot hold the whole map (sam_runtime_create),
+ * each row's kept K' scaled per channel so that the row carries the K at
+ * rest it carried whole: K = K' F'_b R_d(mm_per_unit |v_b - v|) (eq. 15)
+ * with `profile`, at the sample points of samfile_sample_points. A channel
+ * the kept samples carry none of is left as it is. Writes vertex_count *
+ * samples entries of `index` and `tau` (NULL allowed for a flat map) and
+ * 3 * vertex_count * samples of `kprime`, row by row as the .sam's arrays;
+ * all caller owned. Errors: SAM_ERR_INVALID_ARGUMENT (a NULL argument,
+ * samples 0 or above data's samples_per_vertex, mm_per_unit not > 0),
+ * SAM_ERR_OUT_OF_MEMORY.
+ */
+sam_status samfile_fit_samples(const samfile_data *data, uint32_t samples, const sam_profile *profile,
+                               float mm_per_unit, uint32_t *index, float *kprime, float *tau, sam_error *err);
+
 /* Frees the arrays of a samfile_data filled by a read and zeroes it. Safe on
  * a zeroed struct and on NULL. Do not call it on caller-built data. */
 void samfile_free(samfile_data *data);

@@ -125,11 +125,36 @@ typedef enum sam_pass {
  * errors, naming file:line), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
                               sam_runtime **rt, sam_error *err);
+/* sam_runtime_create with the map's per-sample buffers held to at most
+ * `max_sample_bytes` each (0: no limit but the GL's). Each sample takes 12
+ * bytes of the two largest (its index and K', and its K at rest). Where a
+ * map's N samples per vertex do not fit, every row keeps its best M that
+ * do (M = max_sample_bytes / (12 vertex_count), or the same of the GL's
+ * storage block limit, whichever is smaller), their K' scaled so that the
+ * row carries its whole K at rest (samfile_fit_samples): translucency
+ * under light that is even across a row's back side is unchanged, and
+ * elsewhere the dropped samples' light is read at the kept ones' L_d.
+ * sam_runtime_create does this with the GL's limit alone, so a map too
+ * large for a GL's storage blocks (128 MiB on llvmpipe and the GL minimum:
+ * about 350k vertices at N = 32) still renders; sam_runtime_samples_per_vertex
+ * against sam_runtime_file_samples_per_vertex tells. Errors: those of
+ * sam_runtime_create, and SAM_ERR_UNSUPPORTED where not one sample per
+ * vertex fits. */
+sam_status sam_runtime_create_fitted(const samfile_data *sam, const sam_profile *profile, float mm_per_unit,
+                                     size_t max_sample_bytes, sam_runtime **rt, sam_error *err);
 void sam_runtime_destroy(sam_runtime *rt);
 
 uint32_t sam_runtime_vertex_count(const sam_runtime *rt);
-/* Samples stored per vertex (the .sam's n). */
+/* Samples per vertex on the GPU: the .sam's n, or fewer where they did not
+ * fit (sam_runtime_create_fitted). */
 uint32_t sam_runtime_samples_per_vertex(const sam_runtime *rt);
+/* The .sam's n samples per vertex, whatever the GPU holds. */
+uint32_t sam_runtime_file_samples_per_vertex(const sam_runtime *rt);
+/* 1 when the GPU holds fewer samples per vertex than the .sam
+ * (sam_runtime_create_fitted), with a sentence for the user saying so and
+ * what to do in `note` (`size` bytes, NUL-terminated, truncated to fit;
+ * may be NULL); else 0 and `note` untouched. */
+int sam_runtime_fitted_note(const sam_runtime *rt, char *note, size_t size);
 /* Tree nodes of a cut map (the .sam's node_count); 0 for a flat map. */
 uint32_t sam_runtime_node_count(const sam_runtime *rt);
 
