@@ -30,9 +30,10 @@ typedef struct cut_fixture {
     sam_build_result r;
 } cut_fixture;
 
-/* `shape`: a sam_shape name, or a mesh file (a path: it holds a '/'). */
-static void build_cut(cut_fixture *f, const char *shape, int resolution, double size, double thickness,
-                      const char *material, float mm_per_unit, uint32_t budget, int threads)
+/* `shape`: a sam_shape name, or a mesh file (a path: it holds a '/'). The
+ * cut has `cut_budget` entries (0: the budget) and stores `budget`. */
+static void build_cut_of(cut_fixture *f, const char *shape, int resolution, double size, double thickness,
+                         const char *material, float mm_per_unit, uint32_t budget, uint32_t cut_budget, int threads)
 {
     sam_error err;
     if (strchr(shape, '/')) {
@@ -49,11 +50,18 @@ static void build_cut(cut_fixture *f, const char *shape, int resolution, double 
     sam_build_settings s;
     sam_build_default_settings(&s);
     s.samples_per_vertex = budget;
+    s.cut_budget = cut_budget;
     s.threads = threads;
     if (sam_build_context_create(&f->mesh, &f->profile, mm_per_unit, &s, &f->ctx, &err) != SAM_OK ||
         sam_build_run(f->ctx, NULL, NULL, &f->r, &err) != SAM_OK)
         fail_msg("%s", err.message);
     assert_int_equal(f->r.node_count, f->mesh.topo_count - 1);
+}
+
+static void build_cut(cut_fixture *f, const char *shape, int resolution, double size, double thickness,
+                      const char *material, float mm_per_unit, uint32_t budget, int threads)
+{
+    build_cut_of(f, shape, resolution, size, thickness, material, mm_per_unit, budget, 0, threads);
 }
 
 static void destroy_cut(cut_fixture *f)
@@ -619,6 +627,49 @@ static void test_larger_budget_keeps_how_rows_are_held(void **state)
     destroy_cut(&f64);
 }
 
+/* A cut of 16 entries stored as its best 4: each row is the 16-entry
+ * row's first 4 samples (index and tau), and they carry the whole cut's K,
+ * where the first 4 of the 16 alone carry less. */
+static void test_budget_beyond_n_keeps_the_best_entries(void **state)
+{
+    (void)state;
+    cut_fixture whole, kept;
+    build_cut(&whole, "knot", 24, 0, 0, "marble", 40.0f, 16, 0);
+    build_cut_of(&kept, "knot", 24, 0, 0, "marble", 40.0f, 4, 16, 0);
+    const uint32_t n = whole.mesh.topo_count;
+    assert_int_equal(kept.r.samples_per_vertex, 4);
+    double held = 0, first = 0, total = 0, worst = 0;
+    for (uint32_t o = 0; o < n; ++o) {
+        double row = 0, row_first = 0;
+        for (uint32_t k = 0; k < 4; ++k) {
+            const size_t at = (size_t)o * 4 + k, from = (size_t)o * 16 + k;
+            assert_int_equal(kept.r.sample[at], whole.r.sample[from]);
+            if (kept.r.sample[at] == SAM_BUILD_NO_SAMPLE)
+                break;
+            assert_true(kept.r.tau[at] == whole.r.tau[from]);
+            double moment[4] = {0, 0, 0, 0};
+            sample_ld(&kept, one_sided_ld, kept.r.sample[at], moment);
+            row += stored_k(&kept, o, kept.r.kprime + 3 * at, moment);
+            row_first += stored_k(&whole, o, whole.r.kprime + 3 * from, moment);
+        }
+        const double want = cut_total(&whole.r, o);
+        assert_true(fabs(cut_total(&kept.r, o) - want) <= 1e-6 * want);
+        held += row;
+        first += row_first;
+        total += want;
+        if (want > 0)
+            worst = fmax(worst, fabs(row - want) / want);
+    }
+    printf("knot in marble, the best 4 of a 16-entry cut: %.6f of the cut's K (its first 4 unscaled %.4f), "
+           "the worst receiver off by %.2e\n",
+           held / total, first / total, worst);
+    assert_true(first / total < 0.99);
+    assert_true(fabs(held / total - 1) < 1e-4);
+    assert_true(worst < 1e-3);
+    destroy_cut(&whole);
+    destroy_cut(&kept);
+}
+
 static void test_bit_identical_for_any_thread_count(void **state)
 {
     (void)state;
@@ -728,6 +779,7 @@ int main(void)
         cmocka_unit_test(test_samples_hold_the_cut_total),
         cmocka_unit_test(test_rows_list_vertices_where_they_hold_the_light),
         cmocka_unit_test(test_larger_budget_keeps_how_rows_are_held),
+        cmocka_unit_test(test_budget_beyond_n_keeps_the_best_entries),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
         cmocka_unit_test(test_samfile_rows_follow_render_vertices),
         cmocka_unit_test(test_samfile_versions),

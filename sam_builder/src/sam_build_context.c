@@ -40,6 +40,11 @@ uint32_t sam_build_samples(const sam_build_settings *s)
     return s->map == SAM_BUILD_MAP_CUT ? SAM_BUILD_CUT_DEFAULT_SAMPLES : SAM_BUILD_FLAT_DEFAULT_SAMPLES;
 }
 
+uint32_t sam_build_cut_budget(const sam_build_settings *s)
+{
+    return s->cut_budget ? s->cut_budget : sam_build_samples(s);
+}
+
 sam_status sam_build_check_settings(const sam_build_settings *s, float mm_per_unit, sam_error *err)
 {
     if (!(mm_per_unit > 0) || !isfinite(mm_per_unit))
@@ -51,6 +56,11 @@ sam_status sam_build_check_settings(const sam_build_settings *s, float mm_per_un
     if (s->map != SAM_BUILD_MAP_CUT && s->map != SAM_BUILD_MAP_FLAT && s->map != SAM_BUILD_MAP_FLAT_SCALED)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "map kind must be cut, flat or flat-scaled, got %d",
                         (int)s->map);
+    if (s->cut_budget && (s->cut_budget < sam_build_samples(s) || s->cut_budget > SAMFILE_MAX_SAMPLES_PER_VERTEX))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "cut budget must be 0 (the samples per vertex) or in %u..%d (at least the samples per "
+                        "vertex), got %u",
+                        sam_build_samples(s), SAMFILE_MAX_SAMPLES_PER_VERTEX, s->cut_budget);
     if (!(s->cut_tolerance > 0 && s->cut_tolerance < 1))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "cut tolerance must be in (0, 1), got %g", s->cut_tolerance);
     if (s->mc_samples < 4 || s->mc_samples > 65536)
@@ -151,6 +161,7 @@ sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *pro
     ctx->settings = *settings;
     /* The builders read N from here, resolved. */
     ctx->settings.samples_per_vertex = sam_build_samples(settings);
+    ctx->settings.cut_budget = sam_build_cut_budget(settings);
     ctx->candidates = settings->candidates ? settings->candidates : ctx->settings.samples_per_vertex + 2;
     const uint32_t n = mesh->topo_count, ring_total = mesh->ring_offsets[n];
     ctx->pos = malloc((size_t)n * 3 * sizeof *ctx->pos);

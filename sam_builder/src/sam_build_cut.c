@@ -407,10 +407,17 @@ static void cut_scratch_free(cut_scratch *sc)
     sam_build_cut_k_scratch_destroy(sc->k_scratch);
 }
 
+/* A vertex's cut entries: the budget, never fewer than the samples stored. */
+static uint32_t cut_budget(const sam_build_context *ctx)
+{
+    const uint32_t n = ctx->settings.samples_per_vertex, b = ctx->settings.cut_budget;
+    return b > n ? b : n;
+}
+
 /* Returns 0 when out of memory (what was allocated is freed). */
 static int cut_scratch_alloc(const sam_build_context *ctx, const sam_build_tree *tree, cut_scratch *sc)
 {
-    const size_t n = ctx->settings.samples_per_vertex;
+    const size_t n = cut_budget(ctx);
     sc->entry = malloc((n + 1) * sizeof *sc->entry);
     sc->points = malloc((size_t)ctx->settings.mc_samples * SAM_BUILD_POINT_FLOATS * sizeof *sc->points);
     sc->ids = malloc(n * sizeof *sc->ids);
@@ -657,7 +664,8 @@ static uint32_t lightcut(const sam_build_context *ctx, const sam_build_tree *tre
 static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, cut_scratch *sc,
                            sam_build_result *r, uint64_t *form_factors)
 {
-    const uint32_t n = ctx->mesh->topo_count, budget = ctx->settings.samples_per_vertex, m = ctx->settings.mc_samples;
+    const uint32_t n = ctx->mesh->topo_count, budget = cut_budget(ctx), stored = ctx->settings.samples_per_vertex,
+                   m = ctx->settings.mc_samples;
     cut_entry *e = sc->entry;
     uint64_t classified = 0;
     float scale = 1.0f;
@@ -696,17 +704,31 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     }
     *form_factors += kept;
     qsort(e, kept, sizeof *e, cmp_entry);
+    /* A budget above N keeps the N best entries, scaled per channel to
+     * carry the whole cut's K, as samfile_fit_samples does at load: a
+     * finer cut's best N read their light where it comes from, where a
+     * cut of N entries reads it over coarser nodes. */
+    const uint32_t out = kept < stored ? kept : stored;
+    double whole[3] = {0, 0, 0}, held[3] = {0, 0, 0};
+    for (uint32_t c = 0; c < kept; ++c)
+        for (int ch = 0; ch < 3; ++ch) {
+            whole[ch] += e[c].k[ch];
+            held[ch] += c < out ? e[c].k[ch] : 0.0f;
+        }
     const float *po = ctx->pos + 3 * (size_t)o;
-    for (uint32_t c = 0, slot = 0; c < kept; ++c) {
+    for (uint32_t c = 0, slot = 0; c < out; ++c) {
         if (!(e[c].k[0] + e[c].k[1] + e[c].k[2] > 0))
             break; /* no light through it: leave the slot empty */
         const uint32_t id = e[c].id;
         const float *q = id < n ? ctx->pos + 3 * (size_t)id : tree->node[id - n].centroid;
         const float area = id < n ? ctx->fan_area[id] : tree->node[id - n].area;
-        size_t at = (size_t)o * budget + slot++;
+        float k[3];
+        for (int ch = 0; ch < 3; ++ch)
+            k[ch] = kept > out && held[ch] > 0 ? (float)(e[c].k[ch] * (whole[ch] / held[ch])) : e[c].k[ch];
+        size_t at = (size_t)o * stored + slot++;
         r->sample[at] = id;
         r->tau[at] = e[c].tau;
-        sam_build_kprime(ctx, e[c].k, area, sam_build_distance(po, q), r->kprime + 3 * at);
+        sam_build_kprime(ctx, k, area, sam_build_distance(po, q), r->kprime + 3 * at);
     }
     return classified;
 }

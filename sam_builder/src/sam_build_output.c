@@ -30,6 +30,7 @@ static cJSON *info_json(const sam_build_context *ctx, const sam_build_result *r,
         cJSON_AddStringToObject(b, "map", sam_build_map_name(ctx->settings.map));
         if (ctx->settings.map == SAM_BUILD_MAP_CUT) {
             cJSON_AddNumberToObject(b, "cut_tolerance", ctx->settings.cut_tolerance);
+            cJSON_AddNumberToObject(b, "cut_budget", ctx->settings.cut_budget);
             cJSON_AddNumberToObject(b, "tree_nodes", r->node_count);
         } else {
             cJSON_AddNumberToObject(b, "candidates", ctx->candidates);

@@ -47,6 +47,8 @@ static void usage(FILE *out)
             "  --flat-scaled       a baseline: the flat map with K scaled to the vertex's total transport\n"
             "  --cut-tolerance E   refine a cut while a node's R_d bound exceeds E of its total\n"
             "                      (default %g)\n"
+            "  --cut-budget B      cut B entries per vertex, N..64, and keep the best N, scaled to\n"
+            "                      carry the whole cut's transport (default N)\n"
             "  --mc-samples M      Monte Carlo point pairs per form factor, 4..65536 (default %u)\n"
             "  --candidates C      flat maps: cheap-ranked candidates given Monte Carlo (default N+2)\n"
             "  --radius-tolerance E energy fraction of the profile left beyond the search radius\n"
@@ -62,6 +64,7 @@ static void usage(FILE *out)
             "examples:\n"
             "  sam_build meshes/ear.obj -o ear.sam --material skin --mm-per-unit 60\n"
             "  sam_build head.ply -o head.sam --material skin --size-mm 250 --samples 16\n"
+            "  sam_build head.ply -o head16.sam --material skin --size-mm 250 --samples 16 --cut-budget 32\n"
             "  sam_build head.ply -o head_flat.sam --material skin --size-mm 250 --flat\n",
             SAM_BUILD_CUT_DEFAULT_SAMPLES, SAM_BUILD_FLAT_DEFAULT_SAMPLES, d.cut_tolerance, d.mc_samples, d.radius_tolerance, (unsigned long long)d.seed);
 }
@@ -71,7 +74,8 @@ int main(int argc, char **argv)
     sam_app_build_job job;
     sam_app_build_defaults(&job);
     sam_build_settings *s = &job.settings;
-    long samples = s->samples_per_vertex, mc = s->mc_samples, candidates = s->candidates, threads = s->threads;
+    long samples = s->samples_per_vertex, budget = s->cut_budget, mc = s->mc_samples, candidates = s->candidates,
+         threads = s->threads;
     const char *seed = NULL;
     int flat = 0, flat_scaled = 0;
     const char *finite = "a finite number that fits a 32-bit float";
@@ -87,6 +91,7 @@ int main(int argc, char **argv)
         {"--flat-scaled", SAM_ARG_FLAG, .target = &flat_scaled},
         {"--cut-tolerance", SAM_ARG_FLOAT, &s->cut_tolerance, .lo = -FLT_MAX, .hi = FLT_MAX,
          .must = finite},
+        {"--cut-budget", SAM_ARG_INT, &budget, .lo = 1, .hi = 1000000},
         {"--mc-samples", SAM_ARG_INT, &mc, .lo = 0, .hi = 100000000},
         {"--candidates", SAM_ARG_INT, &candidates, .lo = 0, .hi = 1000000},
         {"--radius-tolerance", SAM_ARG_FLOAT, &s->radius_tolerance, .lo = -FLT_MAX, .hi = FLT_MAX,
@@ -112,6 +117,7 @@ int main(int argc, char **argv)
         return sam_args_fail("sam_build", "--flat and --flat-scaled exclude each other");
     s->map = flat ? SAM_BUILD_MAP_FLAT : flat_scaled ? SAM_BUILD_MAP_FLAT_SCALED : SAM_BUILD_MAP_CUT;
     s->samples_per_vertex = (uint32_t)samples;
+    s->cut_budget = (uint32_t)budget;
     s->mc_samples = (uint32_t)mc;
     s->candidates = (uint32_t)candidates;
     s->threads = (int)threads;

@@ -57,6 +57,10 @@ expect_error 2 "two scales" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --s
 expect_error 2 "no scale" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin
 expect_error 2 "samples 0" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 0
 expect_error 2 "samples 65" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 65
+expect_error 2 "cut budget under N" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 16 \
+  --cut-budget 8
+grep -q "cut budget must be 0 (the samples per vertex) or in 16..64" "$tmp/err.txt" \
+  || fail "cut budget under N: $(cat "$tmp/err.txt")"
 expect_error 1 "no triangles" "$tmp/nofaces.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1
 expect_error 1 "missing mesh" "$tmp/none.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1
 expect_error 1 "unwritable output" "$tmp/ear.obj" -o "$tmp/no/such/dir/bad.sam" --material skin --mm-per-unit 1

@@ -87,6 +87,9 @@ typedef struct sam_build_settings {
                                   * map; 0 (default) = the map's default: 32 for a cut, 3 for a flat map */
     float cut_tolerance;         /* cut map: refine while a node's R_d bound exceeds this fraction of the
                                   * vertex's total, in (0, 1) (default 0.01) */
+    uint32_t cut_budget;         /* cut map: entries of a vertex's cut, N..64, of which the best N are
+                                  * stored, their K scaled per channel so that they carry the whole
+                                  * cut's (samfile_fit_samples); 0 (default) = N. Ignored by flat maps */
     uint32_t mc_samples;         /* Monte Carlo point pairs per form factor, 4..65536 (default 64) */
     uint32_t candidates;         /* flat maps: cheap-ranked candidates that get Monte Carlo, >= N (0: N + 2) */
     float radius_tolerance;      /* energy fraction of R_d left beyond the search radius (default 1e-4) */
@@ -148,6 +151,8 @@ const char *sam_build_map_name(sam_build_map map);
 
 /* N for `settings`: samples_per_vertex, or the map's default when it is 0. */
 uint32_t sam_build_samples(const sam_build_settings *settings);
+/* A cut map's entries per vertex for `settings`: cut_budget, or N when it is 0. */
+uint32_t sam_build_cut_budget(const sam_build_settings *settings);
 
 /* Checks settings and scale. Errors: SAM_ERR_INVALID_ARGUMENT naming the
  * setting and value. */
