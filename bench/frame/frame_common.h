@@ -58,7 +58,7 @@ double frame_median_ms(sam_runtime *rt, frame_pass_fn fn, void *user, int runs);
  * round starting one runtime later (A B C, B C A, C A B, ...), so a change
  * in the machine's load falls on all alike and none always runs first.
  * ms[r] and gpu_ms[r][k] are runtime r's medians. */
-#define FRAME_SIDE_MAX 3
+#define FRAME_SIDE_MAX 4
 void frame_median_ms_side_by_side(sam_runtime *const *rt, int count, frame_pass_fn fn, void *const *user, int runs,
                                   const sam_pass *passes, int pass_count, double *ms,
                                   double (*gpu_ms)[SAM_PASS_COUNT]);

@@ -79,7 +79,15 @@ static double filled_samples(const samfile_data *d)
 
 /* The largest ratio of each kind over the cut study's knots (0: none
  * measured), and which knots it could not measure. */
-enum { CUT_TRANSLUCENCY, CUT_TRANSLUCENCY_CACHED, CUT_TRANSLUCENCY_GPU, CUT_ANIMATED, CUT_ANIMATED_GPU, CUT_RATIOS };
+enum {
+    CUT_TRANSLUCENCY,
+    CUT_TRANSLUCENCY_CACHED,
+    CUT_TRANSLUCENCY_GPU,
+    CUT_ANIMATED,
+    CUT_ANIMATED_GPU,
+    CUT_TRANSLUCENCY_FITTED,
+    CUT_RATIOS
+};
 typedef struct cut_summary {
     double worst[CUT_RATIOS];
     uint32_t smallest, largest; /* vertices of the knots measured */
@@ -113,11 +121,16 @@ static void skip_knot(cut_summary *sum, uint32_t nv)
     sum->unbuilt++;
 }
 
+/* The samples per vertex the cut map is fitted to beside it: what
+ * `sam_build --samples 16 --cut-budget 32` stores. */
+#define CUT_FITTED_SAMPLES 16u
+
 /* The default cut map (its default N) against the flat map (N = 3) on
  * `mesh` (destroyed here) in skin at `mm_per_unit`, side by side (frame_median_ms_side_by_side):
  * sam_runtime_translucency, which runs a cut map's node pass before the
- * translucency pass, on the cut map and on the flat map with its rest K
- * cached and evaluated, and an animated frame's whole SAM work on the cut
+ * translucency pass, on the cut map, on the cut map fitted to its best
+ * CUT_FITTED_SAMPLES (sam_runtime_create_fitted) and on the flat map with
+ * its rest K cached and evaluated, and an animated frame's whole SAM work on the cut
  * and the flat map (whose posed vertex samples do not use the cache). The cut build
  * stops at `limit_s` (bench_deadline): such a knot is reported with the
  * build's estimate, and larger knots, whose builds take longer still, are
@@ -156,13 +169,17 @@ static void cut_study(const frame_config *cfg, const char *label, sam_mesh *mesh
     /* A GL may not hold the cut map's samples (llvmpipe: 128 MiB per
      * storage block, passed near 350k vertices at N = 32): said, and the
      * larger knots skipped, rather than the whole study lost. */
-    sam_runtime *rt[3] = {NULL, NULL, NULL}; /* cut, flat, flat with its rest K evaluated */
+    /* cut, flat, flat with its rest K evaluated, the cut fitted */
+    sam_runtime *rt[4] = {NULL, NULL, NULL, NULL};
     sam_error err;
-    for (int r = 0; r < 3; ++r) {
-        if (sam_runtime_create(&d[r ? 1 : 0], skin, mm_per_unit, &rt[r], &err) != SAM_OK) {
-            printf("%9u  not measured: the %s map does not load: %s\n", nv, r ? "flat" : "cut", err.message);
-            fprintf(json, ", \"skipped\": \"the %s map does not load on this GL\"}", r ? "flat" : "cut");
-            for (int k = 0; k < 3; ++k)
+    for (int r = 0; r < 4; ++r) {
+        const samfile_data *map = &d[r == 1 || r == 2 ? 1 : 0];
+        const size_t fitted = r == 3 ? (size_t)nv * 12 * CUT_FITTED_SAMPLES : 0;
+        if (sam_runtime_create_fitted(map, skin, mm_per_unit, fitted, &rt[r], &err) != SAM_OK) {
+            const char *which = r == 1 || r == 2 ? "flat" : "cut";
+            printf("%9u  not measured: the %s map does not load: %s\n", nv, which, err.message);
+            fprintf(json, ", \"skipped\": \"the %s map does not load on this GL\"}", which);
+            for (int k = 0; k < 4; ++k)
                 sam_runtime_destroy(rt[k]);
             for (int k = 0; k < 2; ++k)
                 samfile_free(&d[k]);
@@ -175,15 +192,15 @@ static void cut_study(const frame_config *cfg, const char *label, sam_mesh *mesh
             sam_runtime_set_rest_k(rt[r], r == 2 ? SAM_REST_K_EVALUATED : SAM_REST_K_CACHED, &err) != SAM_OK)
             frame_die("rest K", &err);
     }
-    for (int r = 0; r < 3; ++r)
+    for (int r = 0; r < 4; ++r)
         if (sam_runtime_irradiance(rt[r], &err) != SAM_OK)
             frame_die("irradiance", &err);
     /* The node pass last: a flat map has none, so its sums take one pass fewer. */
     static const sam_pass passes[5] = {SAM_PASS_DEFORM, SAM_PASS_WALK, SAM_PASS_IRRADIANCE, SAM_PASS_TRANSLUCENCY,
                                        SAM_PASS_NODES};
-    void *const no_user[3] = {NULL, NULL, NULL};
-    double tra[3], tra_gpu[3][SAM_PASS_COUNT];
-    frame_median_ms_side_by_side(rt, 3, frame_run_translucency, no_user, cfg->pass_runs, passes + 3, 2, tra,
+    void *const no_user[4] = {NULL, NULL, NULL, NULL};
+    double tra[4], tra_gpu[4][SAM_PASS_COUNT];
+    frame_median_ms_side_by_side(rt, 4, frame_run_translucency, no_user, cfg->pass_runs, passes + 3, 2, tra,
                                  tra_gpu);
     for (int r = 0; r < 2; ++r)
         if (sam_runtime_set_deformers(rt[r], &frame_knot_bend, 1, &err) != SAM_OK)
@@ -196,11 +213,13 @@ static void cut_study(const frame_config *cfg, const char *label, sam_mesh *mesh
     animated_frame_split(rt, 2, frames, cfg->pass_runs, split);
     const double ratio[CUT_RATIOS] = {
         tra[0] / tra[2], tra[0] / tra[1], timers ? ratio_or_zero(gpu_sum(tra_gpu[0], 2), gpu_sum(tra_gpu[2], 1)) : 0,
-        ani[0] / ani[1], timers ? ratio_or_zero(gpu_sum(ani_gpu[0], 5), gpu_sum(ani_gpu[1], 4)) : 0};
+        ani[0] / ani[1], timers ? ratio_or_zero(gpu_sum(ani_gpu[0], 5), gpu_sum(ani_gpu[1], 4)) : 0,
+        tra[3] / tra[2]};
     const double filled[2] = {filled_samples(&d[0]), filled_samples(&d[1])};
-    printf("%9u %8.1f s %6.1f s %7.2f %7.2f %10.3f ms %10.3f ms %10.3f ms %6.2fx %6.2fx %10.1f ms %10.1f ms %6.2fx",
+    printf("%9u %8.1f s %6.1f s %7.2f %7.2f %10.3f ms %10.3f ms %10.3f ms %6.2fx %6.2fx %10.3f ms %6.2fx %10.1f ms "
+           "%10.1f ms %6.2fx",
            nv, build_s[0], build_s[1], filled[0], filled[1], tra[0], tra[2], tra[1], ratio[CUT_TRANSLUCENCY],
-           ratio[CUT_TRANSLUCENCY_CACHED], ani[0], ani[1], ratio[CUT_ANIMATED]);
+           ratio[CUT_TRANSLUCENCY_CACHED], tra[3], ratio[CUT_TRANSLUCENCY_FITTED], ani[0], ani[1], ratio[CUT_ANIMATED]);
     if (ratio[CUT_TRANSLUCENCY_GPU] > 0 || ratio[CUT_ANIMATED_GPU] > 0)
         printf("   GPU %.2fx, %.2fx", ratio[CUT_TRANSLUCENCY_GPU], ratio[CUT_ANIMATED_GPU]);
     printf("   %s\n", label);
@@ -214,9 +233,11 @@ static void cut_study(const frame_config *cfg, const char *label, sam_mesh *mesh
             "\"cut_samples_filled_per_vertex\": %.3f, "
             "\"flat_samples_filled_per_vertex\": %.3f, \"cut_translucency_ms\": %.4f, "
             "\"flat_evaluated_translucency_ms\": %.4f, \"flat_translucency_ms\": %.4f, \"translucency_ratio\": "
-            "%.4f, \"translucency_ratio_cached\": %.4f, ",
+            "%.4f, \"translucency_ratio_cached\": %.4f, \"fitted_samples_per_vertex\": %u, "
+            "\"fitted_translucency_ms\": %.4f, \"fitted_translucency_ratio\": %.4f, ",
             build_s[0], d[0].samples_per_vertex, d[0].node_count, filled[0], filled[1], tra[0], tra[2], tra[1],
-            ratio[CUT_TRANSLUCENCY], ratio[CUT_TRANSLUCENCY_CACHED]);
+            ratio[CUT_TRANSLUCENCY], ratio[CUT_TRANSLUCENCY_CACHED], sam_runtime_samples_per_vertex(rt[3]), tra[3],
+            ratio[CUT_TRANSLUCENCY_FITTED]);
     frame_json_positive(json, "cut_nodes_gpu_ms", timers ? tra_gpu[0][1] : 0);
     fprintf(json, ", ");
     frame_json_positive(json, "cut_translucency_gpu_ms", timers ? tra_gpu[0][0] : 0);
@@ -241,7 +262,7 @@ static void cut_study(const frame_config *cfg, const char *label, sam_mesh *mesh
     if (!sum->measured++)
         sum->smallest = nv;
     sum->largest = nv;
-    for (int r = 0; r < 3; ++r)
+    for (int r = 0; r < 4; ++r)
         sam_runtime_destroy(rt[r]);
     for (int r = 0; r < 2; ++r)
         samfile_free(&d[r]);
@@ -290,6 +311,9 @@ static void cut_verdicts(const cut_summary *sum, const char *meshes, const char 
          "animated frame's deform + walk + irradiance + node + translucency (wall)"},
         {CUT_ANIMATED_GPU, "animated_gpu_ratio_worst",
          "animated frame's deform + walk + irradiance + node + translucency (GL timer queries)"},
+        {CUT_TRANSLUCENCY_FITTED, "fitted_translucency_ratio_worst",
+         "the cut map fitted to its best 16 (--samples 16 --cut-budget 32): node + translucency pass / "
+         "translucency pass with K evaluated per sample (wall)"},
     };
     for (size_t i = 0; i < sizeof lines / sizeof *lines; ++i) {
         char key[96];
@@ -324,9 +348,9 @@ void frame_cut_section(const frame_config *cfg, const sam_profile *skin, const c
            "cached as both maps do by default) and an animated frame (deform, walk, irradiance, node, "
            "translucency)\n",
            cut_n, sam_build_samples(&defaults), cfg->pass_runs);
-    printf("%9s %10s %8s %15s %13s %13s %13s %7s %7s %13s %13s %7s\n", "vertices", "cut build", "flat",
-           "filled cut/flat", "cut transl.", "flat eval.", "flat cached", "/eval.", "/cached", "cut frame",
-           "flat frame", "ratio");
+    printf("%9s %10s %8s %15s %13s %13s %13s %7s %7s %13s %7s %13s %13s %7s\n", "vertices", "cut build", "flat",
+           "filled cut/flat", "cut transl.", "flat eval.", "flat cached", "/eval.", "/cached", "16 of 32", "/eval.",
+           "cut frame", "flat frame", "ratio");
     fprintf(json, "  \"cut_against_flat\": {\n    \"build_limit_s\": %g, \"runs\": %d, \"knots\": [\n", limit_s,
             cfg->pass_runs);
     cut_summary knots, scanned;
