@@ -275,6 +275,10 @@ static sam_status score_map(const compare_state *s, const sam_truth_report_refer
     sam_runtime *rt = NULL;
     sam_image full = {0}, translucency = {0};
     st = sam_runtime_create(&sam, &profile, mm, &rt, err);
+    char note[512];
+    /* The point then scores fewer samples than it is named for. */
+    if (st == SAM_OK && sam_runtime_fitted_note(rt, note, sizeof note))
+        say(s, "warning: sweep: %s map, N = %ld: %s", sam_build_map_name(map), n, note);
     if (st == SAM_OK)
         st = sam_runtime_scene_setup(rt, s->scene, NULL, NULL, NULL, 0, err);
     if (st == SAM_OK)
