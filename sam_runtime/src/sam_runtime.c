@@ -137,9 +137,8 @@ static sam_status fit_to_blocks(const samfile_data *sam, const sam_profile *prof
                                 size_t max_bytes, samfile_data *fitted, sam_error *err)
 {
     *fitted = *sam;
-    GLint gl_limit = 0;
-    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &gl_limit);
-    const size_t limit = max_bytes && max_bytes < (size_t)gl_limit ? max_bytes : (size_t)gl_limit;
+    const size_t gl_limit = sam_runtime_block_limit();
+    const size_t limit = max_bytes && max_bytes < gl_limit ? max_bytes : gl_limit;
     const size_t slot_bytes = (size_t)sam->vertex_count * 3 * sizeof(uint32_t), fit = limit / slot_bytes;
     if (fit >= sam->samples_per_vertex)
         return SAM_OK;

@@ -6,12 +6,18 @@
 
 #include "sam_runtime_gpu.h"
 
-sam_status sam_runtime_check_block_size(const char *what, size_t bytes, sam_error *err)
+size_t sam_runtime_block_limit(void)
 {
     GLint limit = 0;
     glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &limit);
-    if (bytes > (size_t)limit)
-        return sam_fail(err, SAM_ERR_UNSUPPORTED, "runtime: %s needs %zu bytes but the GL allows %d per storage block",
+    return limit > 0 ? (size_t)limit : 0;
+}
+
+sam_status sam_runtime_check_block_size(const char *what, size_t bytes, sam_error *err)
+{
+    const size_t limit = sam_runtime_block_limit();
+    if (bytes > limit)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "runtime: %s needs %zu bytes but the GL allows %zu per storage block",
                         what, bytes, limit);
     return SAM_OK;
 }

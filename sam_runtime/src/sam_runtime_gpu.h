@@ -6,6 +6,9 @@
 
 #include "sam_runtime_internal.h"
 
+/* The most bytes one storage block of the current GL may hold. */
+size_t sam_runtime_block_limit(void);
+
 /* SAM_OK when `bytes` fit one storage block of the GL; else
  * SAM_ERR_UNSUPPORTED naming `what`, its size and the limit. */
 sam_status sam_runtime_check_block_size(const char *what, size_t bytes, sam_error *err);
