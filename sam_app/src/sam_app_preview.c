@@ -127,11 +127,10 @@ static void shade(const samfile_data *d, const samfile_info *info, const preview
             /* A vertex or a cut map's node: position, area, L_d. */
             const float *s = points + 6 * (size_t)b;
             const float ld = fmaxf(s[4] + (d->node_count ? d->sample_tau[(size_t)v * n + k] : 0.0f) * s[5], 0.0f);
-            vec3 dv = sub(v3(s), v3(d->positions + 3 * (size_t)v));
-            float rd[3];
-            sam_profile_eval(&info->profile, info->mm_per_unit * sqrtf(dot(dv, dv)), rd);
+            float kv[3];
+            samfile_sample_k(d, points, 6, v, k, &info->profile, info->mm_per_unit, kv);
             for (int c = 0; c < 3; ++c)
-                t[c] += ld * d->sample_kprime[3 * ((size_t)v * n + k) + c] * s[3] * rd[c];
+                t[c] += ld * kv[c];
         }
         memcpy(rgb + 3 * (size_t)v, t, sizeof t);
         float m = fmaxf(t[0], fmaxf(t[1], t[2]));

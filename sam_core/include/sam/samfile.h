@@ -168,6 +168,16 @@ sam_status samfile_sample_points(const samfile_data *data, const float *values, 
                                  sam_error *err);
 
 /*
+ * The K at rest of slot k of vertex v's row of `data` (eq. 15: K = K' F'_b
+ * R_d(mm_per_unit |v_b - v|), RGB into k_rgb), as the runtime's rest pass
+ * evaluates it, from the records of samfile_sample_points (`points`,
+ * `stride` floats each: 4 + 2 channels) and `profile`. The slot must name
+ * a sample (not SAMFILE_NO_SAMPLE).
+ */
+void samfile_sample_k(const samfile_data *data, const float *points, size_t stride, uint32_t v, uint32_t k,
+                      const sam_profile *profile, float mm_per_unit, float k_rgb[3]);
+
+/*
  * The first `samples` of every row of `data` (as samfile_validate accepts
  * it, which a read's always is; rows are best first), for a
  * GL whose storage blocks cannot hold the whole map (sam_runtime_create),

@@ -2,7 +2,6 @@
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "sam/samfile.h"
 
@@ -24,21 +23,14 @@ sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sa
     for (size_t v = 0; st == SAM_OK && v < vc; ++v) {
         /* The row's K at rest as the runtime's eq. 15 gives it, whole and
          * in the kept slots. */
-        const float *p = points + 4 * v;
         double whole[3] = {0, 0, 0}, kept[3] = {0, 0, 0};
-        for (size_t k = 0; k < n; ++k) {
-            const uint32_t i = d->sample_index[v * n + k];
-            if (i == SAMFILE_NO_SAMPLE)
-                break;
-            const float *q = points + 4 * (size_t)i, *kp = d->sample_kprime + 3 * (v * n + k);
-            const float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-            float rd[3];
-            sam_profile_eval(profile, mm_per_unit * sqrtf(dx * dx + dy * dy + dz * dz), rd);
+        for (size_t k = 0; k < n && d->sample_index[v * n + k] != SAMFILE_NO_SAMPLE; ++k) {
+            float kc[3];
+            samfile_sample_k(d, points, 4, (uint32_t)v, (uint32_t)k, profile, mm_per_unit, kc);
             for (int c = 0; c < 3; ++c) {
-                const double kc = (double)kp[c] * q[3] * rd[c];
-                whole[c] += kc;
+                whole[c] += kc[c];
                 if (k < samples)
-                    kept[c] += kc;
+                    kept[c] += kc[c];
             }
         }
         for (size_t k = 0; k < samples; ++k) {

@@ -1,5 +1,20 @@
-/* The CPU's node pass over a cut map's tree (samfile_sample_points). */
+/* The CPU's node pass over a cut map's tree (samfile_sample_points), and
+ * a sample's K read from it (samfile_sample_k). */
+#include <math.h>
+
 #include "sam/samfile.h"
+
+void samfile_sample_k(const samfile_data *d, const float *points, size_t stride, uint32_t v, uint32_t k,
+                      const sam_profile *profile, float mm_per_unit, float k_rgb[3])
+{
+    const size_t slot = (size_t)v * d->samples_per_vertex + k;
+    const float *p = points + stride * v, *q = points + stride * d->sample_index[slot];
+    const float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+    float rd[3];
+    sam_profile_eval(profile, mm_per_unit * sqrtf(dx * dx + dy * dy + dz * dz), rd);
+    for (int c = 0; c < 3; ++c)
+        k_rgb[c] = d->sample_kprime[3 * slot + c] * q[3] * rd[c];
+}
 
 sam_status samfile_sample_points(const samfile_data *d, const float *values, uint32_t channels, float *out,
                                  sam_error *err)
