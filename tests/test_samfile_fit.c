@@ -1,5 +1,6 @@
-/* samfile_fit_samples: a map's rows cut to their best samples, each row's
- * K at rest kept whole. */
+/* samfile_fit_samples and samfile_fold_row: a map's rows cut to their
+ * best samples, each row's K at rest kept whole, the dropped samples' K
+ * read where it comes from. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -130,6 +131,34 @@ static void test_fitting_the_whole_row_changes_nothing(void **state)
         assert_true(fabsf(kprime[i] - f.kpr[i]) <= 1e-6f * f.kpr[i]);
 }
 
+/* Three kept entries on a line and three dropped ones: each dropped K goes
+ * to the nearest kept entry that carries its channel, and nowhere when no
+ * kept entry does. */
+static void test_fold_hands_each_dropped_k_to_the_nearest_kept_entry(void **state)
+{
+    (void)state;
+    static const float at[6 * 3] = {0, 0, 0, 10, 0, 0, 20, 0, 0, /* kept */
+                                    9, 0, 0, 16, 0, 0, 5, 0, 0};  /* dropped */
+    static const float k[6 * 3] = {
+        4, 4, 0, 3, 3, 0, 2, 0, 0, /* entry 2 carries no green, none of the three blue */
+        1, 1, 1, 0.5f, 0.5f, 0, 0.25f, 0.125f, 0,
+    };
+    float out[9];
+    samfile_fold_row(at, 3, k, 6, 3, out);
+    /* Red: 9 and 5 go to 10 (5 ties with 0 and goes to the better entry
+     * 0), 16 to 20. Green: 16 has no green kept at 20, so 10 takes it.
+     * Blue: no kept entry carries it. */
+    const float want[9] = {4 + 0.25f, 4 + 0.125f, 0, 3 + 1, 3 + 1 + 0.5f, 0, 2 + 0.5f, 0, 0};
+    for (int i = 0; i < 9; ++i) {
+        printf("out[%d] = %g, want %g\n", i, (double)out[i], (double)want[i]);
+        assert_true(out[i] == want[i]);
+    }
+    /* Keeping the whole row copies it. */
+    float whole[18];
+    samfile_fold_row(at, 3, k, 6, 6, whole);
+    assert_memory_equal(whole, k, sizeof whole);
+}
+
 static void test_fit_rejects_bad_arguments(void **state)
 {
     (void)state;
@@ -160,6 +189,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rows_keep_their_best_samples_and_whole_k),
         cmocka_unit_test(test_fitting_the_whole_row_changes_nothing),
+        cmocka_unit_test(test_fold_hands_each_dropped_k_to_the_nearest_kept_entry),
         cmocka_unit_test(test_fit_rejects_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

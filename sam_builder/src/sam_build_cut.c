@@ -704,31 +704,29 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     }
     *form_factors += kept;
     qsort(e, kept, sizeof *e, cmp_entry);
-    /* A budget above N keeps the N best entries, scaled per channel to
-     * carry the whole cut's K, as samfile_fit_samples does at load: a
-     * finer cut's best N read their light where it comes from, where a
-     * cut of N entries reads it over coarser nodes. */
+    /* A budget above N keeps the N best entries, each dropped one's K
+     * folded into the kept entry nearest it, as samfile_fit_samples does
+     * at load: a finer cut's best N read their light where it comes from,
+     * where a cut of N entries reads it over coarser nodes. */
     const uint32_t out = kept < stored ? kept : stored;
-    double whole[3] = {0, 0, 0}, held[3] = {0, 0, 0};
-    for (uint32_t c = 0; c < kept; ++c)
-        for (int ch = 0; ch < 3; ++ch) {
-            whole[ch] += e[c].k[ch];
-            held[ch] += c < out ? e[c].k[ch] : 0.0f;
-        }
     const float *po = ctx->pos + 3 * (size_t)o;
+    float at[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], k[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX],
+        folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
+    for (uint32_t c = 0; c < kept; ++c) {
+        const uint32_t id = e[c].id;
+        memcpy(at + 3 * c, id < n ? ctx->pos + 3 * (size_t)id : tree->node[id - n].centroid, 3 * sizeof *at);
+        memcpy(k + 3 * c, e[c].k, 3 * sizeof *k);
+    }
+    samfile_fold_row(at, 3, k, kept, out, folded);
     for (uint32_t c = 0, slot = 0; c < out; ++c) {
         if (!(e[c].k[0] + e[c].k[1] + e[c].k[2] > 0))
             break; /* no light through it: leave the slot empty */
         const uint32_t id = e[c].id;
-        const float *q = id < n ? ctx->pos + 3 * (size_t)id : tree->node[id - n].centroid;
         const float area = id < n ? ctx->fan_area[id] : tree->node[id - n].area;
-        float k[3];
-        for (int ch = 0; ch < 3; ++ch)
-            k[ch] = kept > out && held[ch] > 0 ? (float)(e[c].k[ch] * (whole[ch] / held[ch])) : e[c].k[ch];
-        size_t at = (size_t)o * stored + slot++;
-        r->sample[at] = id;
-        r->tau[at] = e[c].tau;
-        sam_build_kprime(ctx, k, area, sam_build_distance(po, q), r->kprime + 3 * at);
+        size_t to = (size_t)o * stored + slot++;
+        r->sample[to] = id;
+        r->tau[to] = e[c].tau;
+        sam_build_kprime(ctx, folded + 3 * c, area, sam_build_distance(po, at + 3 * c), r->kprime + 3 * to);
     }
     return classified;
 }

@@ -178,13 +178,27 @@ void samfile_sample_k(const samfile_data *data, const float *points, size_t stri
                       const sam_profile *profile, float mm_per_unit, float k_rgb[3]);
 
 /*
+ * One row's K (RGB, `k_rgb`: 3 * count floats; entries best first) fitted
+ * to its first `kept` entries: each entry past them hands its K, channel by
+ * channel, to the kept entry nearest it that carries some of that channel
+ * (`points`: entry i's position at points + i * stride, 3 floats; ties go
+ * to the better entry), so the dropped light is read where it comes from;
+ * a channel no kept entry carries is left out. Writes 3 * kept floats to
+ * `out_rgb` (caller owned, may not alias k_rgb). kept <= count <=
+ * SAMFILE_MAX_SAMPLES_PER_VERTEX; kept == count copies the row.
+ */
+void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, uint32_t count, uint32_t kept,
+                      float *out_rgb);
+
+/*
  * The first `samples` of every row of `data` (as samfile_validate accepts
  * it, which a read's always is; rows are best first), for a
  * GL whose storage blocks cannot hold the whole map (sam_runtime_create),
- * each row's kept K' scaled per channel so that the row carries the K at
- * rest it carried whole: K = K' F'_b R_d(mm_per_unit |v_b - v|) (eq. 15)
- * with `profile`, at the sample points of samfile_sample_points. A channel
- * the kept samples carry none of is left as it is. Writes vertex_count *
+ * each dropped sample's K at rest (K = K' F'_b R_d(mm_per_unit |v_b - v|),
+ * eq. 15, with `profile`, at the sample points of samfile_sample_points)
+ * folded into the kept sample nearest it (samfile_fold_row) by scaling
+ * that sample's K', so the row carries the K at rest it carried whole. A
+ * channel the kept samples carry none of is left as it is. Writes vertex_count *
  * samples entries of `index` and `tau` (NULL allowed for a flat map) and
  * 3 * vertex_count * samples of `kprime`, row by row as the .sam's arrays;
  * all caller owned. Errors: SAM_ERR_INVALID_ARGUMENT (a NULL argument,

@@ -1,9 +1,46 @@
-/* A map's rows cut to fewer samples (samfile_fit_samples). */
+/* A map's rows cut to fewer samples (samfile_fold_row, samfile_fit_samples). */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
 #include "sam/samfile.h"
+
+static float distance2(const float *a, const float *b)
+{
+    const float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, uint32_t count, uint32_t kept,
+                      float *out_rgb)
+{
+    /* Sums in double: a row's tail can be many small parts of one kept K. */
+    double sum[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
+    for (uint32_t j = 0; j < 3 * kept; ++j)
+        sum[j] = k_rgb[j];
+    for (uint32_t i = kept; i < count; ++i) {
+        const float *p = points + (size_t)i * stride;
+        for (int c = 0; c < 3; ++c) {
+            if (!(k_rgb[3 * i + c] > 0))
+                continue;
+            uint32_t to = kept;
+            float best = FLT_MAX;
+            for (uint32_t j = 0; j < kept; ++j) {
+                if (!(k_rgb[3 * j + c] > 0))
+                    continue;
+                const float d = distance2(p, points + (size_t)j * stride);
+                if (to == kept || d < best) {
+                    to = j;
+                    best = d;
+                }
+            }
+            if (to < kept)
+                sum[3 * to + c] += k_rgb[3 * i + c];
+        }
+    }
+    for (uint32_t j = 0; j < 3 * kept; ++j)
+        out_rgb[j] = (float)fmin(sum[j], FLT_MAX);
+}
 
 sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sam_profile *profile,
                                float mm_per_unit, uint32_t *index, float *kprime, float *tau, sam_error *err)
@@ -21,27 +58,28 @@ sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sa
                         vc + (size_t)d->node_count);
     sam_status st = samfile_sample_points(d, NULL, 0, points, err);
     for (size_t v = 0; st == SAM_OK && v < vc; ++v) {
-        /* The row's K at rest as the runtime's eq. 15 gives it, whole and
-         * in the kept slots. */
-        double whole[3] = {0, 0, 0}, kept[3] = {0, 0, 0};
-        for (size_t k = 0; k < n && d->sample_index[v * n + k] != SAMFILE_NO_SAMPLE; ++k) {
-            float kc[3];
-            samfile_sample_k(d, points, 4, (uint32_t)v, (uint32_t)k, profile, mm_per_unit, kc);
-            for (int c = 0; c < 3; ++c) {
-                whole[c] += kc[c];
-                if (k < samples)
-                    kept[c] += kc[c];
-            }
+        /* The row's K at rest as the runtime's eq. 15 gives it, and where
+         * each sample stands. */
+        float k[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], at[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX],
+            folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
+        uint32_t count = 0;
+        while (count < n && d->sample_index[v * n + count] != SAMFILE_NO_SAMPLE) {
+            samfile_sample_k(d, points, 4, (uint32_t)v, count, profile, mm_per_unit, k + 3 * count);
+            for (int c = 0; c < 3; ++c)
+                at[3 * count + c] = points[4 * (size_t)d->sample_index[v * n + count] + c];
+            ++count;
         }
-        for (size_t k = 0; k < samples; ++k) {
-            const size_t from = v * n + k, to = v * samples + k;
+        const uint32_t keep = count < samples ? count : samples;
+        samfile_fold_row(at, 3, k, count, keep, folded);
+        for (size_t s = 0; s < samples; ++s) {
+            const size_t from = v * n + s, to = v * samples + s;
             index[to] = d->sample_index[from];
             if (tau)
                 tau[to] = d->sample_tau[from];
-            /* A channel the kept slots carry nothing of stays as it is: no
-             * scale puts its light anywhere. */
+            /* A channel the sample carries nothing of stays as it is: no
+             * scale puts light there. */
             for (int c = 0; c < 3; ++c) {
-                const double scale = kept[c] > 0 ? whole[c] / kept[c] : 1.0;
+                const double scale = s < keep && k[3 * s + c] > 0 ? (double)folded[3 * s + c] / k[3 * s + c] : 1.0;
                 kprime[3 * to + c] = (float)fmin(d->sample_kprime[3 * from + c] * scale, FLT_MAX);
             }
         }
