@@ -627,47 +627,85 @@ static void test_larger_budget_keeps_how_rows_are_held(void **state)
     destroy_cut(&f64);
 }
 
-/* A cut of 16 entries stored as its best 4: each row is the 16-entry
- * row's first 4 samples (index and tau), and they carry the whole cut's K,
- * where the first 4 of the 16 alone carry less. */
-static void test_budget_beyond_n_keeps_the_best_entries(void **state)
+/* Row o's K and its K times L_d under `ld_of` over `count` slots of
+ * `f`'s rows from slot `from` on, as the runtime reads them. */
+static void row_light(const cut_fixture *f, uint32_t o, uint32_t count, vertex_ld_fn ld_of, double *k, double *kl)
 {
-    (void)state;
+    const uint32_t n = f->r.samples_per_vertex;
+    *k = *kl = 0;
+    for (uint32_t s = 0; s < count; ++s) {
+        const size_t at = (size_t)o * n + s;
+        if (f->r.sample[at] == SAM_BUILD_NO_SAMPLE)
+            break;
+        double moment[4] = {0, 0, 0, 0};
+        const double ld = runtime_ld(f, ld_of, f->r.sample[at], f->r.tau[at], moment),
+                     ks = stored_k(f, o, f->r.kprime + 3 * at, moment);
+        *k += ks;
+        *kl += ks * ld;
+    }
+}
+
+/* A cut of `budget` entries stored as `keep` on the knot at 40 mm: the
+ * rows carry the whole cut's K, and some hold a node that merged two
+ * siblings. Returns the translucency's error under light `ld_fn` against
+ * the whole cut's, as a share of it, and that of the first `keep` of the
+ * whole cut scaled to its K (into *scaled). */
+static double budget_case(const char *material, uint32_t budget, uint32_t keep, vertex_ld_fn ld_fn, double *scaled)
+{
     cut_fixture whole, kept;
-    build_cut(&whole, "knot", 24, 0, 0, "marble", 40.0f, 16, 0);
-    build_cut_of(&kept, "knot", 24, 0, 0, "marble", 40.0f, 4, 16, 0);
+    build_cut(&whole, "knot", 24, 0, 0, material, 40.0f, budget, 0);
+    build_cut_of(&kept, "knot", 24, 0, 0, material, 40.0f, keep, budget, 0);
     const uint32_t n = whole.mesh.topo_count;
-    assert_int_equal(kept.r.samples_per_vertex, 4);
-    double held = 0, first = 0, total = 0, worst = 0;
+    assert_int_equal(kept.r.samples_per_vertex, keep);
+    double held = 0, total = 0, worst = 0, err_kept = 0, err_scaled = 0, light = 0;
+    uint32_t merged = 0;
     for (uint32_t o = 0; o < n; ++o) {
-        double row = 0, row_first = 0;
-        for (uint32_t k = 0; k < 4; ++k) {
-            const size_t at = (size_t)o * 4 + k, from = (size_t)o * 16 + k;
-            assert_int_equal(kept.r.sample[at], whole.r.sample[from]);
-            if (kept.r.sample[at] == SAM_BUILD_NO_SAMPLE)
-                break;
-            assert_true(kept.r.tau[at] == whole.r.tau[from]);
-            double moment[4] = {0, 0, 0, 0};
-            sample_ld(&kept, one_sided_ld, kept.r.sample[at], moment);
-            row += stored_k(&kept, o, kept.r.kprime + 3 * at, moment);
-            row_first += stored_k(&whole, o, whole.r.kprime + 3 * from, moment);
-        }
         const double want = cut_total(&whole.r, o);
         assert_true(fabs(cut_total(&kept.r, o) - want) <= 1e-6 * want);
-        held += row;
-        first += row_first;
-        total += want;
-        if (want > 0)
-            worst = fmax(worst, fabs(row - want) / want);
+        double k_whole, t_whole, k_kept, t_kept, k_first, t_first;
+        row_light(&whole, o, budget, ld_fn, &k_whole, &t_whole);
+        row_light(&kept, o, keep, ld_fn, &k_kept, &t_kept);
+        row_light(&whole, o, keep, ld_fn, &k_first, &t_first);
+        const double t_scaled = k_first > 0 ? t_first * k_whole / k_first : 0;
+        err_kept += fabs(t_kept - t_whole);
+        err_scaled += fabs(t_scaled - t_whole);
+        light += t_whole;
+        held += k_kept;
+        total += k_whole;
+        if (k_whole > 0)
+            worst = fmax(worst, fabs(k_kept - k_whole) / k_whole);
+        for (uint32_t s = 0; s < keep; ++s) {
+            const uint32_t id = kept.r.sample[(size_t)o * keep + s];
+            merged += id >= n && id != SAM_BUILD_NO_SAMPLE && id != whole.r.sample[(size_t)o * budget + s];
+        }
     }
-    printf("knot in marble, the best 4 of a 16-entry cut: %.6f of the cut's K (its first 4 unscaled %.4f), "
-           "the worst receiver off by %.2e\n",
-           held / total, first / total, worst);
-    assert_true(first / total < 0.99);
+    printf("knot in %s, %u of a %u-entry cut: %.6f of the cut's K, the worst receiver off by %.2e; "
+           "translucency under %s light off by %.4f of it (the first %u scaled: %.4f); %u slots hold a node "
+           "the whole row does not hold there\n",
+           material, keep, budget, held / total, worst, ld_fn == one_sided_ld ? "one-sided" : "linear",
+           err_kept / light, keep, err_scaled / light, merged);
     assert_true(fabs(held / total - 1) < 1e-4);
     assert_true(worst < 1e-3);
+    assert_true(merged > 0);
     destroy_cut(&whole);
     destroy_cut(&kept);
+    *scaled = err_scaled / light;
+    return err_kept / light;
+}
+
+/* In skin most of a row is vertices, and two that share a node merge
+ * into it with the tau that reads their light as it was: the row of 4
+ * reads light less wrong than the first 4 scaled, under either light
+ * (0.011 against 0.030 from one side, 0.0044 against 0.0082 linear).
+ * In marble, whose rows are nodes, the fold reads light from one side
+ * worse than the scaling does (docs/comparison.md): checked for K only. */
+static void test_budget_beyond_n_merges_and_folds(void **state)
+{
+    (void)state;
+    double scaled;
+    assert_true(budget_case("skin", 16, 4, one_sided_ld, &scaled) < scaled);
+    assert_true(budget_case("skin", 16, 4, linear_ld, &scaled) < scaled);
+    budget_case("marble", 16, 4, one_sided_ld, &scaled);
 }
 
 static void test_bit_identical_for_any_thread_count(void **state)
@@ -779,7 +817,7 @@ int main(void)
         cmocka_unit_test(test_samples_hold_the_cut_total),
         cmocka_unit_test(test_rows_list_vertices_where_they_hold_the_light),
         cmocka_unit_test(test_larger_budget_keeps_how_rows_are_held),
-        cmocka_unit_test(test_budget_beyond_n_keeps_the_best_entries),
+        cmocka_unit_test(test_budget_beyond_n_merges_and_folds),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
         cmocka_unit_test(test_samfile_rows_follow_render_vertices),
         cmocka_unit_test(test_samfile_versions),

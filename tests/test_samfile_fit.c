@@ -70,23 +70,38 @@ static void point_of(const fixture *f, uint32_t i, float q[3], float *area)
     *area = a + b;
 }
 
-/* Row v's K per channel over its first `count` samples of `index` and
- * `kprime` (rows of `n`), K = K' A R_d(|q - p|). */
+/* Row v's K per channel over its first `count` samples of `index`,
+ * `kprime` and `tau` (rows of `n`), K = K' A R_d(|q - p|), and its K
+ * times each sample's value read from per-vertex `value` as the runtime
+ * reads it (a node's area-weighted mean + tau times its second child's
+ * minus its first's). */
 static void row_k(const fixture *f, const sam_profile *p, uint32_t v, const uint32_t *index, const float *kprime,
-                  uint32_t n, uint32_t count, double k[3])
+                  const float *tau, uint32_t n, uint32_t count, const float value[NV], double k[3], double kl[3])
 {
-    k[0] = k[1] = k[2] = 0;
+    k[0] = k[1] = k[2] = kl[0] = kl[1] = kl[2] = 0;
     for (uint32_t s = 0; s < count && index[v * n + s] != PAD; ++s) {
         float q[3], area, rd[3];
-        point_of(f, index[v * n + s], q, &area);
+        const uint32_t i = index[v * n + s];
+        point_of(f, i, q, &area);
         const float dx = q[0] - f->pos[3 * v], dy = q[1] - f->pos[3 * v + 1], dz = q[2] - f->pos[3 * v + 2];
         sam_profile_eval(p, sqrtf(dx * dx + dy * dy + dz * dz), rd);
-        for (int c = 0; c < 3; ++c)
-            k[c] += (double)kprime[3 * (v * n + s) + c] * area * rd[c];
+        const double l = i < NV ? value[i]
+                                : (f->fana[2] * value[2] + f->fana[3] * value[3]) / (f->fana[2] + f->fana[3]) +
+                                      tau[v * n + s] * (value[3] - value[2]);
+        for (int c = 0; c < 3; ++c) {
+            const double kc = (double)kprime[3 * (v * n + s) + c] * area * rd[c];
+            k[c] += kc;
+            kl[c] += kc * l;
+        }
     }
 }
 
-static void test_rows_keep_their_best_samples_and_whole_k(void **state)
+/* Vertex 0's row {1, node, 2} and vertex 2's {node, 0, 1} hold no two
+ * siblings: their third sample folds into the kept one nearest it.
+ * Vertex 1's {0, 2, 3} ends in the node's two children, which merge into
+ * the node with the tau that reads their light exactly (in the channels'
+ * sum). Vertex 3's {0} fits as it is. */
+static void test_rows_keep_their_whole_k_and_merge_siblings_exactly(void **state)
 {
     (void)state;
     fixture f;
@@ -98,20 +113,28 @@ static void test_rows_keep_their_best_samples_and_whole_k(void **state)
     float kprime[3 * NV * M], tau[NV * M];
     sam_error err;
     assert_int_equal(samfile_fit_samples(&f.d, M, &skin, 1.0f, index, kprime, tau, &err), SAM_OK);
+    static const uint32_t want[NV * M] = {1, 4, 0, 4, 4, 0, 0, PAD};
+    assert_memory_equal(index, want, sizeof want);
+    const float value[NV] = {0.3f, 1.7f, 0.2f, 5.0f};
     for (uint32_t v = 0; v < NV; ++v) {
-        for (uint32_t s = 0; s < M; ++s) {
-            assert_int_equal(index[v * M + s], f.sidx[v * N + s]);
-            assert_true(tau[v * M + s] == f.tau[v * N + s]);
-        }
-        double whole[3], kept[3];
-        row_k(&f, &skin, v, f.sidx, f.kpr, N, N, whole);
-        row_k(&f, &skin, v, index, kprime, M, M, kept);
+        double whole[3], kept[3], whole_l[3], kept_l[3];
+        row_k(&f, &skin, v, f.sidx, f.kpr, f.tau, N, N, value, whole, whole_l);
+        row_k(&f, &skin, v, index, kprime, tau, M, M, value, kept, kept_l);
         for (int c = 0; c < 3; ++c) {
-            printf("vertex %u channel %d: K %.6g whole, %.6g kept\n", v, c, whole[c], kept[c]);
+            printf("vertex %u channel %d: K %.6g whole, %.6g kept; K L_d %.6g, %.6g\n", v, c, whole[c], kept[c],
+                   whole_l[c], kept_l[c]);
             assert_true(fabs(kept[c] - whole[c]) <= 1e-5 * whole[c]);
+            /* Only a merge's tau weighs the channels alike: exact in sum. */
+            if (v == 1 || v == 3)
+                assert_true(fabs(kept_l[c] - whole_l[c]) <= (v == 1 ? 0.05 : 1e-5) * whole_l[c]);
+        }
+        if (v == 1) {
+            const double sum = kept_l[0] + kept_l[1] + kept_l[2], sum_whole = whole_l[0] + whole_l[1] + whole_l[2];
+            printf("vertex 1: K L_d summed over channels %.7g whole, %.7g merged\n", sum_whole, sum);
+            assert_true(fabs(sum - sum_whole) <= 1e-5 * sum_whole);
         }
     }
-    /* A channel the kept samples carry none of is not scaled. */
+    /* Vertex 1's first sample carries no red, and gets none. */
     assert_true(kprime[3 * (1 * M + 0)] == 0.0f);
 }
 
@@ -187,7 +210,7 @@ static void test_fit_rejects_bad_arguments(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rows_keep_their_best_samples_and_whole_k),
+        cmocka_unit_test(test_rows_keep_their_whole_k_and_merge_siblings_exactly),
         cmocka_unit_test(test_fitting_the_whole_row_changes_nothing),
         cmocka_unit_test(test_fold_hands_each_dropped_k_to_the_nearest_kept_entry),
         cmocka_unit_test(test_fit_rejects_bad_arguments),

@@ -660,9 +660,43 @@ static uint32_t lightcut(const sam_build_context *ctx, const sam_build_tree *tre
     return count;
 }
 
-/* Vertex o's cut into its result row. Returns the entries classified. */
-static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, cut_scratch *sc,
-                           sam_build_result *r, uint64_t *form_factors)
+/* What a budget above N needs to merge a cut's siblings
+ * (samfile_merge_siblings), per sample index (topo vertices, then nodes):
+ * the node it is a child of, and its area. */
+typedef struct fit_links {
+    uint32_t *parent;
+    float *area;
+} fit_links;
+
+static void fit_links_free(fit_links *f)
+{
+    free(f->parent);
+    free(f->area);
+}
+
+static sam_status fit_links_create(const sam_build_context *ctx, const sam_build_tree *tree, fit_links *f,
+                                   sam_error *err)
+{
+    const size_t n = ctx->mesh->topo_count, all = n + tree->node_count;
+    f->parent = malloc(all * sizeof *f->parent);
+    f->area = malloc(all * sizeof *f->area);
+    if (!f->parent || !f->area) {
+        fit_links_free(f);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for the tree's %zu parent links", all);
+    }
+    for (size_t i = 0; i < all; ++i) {
+        f->parent[i] = SAMFILE_NO_SAMPLE;
+        f->area[i] = i < n ? ctx->fan_area[i] : tree->node[i - n].area;
+    }
+    for (uint32_t j = 0; j < tree->node_count; ++j)
+        f->parent[tree->node[j].child[0]] = f->parent[tree->node[j].child[1]] = (uint32_t)n + j;
+    return SAM_OK;
+}
+
+/* Vertex o's cut into its result row; `links` NULL when the budget is N.
+ * Returns the entries classified. */
+static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *tree, const fit_links *links,
+                           uint32_t o, cut_scratch *sc, sam_build_result *r, uint64_t *form_factors)
 {
     const uint32_t n = ctx->mesh->topo_count, budget = cut_budget(ctx), stored = ctx->settings.samples_per_vertex,
                    m = ctx->settings.mc_samples;
@@ -704,28 +738,35 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     }
     *form_factors += kept;
     qsort(e, kept, sizeof *e, cmp_entry);
-    /* A budget above N keeps the N best entries, each dropped one's K
-     * folded into the kept entry nearest it, as samfile_fit_samples does
-     * at load: a finer cut's best N read their light where it comes from,
-     * where a cut of N entries reads it over coarser nodes. */
-    const uint32_t out = kept < stored ? kept : stored;
-    const float *po = ctx->pos + 3 * (size_t)o;
+    /* A budget above N merges the cut's siblings into their parents, whose
+     * tau reads the pair's light as it was, then folds each entry past the
+     * N best into the kept one nearest it, as samfile_fit_samples does at
+     * load: a finer cut's N read their light where it comes from, where a
+     * cut of N entries reads it over coarser nodes. */
+    uint32_t id[SAMFILE_MAX_SAMPLES_PER_VERTEX];
     float at[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], k[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX],
-        folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
+        tau[SAMFILE_MAX_SAMPLES_PER_VERTEX], folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
+    uint32_t left = kept;
     for (uint32_t c = 0; c < kept; ++c) {
-        const uint32_t id = e[c].id;
-        memcpy(at + 3 * c, id < n ? ctx->pos + 3 * (size_t)id : tree->node[id - n].centroid, 3 * sizeof *at);
+        id[c] = e[c].id;
+        tau[c] = e[c].tau;
         memcpy(k + 3 * c, e[c].k, 3 * sizeof *k);
     }
-    samfile_fold_row(at, 3, k, kept, out, folded);
+    if (links && left > stored)
+        left = samfile_merge_siblings(links->parent, r->node_children, n, links->area, 1, id, k, tau, left, stored);
+    for (uint32_t c = 0; c < left; ++c)
+        memcpy(at + 3 * c, id[c] < n ? ctx->pos + 3 * (size_t)id[c] : tree->node[id[c] - n].centroid,
+               3 * sizeof *at);
+    const uint32_t out = left < stored ? left : stored;
+    samfile_fold_row(at, 3, k, left, out, folded);
+    const float *po = ctx->pos + 3 * (size_t)o;
     for (uint32_t c = 0, slot = 0; c < out; ++c) {
-        if (!(e[c].k[0] + e[c].k[1] + e[c].k[2] > 0))
-            break; /* no light through it: leave the slot empty */
-        const uint32_t id = e[c].id;
-        const float area = id < n ? ctx->fan_area[id] : tree->node[id - n].area;
+        if (!(k[3 * c] + k[3 * c + 1] + k[3 * c + 2] > 0))
+            continue; /* no light through it: no slot (such entries come last) */
+        const float area = id[c] < n ? ctx->fan_area[id[c]] : tree->node[id[c] - n].area;
         size_t to = (size_t)o * stored + slot++;
-        r->sample[to] = id;
-        r->tau[to] = e[c].tau;
+        r->sample[to] = id[c];
+        r->tau[to] = tau[c];
         sam_build_kprime(ctx, folded + 3 * c, area, sam_build_distance(po, at + 3 * c), r->kprime + 3 * to);
     }
     return classified;
@@ -763,6 +804,13 @@ sam_status sam_build_run_cut(const sam_build_context *ctx, sam_build_progress_fn
         return st;
     }
     const uint32_t n = ctx->mesh->topo_count;
+    fit_links links = {NULL, NULL};
+    const int fitting = cut_budget(ctx) > ctx->settings.samples_per_vertex;
+    if (fitting && (st = fit_links_create(ctx, &tree, &links, err)) != SAM_OK) {
+        sam_build_tree_destroy(&tree);
+        sam_build_result_destroy(result);
+        return st;
+    }
     sam_build_progress prog = {progress, user, 0, n, 0, 0};
     uint64_t seen = 0, form_factors = 0;
     int oom = 0;
@@ -779,11 +827,12 @@ sam_status sam_build_run_cut(const sam_build_context *ctx, sam_build_progress_fn
 #pragma omp for schedule(dynamic, 64)
         for (uint32_t o = 0; o < n; ++o)
             if (!sam_build_progress_step(&prog))
-                seen += cut_vertex(ctx, &tree, o, &sc, result, &form_factors);
+                seen += cut_vertex(ctx, &tree, fitting ? &links : NULL, o, &sc, result, &form_factors);
         if (ok)
             cut_scratch_free(&sc);
     }
     sam_build_tree_destroy(&tree);
+    fit_links_free(&links);
     if (oom) {
         sam_build_result_destroy(result);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for per-thread buffers");

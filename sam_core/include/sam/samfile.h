@@ -191,14 +191,38 @@ void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, ui
                       float *out_rgb);
 
 /*
- * The first `samples` of every row of `data` (as samfile_validate accepts
- * it, which a read's always is; rows are best first), for a
- * GL whose storage blocks cannot hold the whole map (sam_runtime_create),
- * each dropped sample's K at rest (K = K' F'_b R_d(mm_per_unit |v_b - v|),
- * eq. 15, with `profile`, at the sample points of samfile_sample_points)
- * folded into the kept sample nearest it (samfile_fold_row) by scaling
- * that sample's K', so the row carries the K at rest it carried whole. A
- * channel the kept samples carry none of is left as it is. Writes vertex_count *
+ * One row's entries (`count` of them: sample indices `id`, RGB K `k_rgb`
+ * 3 * count, `tau`) with pairs of siblings merged into their parent until
+ * `keep` are left or no two entries share a parent: the parent's sample
+ * reads L_d + tau (L_d(child 1) - L_d(child 0)), and with tau = a_0 / (a_0
+ * + a_1) - K_0 / (K_0 + K_1) (areas a, K summed over channels) that is the
+ * two children's K-weighted L_d exactly, where neither had a tau of its
+ * own. So the pairs merged first are those whose own taus weigh least (K
+ * times |tau|), then the dimmest. `parent`: per sample index (vertex_count
+ * + nodes), the sample index of the node it is a child of, or
+ * SAMFILE_NO_SAMPLE; `children`: 2 per node, as samfile_data's
+ * node_children; `area`: sample index i's area at area[i * stride], as
+ * samfile_sample_points' records hold it. Rewrites the arrays in place,
+ * a merged pair at its first entry's place and the rest in their order
+ * (a best-first row stays best first, near enough), and returns the
+ * entries left (>= keep unless no siblings were left).
+ */
+uint32_t samfile_merge_siblings(const uint32_t *parent, const uint32_t *children, uint32_t vertex_count,
+                                const float *area, size_t stride, uint32_t *id, float *k_rgb, float *tau,
+                                uint32_t count, uint32_t keep);
+
+/*
+ * Every row of `data` (as samfile_validate accepts it, which a read's
+ * always is; rows are best first) fitted to `samples` entries, for a
+ * GL whose storage blocks cannot hold the whole map (sam_runtime_create):
+ * a row longer than `samples` first has pairs of sibling samples merged
+ * into their parent node (samfile_merge_siblings; in a cut map), then
+ * each sample past the first `samples` folded into the kept sample
+ * nearest it (samfile_fold_row), both on the K at rest (K = K' F'_b
+ * R_d(mm_per_unit |v_b - v|), eq. 15, with `profile`, at the sample points
+ * of samfile_sample_points), so the row carries the K at rest it carried
+ * whole; the kept samples' K' are set to carry it. A channel the kept
+ * samples carry none of is left out. Shorter rows are copied. Writes vertex_count *
  * samples entries of `index` and `tau` (NULL allowed for a flat map) and
  * 3 * vertex_count * samples of `kprime`, row by row as the .sam's arrays;
  * all caller owned. Errors: SAM_ERR_INVALID_ARGUMENT (a NULL argument,

@@ -2,6 +2,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "sam/samfile.h"
 
@@ -42,6 +43,105 @@ void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, ui
         out_rgb[j] = (float)fmin(sum[j], FLT_MAX);
 }
 
+static float k_sum(const float *k)
+{
+    return k[0] + k[1] + k[2];
+}
+
+uint32_t samfile_merge_siblings(const uint32_t *parent, const uint32_t *children, uint32_t vertex_count,
+                                const float *area, size_t stride, uint32_t *id, float *k_rgb, float *tau,
+                                uint32_t count, uint32_t keep)
+{
+    while (count > keep) {
+        uint32_t bi = count, bj = count;
+        float best_lost = 0, best_k = 0;
+        for (uint32_t i = 0; i < count; ++i) {
+            const uint32_t p = parent[id[i]];
+            if (p == SAMFILE_NO_SAMPLE)
+                continue;
+            for (uint32_t j = i + 1; j < count; ++j) {
+                if (parent[id[j]] != p)
+                    continue;
+                const float lost = k_sum(k_rgb + 3 * i) * fabsf(tau[i]) + k_sum(k_rgb + 3 * j) * fabsf(tau[j]),
+                            k = k_sum(k_rgb + 3 * i) + k_sum(k_rgb + 3 * j);
+                if (bi == count || lost < best_lost || (lost == best_lost && k < best_k)) {
+                    bi = i;
+                    bj = j;
+                    best_lost = lost;
+                    best_k = k;
+                }
+            }
+        }
+        if (bi == count)
+            break;
+        const uint32_t p = parent[id[bi]], first = children[2 * (size_t)(p - vertex_count)] == id[bi] ? bi : bj;
+        const float a0 = area[stride * id[first]], a1 = area[stride * id[first == bi ? bj : bi]], w = a0 + a1;
+        const float fa = w > 0 ? a0 / w : 0.5f, k0 = k_sum(k_rgb + 3 * first);
+        id[bi] = p;
+        tau[bi] = best_k > 0 ? fminf(fmaxf(fa - k0 / best_k, -1.0f), 1.0f) : 0.0f;
+        for (int c = 0; c < 3; ++c)
+            k_rgb[3 * bi + c] += k_rgb[3 * bj + c];
+        --count;
+        memmove(id + bj, id + bj + 1, (count - bj) * sizeof *id);
+        memmove(tau + bj, tau + bj + 1, (count - bj) * sizeof *tau);
+        memmove(k_rgb + 3 * bj, k_rgb + 3 * (bj + 1), 3 * (count - bj) * sizeof *k_rgb);
+    }
+    return count;
+}
+
+/* The K at rest of one unit of K' for sample index `id` in vertex v's row
+ * (eq. 15, as samfile_sample_k reads it). */
+static void unit_k(const float *points, uint32_t v, uint32_t id, const sam_profile *profile, float mm_per_unit,
+                   float out[3])
+{
+    const float *p = points + 4 * (size_t)v, *q = points + 4 * (size_t)id;
+    sam_profile_eval(profile, mm_per_unit * sqrtf(distance2(p, q)), out);
+    for (int c = 0; c < 3; ++c)
+        out[c] *= q[3];
+}
+
+/* Row v of `d` (`count` > `samples` entries) fitted to `samples`: siblings
+ * merged in place (the row stays best first), then the entries past
+ * `samples` folded into the nearest kept. */
+static void fit_row(const samfile_data *d, const float *points, const uint32_t *parent, uint32_t v, uint32_t count,
+                    uint32_t samples, const sam_profile *profile, float mm_per_unit, uint32_t *index, float *kprime,
+                    float *tau)
+{
+    const size_t n = d->samples_per_vertex;
+    uint32_t id[SAMFILE_MAX_SAMPLES_PER_VERTEX];
+    float k[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], t[SAMFILE_MAX_SAMPLES_PER_VERTEX];
+    for (uint32_t s = 0; s < count; ++s) {
+        id[s] = d->sample_index[v * n + s];
+        t[s] = d->node_count ? d->sample_tau[v * n + s] : 0.0f;
+        samfile_sample_k(d, points, 4, v, s, profile, mm_per_unit, k + 3 * s);
+    }
+    if (parent)
+        count = samfile_merge_siblings(parent, d->node_children, d->vertex_count, points + 3, 4, id, k, t, count,
+                                       samples);
+    float at[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
+    for (uint32_t s = 0; s < count; ++s)
+        memcpy(at + 3 * s, points + 4 * (size_t)id[s], 3 * sizeof *at);
+    const uint32_t keep = count < samples ? count : samples;
+    samfile_fold_row(at, 3, k, count, keep, folded);
+    for (uint32_t s = 0; s < samples; ++s) {
+        const size_t to = (size_t)v * samples + s;
+        if (s >= keep) {
+            index[to] = SAMFILE_NO_SAMPLE;
+            if (tau)
+                tau[to] = 0.0f;
+            kprime[3 * to] = kprime[3 * to + 1] = kprime[3 * to + 2] = 0.0f;
+            continue;
+        }
+        float unit[3];
+        unit_k(points, v, id[s], profile, mm_per_unit, unit);
+        index[to] = id[s];
+        if (tau)
+            tau[to] = t[s];
+        for (int c = 0; c < 3; ++c)
+            kprime[3 * to + c] = unit[c] > 0 ? (float)fmin((double)folded[3 * s + c] / unit[c], FLT_MAX) : 0.0f;
+    }
+}
+
 sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sam_profile *profile,
                                float mm_per_unit, uint32_t *index, float *kprime, float *tau, sam_error *err)
 {
@@ -51,39 +151,37 @@ sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sa
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
                         "samfile fit: %u samples of the map's %u per vertex, at %g mm per unit", samples,
                         d->samples_per_vertex, (double)mm_per_unit);
-    const size_t vc = d->vertex_count, n = d->samples_per_vertex;
-    float *points = malloc((vc + d->node_count) * 4 * sizeof *points);
-    if (!points)
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "samfile fit: out of memory for %zu sample points",
-                        vc + (size_t)d->node_count);
+    const size_t vc = d->vertex_count, n = d->samples_per_vertex, all = vc + d->node_count;
+    float *points = malloc(all * 4 * sizeof *points);
+    uint32_t *parent = d->node_count ? malloc(all * sizeof *parent) : NULL;
+    if (!points || (d->node_count && !parent)) {
+        free(points);
+        free(parent);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "samfile fit: out of memory for %zu sample points", all);
+    }
+    for (size_t i = 0; parent && i < all; ++i)
+        parent[i] = SAMFILE_NO_SAMPLE;
+    for (size_t j = 0; j < d->node_count; ++j)
+        parent[d->node_children[2 * j]] = parent[d->node_children[2 * j + 1]] = (uint32_t)(vc + j);
     sam_status st = samfile_sample_points(d, NULL, 0, points, err);
     for (size_t v = 0; st == SAM_OK && v < vc; ++v) {
-        /* The row's K at rest as the runtime's eq. 15 gives it, and where
-         * each sample stands. */
-        float k[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], at[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX],
-            folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
         uint32_t count = 0;
-        while (count < n && d->sample_index[v * n + count] != SAMFILE_NO_SAMPLE) {
-            samfile_sample_k(d, points, 4, (uint32_t)v, count, profile, mm_per_unit, k + 3 * count);
-            for (int c = 0; c < 3; ++c)
-                at[3 * count + c] = points[4 * (size_t)d->sample_index[v * n + count] + c];
+        while (count < n && d->sample_index[v * n + count] != SAMFILE_NO_SAMPLE)
             ++count;
+        if (count > samples) {
+            fit_row(d, points, parent, (uint32_t)v, count, samples, profile, mm_per_unit, index, kprime, tau);
+            continue;
         }
-        const uint32_t keep = count < samples ? count : samples;
-        samfile_fold_row(at, 3, k, count, keep, folded);
         for (size_t s = 0; s < samples; ++s) {
             const size_t from = v * n + s, to = v * samples + s;
             index[to] = d->sample_index[from];
             if (tau)
                 tau[to] = d->sample_tau[from];
-            /* A channel the sample carries nothing of stays as it is: no
-             * scale puts light there. */
-            for (int c = 0; c < 3; ++c) {
-                const double scale = s < keep && k[3 * s + c] > 0 ? (double)folded[3 * s + c] / k[3 * s + c] : 1.0;
-                kprime[3 * to + c] = (float)fmin(d->sample_kprime[3 * from + c] * scale, FLT_MAX);
-            }
+            memcpy(kprime + 3 * to, d->sample_kprime + 3 * from, 3 * sizeof *kprime);
         }
     }
     free(points);
+    free(parent);
     return st;
 }
+
