@@ -154,32 +154,67 @@ static void test_fitting_the_whole_row_changes_nothing(void **state)
         assert_true(fabsf(kprime[i] - f.kpr[i]) <= 1e-6f * f.kpr[i]);
 }
 
-/* Three kept entries on a line and three dropped ones: each dropped K goes
- * to the nearest kept entry that carries its channel, and nowhere when no
- * kept entry does. */
+/* Three kept entries on a line and four dropped ones: each dropped K goes
+ * to the nearest kept entry that carries at least as much of its channel;
+ * what none outweighs is shared as the kept K is, and nowhere when no kept
+ * entry carries the channel. */
 static void test_fold_hands_each_dropped_k_to_the_nearest_kept_entry(void **state)
 {
     (void)state;
-    static const float at[6 * 3] = {0, 0, 0, 10, 0, 0, 20, 0, 0, /* kept */
-                                    9, 0, 0, 16, 0, 0, 5, 0, 0};  /* dropped */
-    static const float k[6 * 3] = {
-        4, 4, 0, 3, 3, 0, 2, 0, 0, /* entry 2 carries no green, none of the three blue */
-        1, 1, 1, 0.5f, 0.5f, 0, 0.25f, 0.125f, 0,
+    static const float at[7 * 3] = {0, 0, 0, 10, 0, 0, 20, 0, 0,            /* kept */
+                                    9, 0, 0, 16, 0, 0, 5, 0, 0, 19, 0, 0}; /* dropped */
+    static const float k[7 * 3] = {
+        4, 4, 0.1f, 3, 3, 0, 2, 0, 0, /* entry 2 carries no green, entry 0 a little blue */
+        1, 1, 1, 0.5f, 0.5f, 0, 0.25f, 0.125f, 0, 2.5f, 0, 0,
     };
     float out[9];
-    samfile_fold_row(at, 3, k, 6, 3, out);
-    /* Red: 9 and 5 go to 10 (5 ties with 0 and goes to the better entry
-     * 0), 16 to 20. Green: 16 has no green kept at 20, so 10 takes it.
-     * Blue: no kept entry carries it. */
-    const float want[9] = {4 + 0.25f, 4 + 0.125f, 0, 3 + 1, 3 + 1 + 0.5f, 0, 2 + 0.5f, 0, 0};
+    samfile_fold_row(at, 3, k, 7, 3, out);
+    /* Red: 9 goes to 10, 16 to 20, 5 ties between 0 and 10 and goes to the
+     * better entry 0, and 19's 2.5 outweighs 20's 2, so 10 takes it.
+     * Green: 20 has none, so 10 takes 16's. Blue: entry 0 does not
+     * outweigh 9's, which is shared as the kept blue is: all to entry 0. */
+    const float want[9] = {4 + 0.25f, 4 + 0.125f, 1.1f, 3 + 1 + 2.5f, 3 + 1 + 0.5f, 0, 2 + 0.5f, 0, 0};
     for (int i = 0; i < 9; ++i) {
         printf("out[%d] = %g, want %g\n", i, (double)out[i], (double)want[i]);
-        assert_true(out[i] == want[i]);
+        assert_true(fabsf(out[i] - want[i]) <= 1e-6f * want[i]);
     }
     /* Keeping the whole row copies it. */
-    float whole[18];
-    samfile_fold_row(at, 3, k, 6, 6, whole);
+    float whole[21];
+    samfile_fold_row(at, 3, k, 7, 7, whole);
     assert_memory_equal(whole, k, sizeof whole);
+}
+
+static void unit_of(void *user, uint32_t id, float out[3])
+{
+    (void)id;
+    out[0] = out[1] = out[2] = *(const float *)user;
+}
+
+/* Two vertices of areas 1 and 3 under one node: they merge into it with
+ * tau = 1/4 - K_0 / (K_0 + K_1), unless the node's unit K cannot hold
+ * their K. */
+static void test_siblings_merge_where_their_parent_holds_them(void **state)
+{
+    (void)state;
+    static const uint32_t parent[3] = {2, 2, PAD}, children[2] = {0, 1};
+    static const float area[3] = {1, 3, 4};
+    for (int tiny = 0; tiny < 2; ++tiny) {
+        uint32_t id[2] = {0, 1};
+        float k[6] = {2, 2, 2, 1, 1, 1}, tau[2] = {0, 0}, unit = tiny ? 0.5f * SAMFILE_MIN_UNIT_K : 0.25f;
+        const uint32_t left = samfile_merge_siblings(parent, children, 2, area, 1, unit_of, &unit, id, k, tau, 2, 1);
+        printf("unit %g: %u entries, id %u, K %g, tau %g\n", (double)unit, left, id[0], (double)k[0], (double)tau[0]);
+        if (tiny) {
+            assert_int_equal(left, 2);
+            assert_int_equal(id[0], 0);
+            assert_int_equal(id[1], 1);
+            assert_true(k[0] == 2 && k[3] == 1);
+        } else {
+            assert_int_equal(left, 1);
+            assert_int_equal(id[0], 2);
+            assert_true(k[0] == 3 && k[1] == 3 && k[2] == 3);
+            assert_true(fabsf(tau[0] - (0.25f - 2.0f / 3.0f)) < 1e-6f);
+        }
+    }
 }
 
 static void test_fit_rejects_bad_arguments(void **state)
@@ -213,6 +248,7 @@ int main(void)
         cmocka_unit_test(test_rows_keep_their_whole_k_and_merge_siblings_exactly),
         cmocka_unit_test(test_fitting_the_whole_row_changes_nothing),
         cmocka_unit_test(test_fold_hands_each_dropped_k_to_the_nearest_kept_entry),
+        cmocka_unit_test(test_siblings_merge_where_their_parent_holds_them),
         cmocka_unit_test(test_fit_rejects_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -693,6 +693,26 @@ static sam_status fit_links_create(const sam_build_context *ctx, const sam_build
     return SAM_OK;
 }
 
+/* Receiver o of a cut being fitted, for unit_k. */
+typedef struct fit_receiver {
+    const sam_build_context *ctx;
+    const sam_build_tree *tree;
+    uint32_t o;
+} fit_receiver;
+
+/* F'_b R_d(|v_b - v|) of sample index id (topo vertex or n + node) for
+ * the receiver: what one unit of K' gives at rest (eq. 15). */
+static void unit_k(void *user, uint32_t id, float out[3])
+{
+    const fit_receiver *r = user;
+    const uint32_t n = r->ctx->mesh->topo_count;
+    const float *q = id < n ? r->ctx->pos + 3 * (size_t)id : r->tree->node[id - n].centroid;
+    const float area = id < n ? r->ctx->fan_area[id] : r->tree->node[id - n].area;
+    sam_profile_eval(r->ctx->profile, sam_build_distance(r->ctx->pos + 3 * (size_t)r->o, q), out);
+    for (int c = 0; c < 3; ++c)
+        out[c] *= area;
+}
+
 /* Vertex o's cut into its result row; `links` NULL when the budget is N.
  * Returns the entries classified. */
 static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *tree, const fit_links *links,
@@ -752,8 +772,10 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         tau[c] = e[c].tau;
         memcpy(k + 3 * c, e[c].k, 3 * sizeof *k);
     }
+    fit_receiver receiver = {ctx, tree, o};
     if (links && left > stored)
-        left = samfile_merge_siblings(links->parent, r->node_children, n, links->area, 1, id, k, tau, left, stored);
+        left = samfile_merge_siblings(links->parent, r->node_children, n, links->area, 1, unit_k, &receiver, id, k, tau,
+                                      left, stored);
     for (uint32_t c = 0; c < left; ++c)
         memcpy(at + 3 * c, id[c] < n ? ctx->pos + 3 * (size_t)id[c] : tree->node[id[c] - n].centroid,
                3 * sizeof *at);

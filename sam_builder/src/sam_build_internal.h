@@ -299,7 +299,7 @@ int sam_build_thread_count(const sam_build_context *ctx);
 
 /* The smallest F' R_d (eq. 15's denominator) that holds a K': below it
  * sam_build_kprime gives K' = 1 and that channel's K is lost. */
-#define SAM_BUILD_KPRIME_MIN_DENOM 1e-30f
+#define SAM_BUILD_KPRIME_MIN_DENOM SAMFILE_MIN_UNIT_K
 
 /* K' of eq. 15 for a sample of K `k` at `distance` mm from the receiver,
  * standing for `area` mm^2: against the exact profile, which is what the

@@ -180,15 +180,27 @@ void samfile_sample_k(const samfile_data *data, const float *points, size_t stri
 /*
  * One row's K (RGB, `k_rgb`: 3 * count floats; entries best first) fitted
  * to its first `kept` entries: each entry past them hands its K, channel by
- * channel, to the kept entry nearest it that carries some of that channel
- * (`points`: entry i's position at points + i * stride, 3 floats; ties go
- * to the better entry), so the dropped light is read where it comes from;
- * a channel no kept entry carries is left out. Writes 3 * kept floats to
- * `out_rgb` (caller owned, may not alias k_rgb). kept <= count <=
- * SAMFILE_MAX_SAMPLES_PER_VERTEX; kept == count copies the row.
+ * channel, to the nearest kept entry that carries at least as much of that
+ * channel (`points`: entry i's position at points + i * stride, 3 floats;
+ * ties go to the better entry), so the dropped light is read near where
+ * it comes from; what no kept entry outweighs is shared among the kept in
+ * proportion to their K, and a channel no kept entry carries is left out.
+ * So no entry's K grows past its own times (1 + count - kept) plus that
+ * share. Writes 3 * kept floats to `out_rgb` (caller owned, may not alias
+ * k_rgb). kept <= count <= SAMFILE_MAX_SAMPLES_PER_VERTEX; kept == count
+ * copies the row.
  */
 void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, uint32_t count, uint32_t kept,
                       float *out_rgb);
+
+/* The smallest K at rest per unit of K' (F'_b R_d, eq. 15) that holds a
+ * K': below it a channel's K' is 1, its far-field limit, and that channel's
+ * sliver of K is lost (the builder's rule too). */
+#define SAMFILE_MIN_UNIT_K 1e-30f
+
+/* The K at rest per unit of K' (F'_b R_d(|v_b - v|), RGB) of sample index
+ * `id` in the row being fitted. */
+typedef void (*samfile_unit_k_fn)(void *user, uint32_t id, float out[3]);
 
 /*
  * One row's entries (`count` of them: sample indices `id`, RGB K `k_rgb`
@@ -198,18 +210,20 @@ void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, ui
  * + a_1) - K_0 / (K_0 + K_1) (areas a, K summed over channels) that is the
  * two children's K-weighted L_d exactly, where neither had a tau of its
  * own. So the pairs merged first are those whose own taus weigh least (K
- * times |tau|), then the dimmest. `parent`: per sample index (vertex_count
- * + nodes), the sample index of the node it is a child of, or
- * SAMFILE_NO_SAMPLE; `children`: 2 per node, as samfile_data's
- * node_children; `area`: sample index i's area at area[i * stride], as
- * samfile_sample_points' records hold it. Rewrites the arrays in place,
- * a merged pair at its first entry's place and the rest in their order
- * (a best-first row stays best first, near enough), and returns the
- * entries left (>= keep unless no siblings were left).
+ * times |tau|), then the dimmest. A pair is left as it is where its
+ * parent's `unit_k` (called with `user`) is at most SAMFILE_MIN_UNIT_K in
+ * a channel the pair carries: its K' would leave float's range. `parent`:
+ * per sample index (vertex_count + nodes), the sample index of the node
+ * it is a child of, or SAMFILE_NO_SAMPLE; `children`: 2 per node, as
+ * samfile_data's node_children; `area`: sample index i's area at area[i *
+ * stride], as samfile_sample_points' records hold it. Rewrites the arrays
+ * in place, a merged pair at its first entry's place and the rest in
+ * their order (a best-first row stays best first, near enough), and
+ * returns the entries left (>= keep unless no mergeable siblings were left).
  */
 uint32_t samfile_merge_siblings(const uint32_t *parent, const uint32_t *children, uint32_t vertex_count,
-                                const float *area, size_t stride, uint32_t *id, float *k_rgb, float *tau,
-                                uint32_t count, uint32_t keep);
+                                const float *area, size_t stride, samfile_unit_k_fn unit_k, void *user, uint32_t *id,
+                                float *k_rgb, float *tau, uint32_t count, uint32_t keep);
 
 /*
  * Every row of `data` (as samfile_validate accepts it, which a read's

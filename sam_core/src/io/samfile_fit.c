@@ -16,18 +16,24 @@ void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, ui
                       float *out_rgb)
 {
     /* Sums in double: a row's tail can be many small parts of one kept K. */
-    double sum[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
-    for (uint32_t j = 0; j < 3 * kept; ++j)
+    double sum[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], left[3] = {0, 0, 0}, held[3] = {0, 0, 0};
+    for (uint32_t j = 0; j < 3 * kept; ++j) {
         sum[j] = k_rgb[j];
+        held[j % 3] += k_rgb[j];
+    }
     for (uint32_t i = kept; i < count; ++i) {
         const float *p = points + (size_t)i * stride;
         for (int c = 0; c < 3; ++c) {
-            if (!(k_rgb[3 * i + c] > 0))
+            const float ki = k_rgb[3 * i + c];
+            if (!(ki > 0))
                 continue;
+            /* Only a sample that outweighs it takes it: one that carries
+             * next to none of a channel (skin's blue, far off) would need
+             * a K' past float's range, and would swing with the pose. */
             uint32_t to = kept;
             float best = FLT_MAX;
             for (uint32_t j = 0; j < kept; ++j) {
-                if (!(k_rgb[3 * j + c] > 0))
+                if (!(k_rgb[3 * j + c] >= ki))
                     continue;
                 const float d = distance2(p, points + (size_t)j * stride);
                 if (to == kept || d < best) {
@@ -36,11 +42,16 @@ void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, ui
                 }
             }
             if (to < kept)
-                sum[3 * to + c] += k_rgb[3 * i + c];
+                sum[3 * to + c] += ki;
+            else
+                left[c] += ki;
         }
     }
-    for (uint32_t j = 0; j < 3 * kept; ++j)
-        out_rgb[j] = (float)fmin(sum[j], FLT_MAX);
+    /* What no kept sample outweighs is shared as the row's K is. */
+    for (uint32_t j = 0; j < 3 * kept; ++j) {
+        const int c = (int)(j % 3);
+        out_rgb[j] = (float)fmin(sum[j] + (held[c] > 0 ? k_rgb[j] * (left[c] / held[c]) : 0.0), FLT_MAX);
+    }
 }
 
 static float k_sum(const float *k)
@@ -48,16 +59,31 @@ static float k_sum(const float *k)
     return k[0] + k[1] + k[2];
 }
 
-uint32_t samfile_merge_siblings(const uint32_t *parent, const uint32_t *children, uint32_t vertex_count,
-                                const float *area, size_t stride, uint32_t *id, float *k_rgb, float *tau,
-                                uint32_t count, uint32_t keep)
+/* Whether a node's unit K (per K') holds each channel of K `k`. */
+static int holds(const float unit[3], const float k[3])
 {
+    for (int c = 0; c < 3; ++c)
+        if (k[c] > 0 && !(unit[c] > SAMFILE_MIN_UNIT_K))
+            return 0;
+    return 1;
+}
+
+uint32_t samfile_merge_siblings(const uint32_t *parent, const uint32_t *children, uint32_t vertex_count,
+                                const float *area, size_t stride, samfile_unit_k_fn unit_k, void *user, uint32_t *id,
+                                float *k_rgb, float *tau, uint32_t count, uint32_t keep)
+{
+    /* Pairs whose parent cannot hold their K are skipped, not retried:
+     * their slots stay as they are. */
+    uint32_t refused[SAMFILE_MAX_SAMPLES_PER_VERTEX], refused_count = 0;
     while (count > keep) {
         uint32_t bi = count, bj = count;
         float best_lost = 0, best_k = 0;
         for (uint32_t i = 0; i < count; ++i) {
             const uint32_t p = parent[id[i]];
-            if (p == SAMFILE_NO_SAMPLE)
+            int skip = p == SAMFILE_NO_SAMPLE;
+            for (uint32_t r = 0; r < refused_count && !skip; ++r)
+                skip = refused[r] == p;
+            if (skip)
                 continue;
             for (uint32_t j = i + 1; j < count; ++j) {
                 if (parent[id[j]] != p)
@@ -74,6 +100,14 @@ uint32_t samfile_merge_siblings(const uint32_t *parent, const uint32_t *children
         }
         if (bi == count)
             break;
+        float unit[3], sum[3];
+        unit_k(user, parent[id[bi]], unit);
+        for (int c = 0; c < 3; ++c)
+            sum[c] = k_rgb[3 * bi + c] + k_rgb[3 * bj + c];
+        if (!holds(unit, sum)) {
+            refused[refused_count++] = parent[id[bi]];
+            continue;
+        }
         const uint32_t p = parent[id[bi]], first = children[2 * (size_t)(p - vertex_count)] == id[bi] ? bi : bj;
         const float a0 = area[stride * id[first]], a1 = area[stride * id[first == bi ? bj : bi]], w = a0 + a1;
         const float fa = w > 0 ? a0 / w : 0.5f, k0 = k_sum(k_rgb + 3 * first);
@@ -89,13 +123,21 @@ uint32_t samfile_merge_siblings(const uint32_t *parent, const uint32_t *children
     return count;
 }
 
-/* The K at rest of one unit of K' for sample index `id` in vertex v's row
- * (eq. 15, as samfile_sample_k reads it). */
-static void unit_k(const float *points, uint32_t v, uint32_t id, const sam_profile *profile, float mm_per_unit,
-                   float out[3])
+/* Vertex v's row of a fit, for unit_k. */
+typedef struct fit_receiver {
+    const float *points;
+    uint32_t v;
+    const sam_profile *profile;
+    float mm_per_unit;
+} fit_receiver;
+
+/* The K at rest of one unit of K' for sample index `id` in the receiver's
+ * row (eq. 15, as samfile_sample_k reads it). */
+static void unit_k(void *user, uint32_t id, float out[3])
 {
-    const float *p = points + 4 * (size_t)v, *q = points + 4 * (size_t)id;
-    sam_profile_eval(profile, mm_per_unit * sqrtf(distance2(p, q)), out);
+    const fit_receiver *r = user;
+    const float *p = r->points + 4 * (size_t)r->v, *q = r->points + 4 * (size_t)id;
+    sam_profile_eval(r->profile, r->mm_per_unit * sqrtf(distance2(p, q)), out);
     for (int c = 0; c < 3; ++c)
         out[c] *= q[3];
 }
@@ -115,9 +157,10 @@ static void fit_row(const samfile_data *d, const float *points, const uint32_t *
         t[s] = d->node_count ? d->sample_tau[v * n + s] : 0.0f;
         samfile_sample_k(d, points, 4, v, s, profile, mm_per_unit, k + 3 * s);
     }
+    fit_receiver receiver = {points, v, profile, mm_per_unit};
     if (parent)
-        count = samfile_merge_siblings(parent, d->node_children, d->vertex_count, points + 3, 4, id, k, t, count,
-                                       samples);
+        count = samfile_merge_siblings(parent, d->node_children, d->vertex_count, points + 3, 4, unit_k, &receiver, id,
+                                       k, t, count, samples);
     float at[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
     for (uint32_t s = 0; s < count; ++s)
         memcpy(at + 3 * s, points + 4 * (size_t)id[s], 3 * sizeof *at);
@@ -133,12 +176,12 @@ static void fit_row(const samfile_data *d, const float *points, const uint32_t *
             continue;
         }
         float unit[3];
-        unit_k(points, v, id[s], profile, mm_per_unit, unit);
+        unit_k(&receiver, id[s], unit);
         index[to] = id[s];
         if (tau)
             tau[to] = t[s];
         for (int c = 0; c < 3; ++c)
-            kprime[3 * to + c] = unit[c] > 0 ? (float)fmin((double)folded[3 * s + c] / unit[c], FLT_MAX) : 0.0f;
+            kprime[3 * to + c] = unit[c] > SAMFILE_MIN_UNIT_K ? folded[3 * s + c] / unit[c] : 1.0f;
     }
 }
 
