@@ -98,6 +98,9 @@ static void map_translucency(const sam_scene *scene, const sam_mesh *mesh, sam_b
     sam_build_default_settings(&settings);
     settings.map = map;
     settings.samples_per_vertex = (uint32_t)n;
+    /* A cut of N entries, not N of the default budget's: the study is how
+     * a cut nears the limit as it is refined. */
+    settings.cut_budget = (uint32_t)n;
     samfile_data sam;
     sam_runtime *rt;
     float sh[9][3];

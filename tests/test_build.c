@@ -892,18 +892,22 @@ static void test_settings_and_cancel(void **state)
     assert_non_null(strstr(err.message, "1..64 (0: default), got 65"));
     s.samples_per_vertex = 64;
     assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_OK);
-    /* A cut's budget: at least N, at most 64. */
+    /* A cut's budget: at least N, at most 64; by default at least 32. */
     s.samples_per_vertex = 16;
     s.cut_budget = 8;
     assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_ERR_INVALID_ARGUMENT);
-    assert_non_null(strstr(err.message, "cut budget must be 0 (the samples per vertex) or in 16..64"));
+    assert_non_null(
+        strstr(err.message, "cut budget must be 0 (the larger of the samples per vertex and 32) or in 16..64"));
     s.cut_budget = 65;
     assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_ERR_INVALID_ARGUMENT);
     s.cut_budget = 32;
     assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_OK);
     assert_int_equal(sam_build_cut_budget(&s), 32);
     s.cut_budget = 0;
-    assert_int_equal(sam_build_cut_budget(&s), 16);
+    assert_int_equal(sam_build_cut_budget(&s), 32);
+    s.samples_per_vertex = 48;
+    assert_int_equal(sam_build_cut_budget(&s), 48);
+    s.samples_per_vertex = 16;
     s.samples_per_vertex = 64;
     s.candidates = 10;
     assert_int_equal(sam_build_check_settings(&s, 1.0f, &err), SAM_ERR_INVALID_ARGUMENT);

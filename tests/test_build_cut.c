@@ -58,10 +58,11 @@ static void build_cut_of(cut_fixture *f, const char *shape, int resolution, doub
     assert_int_equal(f->r.node_count, f->mesh.topo_count - 1);
 }
 
+/* A cut of `budget` entries, all stored. */
 static void build_cut(cut_fixture *f, const char *shape, int resolution, double size, double thickness,
                       const char *material, float mm_per_unit, uint32_t budget, int threads)
 {
-    build_cut_of(f, shape, resolution, size, thickness, material, mm_per_unit, budget, 0, threads);
+    build_cut_of(f, shape, resolution, size, thickness, material, mm_per_unit, budget, budget, threads);
 }
 
 static void destroy_cut(cut_fixture *f)
@@ -550,12 +551,12 @@ static void test_samples_hold_the_cut_total(void **state)
  * small ear), a row is those vertices: no tree node, each vertex once,
  * each with K, and together they carry the cut's whole total. Where they
  * do not (marble, whose light comes from far across a slab), the row is a
- * cut through the tree. */
+ * cut through the tree. Both stored whole, at the default budget. */
 static void test_rows_list_vertices_where_they_hold_the_light(void **state)
 {
     (void)state;
     cut_fixture f;
-    build_cut(&f, "ear", 24, 0, 0, "skin", 60.0f, 0, 0);
+    build_cut(&f, "ear", 24, 0, 0, "skin", 60.0f, SAM_BUILD_CUT_DEFAULT_BUDGET, 0);
     const uint32_t n = f.mesh.topo_count, b = f.r.samples_per_vertex;
     assert_true(sam_test_node_share(f.r.sample, n, b, n) == 0.0);
     uint32_t rows = 0;
@@ -578,7 +579,7 @@ static void test_rows_list_vertices_where_they_hold_the_light(void **state)
     printf("skin ear: %u of %u rows hold light, every one of them vertices only\n", rows, n);
     assert_true(rows > n / 2);
     destroy_cut(&f);
-    build_cut(&f, "slab", 40, 2.0, 0.05, "marble", 50.0f, 0, 0);
+    build_cut(&f, "slab", 40, 2.0, 0.05, "marble", 50.0f, SAM_BUILD_CUT_DEFAULT_BUDGET, 0);
     const double share = sam_test_node_share(f.r.sample, f.mesh.topo_count, f.r.samples_per_vertex, f.mesh.topo_count);
     printf("marble slab, 2.5 mm: %.1f%% of the samples are tree nodes\n", 100.0 * share);
     assert_true(share > 0.5);

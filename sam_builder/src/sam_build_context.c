@@ -42,7 +42,8 @@ uint32_t sam_build_samples(const sam_build_settings *s)
 
 uint32_t sam_build_cut_budget(const sam_build_settings *s)
 {
-    return s->cut_budget ? s->cut_budget : sam_build_samples(s);
+    const uint32_t n = sam_build_samples(s);
+    return s->cut_budget ? s->cut_budget : n > SAM_BUILD_CUT_DEFAULT_BUDGET ? n : SAM_BUILD_CUT_DEFAULT_BUDGET;
 }
 
 sam_status sam_build_check_settings(const sam_build_settings *s, float mm_per_unit, sam_error *err)
@@ -58,8 +59,9 @@ sam_status sam_build_check_settings(const sam_build_settings *s, float mm_per_un
                         (int)s->map);
     if (s->cut_budget && (s->cut_budget < sam_build_samples(s) || s->cut_budget > SAMFILE_MAX_SAMPLES_PER_VERTEX))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
-                        "cut budget must be 0 (the samples per vertex) or in %u..%d (at least the samples per "
-                        "vertex), got %u",
+                        "cut budget must be 0 (the larger of the samples per vertex and %u) or in %u..%d (at "
+                        "least the samples per vertex), got %u",
+                        SAM_BUILD_CUT_DEFAULT_BUDGET,
                         sam_build_samples(s), SAMFILE_MAX_SAMPLES_PER_VERTEX, s->cut_budget);
     if (!(s->cut_tolerance > 0 && s->cut_tolerance < 1))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "cut tolerance must be in (0, 1), got %g", s->cut_tolerance);

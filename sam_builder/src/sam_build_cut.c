@@ -361,7 +361,7 @@ static int cmp_entry(const void *pa, const void *pb)
  * its slots, a budget of 64 listed more of the environment-lit marble
  * slab's rows, folding a tenth of their light into vertices that do not
  * stand for it, and scored under 32 (docs/comparison.md). */
-#define LIST_JUDGED SAM_BUILD_CUT_DEFAULT_SAMPLES
+#define LIST_JUDGED SAM_BUILD_CUT_DEFAULT_BUDGET
 
 typedef struct listed {
     float estimate; /* F' x mean R_d */

@@ -31,7 +31,7 @@ static sam_status run_flat_scaled(const sam_build_context *ctx, sam_build_progre
     two.part = 1;
     /* The total from a generous cut, whatever N the flat map has. */
     sam_build_context generous = *ctx;
-    generous.settings.samples_per_vertex = 4 * SAM_BUILD_CUT_DEFAULT_SAMPLES;
+    generous.settings.samples_per_vertex = 4 * SAM_BUILD_CUT_DEFAULT_BUDGET;
     sam_build_result cut;
     if ((st = sam_build_run_cut(&generous, fn, &two, &cut, err)) != SAM_OK) {
         sam_build_result_destroy(result);

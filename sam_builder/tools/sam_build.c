@@ -47,8 +47,9 @@ static void usage(FILE *out)
             "  --flat-scaled       a baseline: the flat map with K scaled to the vertex's total transport\n"
             "  --cut-tolerance E   refine a cut while a node's R_d bound exceeds E of its total\n"
             "                      (default %g)\n"
-            "  --cut-budget B      cut B entries per vertex, N..64, and keep the best N, scaled to\n"
-            "                      carry the whole cut's transport (default N)\n"
+            "  --cut-budget B      cut B entries per vertex, N..64, and fit them to N: siblings merged\n"
+            "                      into their parent, the rest folded into the nearest kept (default:\n"
+            "                      the larger of N and %u)\n"
             "  --mc-samples M      Monte Carlo point pairs per form factor, 4..65536 (default %u)\n"
             "  --candidates C      flat maps: cheap-ranked candidates given Monte Carlo (default N+2)\n"
             "  --radius-tolerance E energy fraction of the profile left beyond the search radius\n"
@@ -63,10 +64,9 @@ static void usage(FILE *out)
             "\n"
             "examples:\n"
             "  sam_build meshes/ear.obj -o ear.sam --material skin --mm-per-unit 60\n"
-            "  sam_build head.ply -o head.sam --material skin --size-mm 250 --samples 16\n"
-            "  sam_build head.ply -o head16.sam --material skin --size-mm 250 --samples 16 --cut-budget 32\n"
+            "  sam_build head.ply -o head32.sam --material skin --size-mm 250 --samples 32\n"
             "  sam_build head.ply -o head_flat.sam --material skin --size-mm 250 --flat\n",
-            SAM_BUILD_CUT_DEFAULT_SAMPLES, SAM_BUILD_FLAT_DEFAULT_SAMPLES, d.cut_tolerance, d.mc_samples, d.radius_tolerance, (unsigned long long)d.seed);
+            SAM_BUILD_CUT_DEFAULT_SAMPLES, SAM_BUILD_FLAT_DEFAULT_SAMPLES, d.cut_tolerance, SAM_BUILD_CUT_DEFAULT_BUDGET, d.mc_samples, d.radius_tolerance, (unsigned long long)d.seed);
 }
 
 int main(int argc, char **argv)

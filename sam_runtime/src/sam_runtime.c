@@ -127,9 +127,9 @@ static void make_vertex_array(sam_runtime *rt, int has_uvs)
 
 /* `sam` as the GL can hold it: the per-sample buffers (12 bytes a slot:
  * the samples and their rest K) must each fit one storage block, which
- * llvmpipe and the GL minimum allow 128 MiB, about 350k vertices at the
- * default N = 32, and `max_bytes` where it is not 0. A larger map keeps
- * each row's best samples that fit, scaled to carry the row's whole K
+ * llvmpipe and the GL minimum allow 128 MiB, about 700k vertices at the
+ * default N = 16, and `max_bytes` where it is not 0. A larger map is
+ * fitted to the samples that fit, its rows carrying their whole K
  * (samfile_fit_samples), rather than not rendering: *fitted is `sam` with
  * its own sample arrays then (free them with free_fitted), else `sam`
  * itself. */

@@ -13,7 +13,7 @@ grep -q "wrote .*ear.sam" "$tmp/log.txt" || fail "no summary line: $(cat "$tmp/l
 grep -q "100%" "$tmp/log.txt" || fail "no progress: $(cat "$tmp/log.txt")"
 out=$("$bin/sam_info" "$tmp/ear.sam") || fail "sam_info rejects the build"
 grep -q "SAM v2" <<<"$out" || fail "the default map is not a cut map (version 2): $out"
-grep -q "samples per vertex: 32" <<<"$out" || fail "$out"
+grep -q "samples per vertex: 16" <<<"$out" || fail "$out"
 # --flat: the paper's map, version 1; --flat-scaled likewise; not both.
 "$bin/sam_build" "$tmp/ear.obj" -o "$tmp/flat.sam" --material skin --mm-per-unit 60 --flat --quiet 2>/dev/null \
   || fail "--flat"
@@ -59,7 +59,7 @@ expect_error 2 "samples 0" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm
 expect_error 2 "samples 65" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 65
 expect_error 2 "cut budget under N" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 16 \
   --cut-budget 8
-grep -q "cut budget must be 0 (the samples per vertex) or in 16..64" "$tmp/err.txt" \
+grep -q "cut budget must be 0 (the larger of the samples per vertex and 32) or in 16..64" "$tmp/err.txt" \
   || fail "cut budget under N: $(cat "$tmp/err.txt")"
 expect_error 1 "no triangles" "$tmp/nofaces.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1
 expect_error 1 "missing mesh" "$tmp/none.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1

@@ -67,10 +67,12 @@ extern "C" {
  * node partly behind its receiver with more members than are asked one by
  * one first goes down towards where its light comes from; 1.9: the cut
  * map asks eq. 13-14 of its members' fans, not their vertices, and counts
- * a fan partly behind the receiver by its pairs of points), and the
+ * a fan partly behind the receiver by its pairs of points; 1.10: a cut
+ * map stores 16 of a 32-entry cut by default, a budget above N fitted by
+ * merging siblings and folding the rest into the nearest kept), and the
  * tools' map cache keys on it, so that no cached map outlives the builder
  * that made it. */
-#define SAM_BUILD_VERSION "1.9"
+#define SAM_BUILD_VERSION "1.10"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
@@ -83,13 +85,14 @@ typedef enum sam_build_map {
 
 typedef struct sam_build_settings {
     sam_build_map map;           /* default SAM_BUILD_MAP_CUT */
-    uint32_t samples_per_vertex; /* N, 0..64: samples stored per vertex, the cut's budget of nodes in a cut
-                                  * map; 0 (default) = the map's default: 32 for a cut, 3 for a flat map */
+    uint32_t samples_per_vertex; /* N, 0..64: samples stored per vertex; 0 (default) = the map's default:
+                                  * 16 for a cut, 3 for a flat map */
     float cut_tolerance;         /* cut map: refine while a node's R_d bound exceeds this fraction of the
                                   * vertex's total, in (0, 1) (default 0.01) */
-    uint32_t cut_budget;         /* cut map: entries of a vertex's cut, N..64, of which the best N are
-                                  * stored, their K scaled per channel so that they carry the whole
-                                  * cut's (samfile_fit_samples); 0 (default) = N. Ignored by flat maps */
+    uint32_t cut_budget;         /* cut map: entries of a vertex's cut, N..64, fitted to the N stored as
+                                  * samfile_fit_samples fits a map (siblings merged into their parent, the
+                                  * rest folded into the kept sample nearest them); 0 (default) = the
+                                  * larger of N and SAM_BUILD_CUT_DEFAULT_BUDGET. Ignored by flat maps */
     uint32_t mc_samples;         /* Monte Carlo point pairs per form factor, 4..65536 (default 64) */
     uint32_t candidates;         /* flat maps: cheap-ranked candidates that get Monte Carlo, >= N (0: N + 2) */
     float radius_tolerance;      /* energy fraction of R_d left beyond the search radius (default 1e-4) */
@@ -139,7 +142,11 @@ typedef struct sam_build_result {
  * areas, fan sampling tables and an R_d lookup table. Opaque. */
 typedef struct sam_build_context sam_build_context;
 
-#define SAM_BUILD_CUT_DEFAULT_SAMPLES 32u
+#define SAM_BUILD_CUT_DEFAULT_SAMPLES 16u
+/* A cut map is cut at least this fine, whatever N it stores: 16 of a
+ * 32-entry cut score within about 0.3 dB of all 32 on most scenes, where a
+ * 16-entry cut loses 1.7 to 4.1 dB (docs/comparison.md). */
+#define SAM_BUILD_CUT_DEFAULT_BUDGET 32u
 #define SAM_BUILD_FLAT_DEFAULT_SAMPLES 3u
 
 /* Fills the defaults documented on sam_build_settings. */
@@ -151,7 +158,8 @@ const char *sam_build_map_name(sam_build_map map);
 
 /* N for `settings`: samples_per_vertex, or the map's default when it is 0. */
 uint32_t sam_build_samples(const sam_build_settings *settings);
-/* A cut map's entries per vertex for `settings`: cut_budget, or N when it is 0. */
+/* A cut map's entries per vertex for `settings`: cut_budget, or when it is
+ * 0 the larger of N and SAM_BUILD_CUT_DEFAULT_BUDGET. */
 uint32_t sam_build_cut_budget(const sam_build_settings *settings);
 
 /* Checks settings and scale. Errors: SAM_ERR_INVALID_ARGUMENT naming the

@@ -128,15 +128,16 @@ sam_status sam_runtime_create(const samfile_data *sam, const sam_profile *profil
 /* sam_runtime_create with the map's per-sample buffers held to at most
  * `max_sample_bytes` each (0: no limit but the GL's). Each sample takes 12
  * bytes of the two largest (its index and K', and its K at rest). Where a
- * map's N samples per vertex do not fit, every row keeps its best M that
+ * map's N samples per vertex do not fit, every row is fitted to the M that
  * do (M = max_sample_bytes / (12 vertex_count), or the same of the GL's
- * storage block limit, whichever is smaller), their K' scaled so that the
- * row carries its whole K at rest (samfile_fit_samples): translucency
+ * storage block limit, whichever is smaller; samfile_fit_samples: sibling
+ * samples merged into their parent node, the rest folded into the kept
+ * sample nearest them), and carries its whole K at rest: translucency
  * under light that is even across a row's back side is unchanged, and
- * elsewhere the dropped samples' light is read at the kept ones' L_d.
+ * elsewhere the dropped samples' light is read near where it comes from.
  * sam_runtime_create does this with the GL's limit alone, so a map too
  * large for a GL's storage blocks (128 MiB on llvmpipe and the GL minimum:
- * about 350k vertices at N = 32) still renders; sam_runtime_samples_per_vertex
+ * about 350k vertices at N = 32, 700k at 16) still renders; sam_runtime_samples_per_vertex
  * against sam_runtime_file_samples_per_vertex tells. Errors: those of
  * sam_runtime_create, and SAM_ERR_UNSUPPORTED where not one sample per
  * vertex fits. */
