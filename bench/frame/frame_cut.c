@@ -121,9 +121,10 @@ static void skip_knot(cut_summary *sum, uint32_t nv)
     sum->unbuilt++;
 }
 
-/* The samples per vertex the cut map is fitted to beside it: what
- * `sam_build --samples 16 --cut-budget 32` stores. */
-#define CUT_FITTED_SAMPLES 16u
+/* The samples per vertex the default cut map is fitted to beside it, half
+ * its own: what `sam_build --samples 8` stores, for an engine that wants
+ * a lighter frame still. */
+#define CUT_FITTED_SAMPLES (SAM_BUILD_CUT_DEFAULT_SAMPLES / 2)
 
 /* The default cut map (its default N) against the flat map (N = 3) on
  * `mesh` (destroyed here) in skin at `mm_per_unit`, side by side (frame_median_ms_side_by_side):
@@ -312,7 +313,7 @@ static void cut_verdicts(const cut_summary *sum, const char *meshes, const char 
         {CUT_ANIMATED_GPU, "animated_gpu_ratio_worst",
          "animated frame's deform + walk + irradiance + node + translucency (GL timer queries)"},
         {CUT_TRANSLUCENCY_FITTED, "fitted_translucency_ratio_worst",
-         "the cut map fitted to its best 16 (--samples 16 --cut-budget 32): node + translucency pass / "
+         "the cut map fitted to 8 of its 16 (--samples 8): node + translucency pass / "
          "translucency pass with K evaluated per sample (wall)"},
     };
     for (size_t i = 0; i < sizeof lines / sizeof *lines; ++i) {
@@ -349,7 +350,7 @@ void frame_cut_section(const frame_config *cfg, const sam_profile *skin, const c
            "translucency)\n",
            cut_n, sam_build_samples(&defaults), cfg->pass_runs);
     printf("%9s %10s %8s %15s %13s %13s %13s %7s %7s %13s %7s %13s %13s %7s\n", "vertices", "cut build", "flat",
-           "filled cut/flat", "cut transl.", "flat eval.", "flat cached", "/eval.", "/cached", "16 of 32", "/eval.",
+           "filled cut/flat", "cut transl.", "flat eval.", "flat cached", "/eval.", "/cached", "8 of 32", "/eval.",
            "cut frame", "flat frame", "ratio");
     fprintf(json, "  \"cut_against_flat\": {\n    \"build_limit_s\": %g, \"runs\": %d, \"knots\": [\n", limit_s,
             cfg->pass_runs);
