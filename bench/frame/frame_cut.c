@@ -350,7 +350,7 @@ void frame_cut_section(const frame_config *cfg, const sam_profile *skin, const c
            "translucency)\n",
            cut_n, sam_build_samples(&defaults), cfg->pass_runs);
     printf("%9s %10s %8s %15s %13s %13s %13s %7s %7s %13s %7s %13s %13s %7s\n", "vertices", "cut build", "flat",
-           "filled cut/flat", "cut transl.", "flat eval.", "flat cached", "/eval.", "/cached", "8 of 32", "/eval.",
+           "filled cut/flat", "cut transl.", "flat eval.", "flat cached", "/eval.", "/cached", "fit to 8", "/eval.",
            "cut frame", "flat frame", "ratio");
     fprintf(json, "  \"cut_against_flat\": {\n    \"build_limit_s\": %g, \"runs\": %d, \"knots\": [\n", limit_s,
             cfg->pass_runs);

@@ -126,10 +126,9 @@ static cut_kind classify(const sam_build_context *ctx, const sam_build_tree *tre
  * L_d that changes linearly along the split. */
 static float node_tau(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t j, const float k_centre[3])
 {
-    const uint32_t n = ctx->mesh->topo_count;
     const sam_build_node *node = &tree->node[j];
-    const float *c0 = node->child[0] < n ? ctx->pos + 3 * (size_t)node->child[0] : tree->node[node->child[0] - n].centroid;
-    const float *c1 = node->child[1] < n ? ctx->pos + 3 * (size_t)node->child[1] : tree->node[node->child[1] - n].centroid;
+    const float *c0 = sam_build_sample_point(ctx, tree, node->child[0]),
+                *c1 = sam_build_sample_point(ctx, tree, node->child[1]);
     double axis2 = 0, along = 0;
     for (int c = 0; c < 3; ++c) {
         double a = (double)c1[c] - c0[c];
@@ -147,10 +146,10 @@ static float node_tau(const sam_build_context *ctx, const sam_build_tree *tree, 
  * underflows, for which sam_build_kprime gives K' = 1. */
 static float kprime_loss(const sam_build_context *ctx, const float k[3], float area, float d)
 {
-    float rd[3], lost = 0.0f;
-    sam_profile_eval(ctx->profile, d, rd);
+    float unit[3], lost = 0.0f;
+    sam_build_unit_k(ctx, area, d, unit);
     for (int c = 0; c < 3; ++c)
-        if (!(area * rd[c] > SAM_BUILD_KPRIME_MIN_DENOM))
+        if (!(unit[c] > SAM_BUILD_KPRIME_MIN_DENOM))
             lost += k[c];
     return lost;
 }
@@ -686,7 +685,7 @@ static sam_status fit_links_create(const sam_build_context *ctx, const sam_build
     }
     for (size_t i = 0; i < all; ++i) {
         f->parent[i] = SAMFILE_NO_SAMPLE;
-        f->area[i] = i < n ? ctx->fan_area[i] : tree->node[i - n].area;
+        f->area[i] = sam_build_sample_area(ctx, tree, (uint32_t)i);
     }
     for (uint32_t j = 0; j < tree->node_count; ++j)
         f->parent[tree->node[j].child[0]] = f->parent[tree->node[j].child[1]] = (uint32_t)n + j;
@@ -705,12 +704,9 @@ typedef struct fit_receiver {
 static void unit_k(void *user, uint32_t id, float out[3])
 {
     const fit_receiver *r = user;
-    const uint32_t n = r->ctx->mesh->topo_count;
-    const float *q = id < n ? r->ctx->pos + 3 * (size_t)id : r->tree->node[id - n].centroid;
-    const float area = id < n ? r->ctx->fan_area[id] : r->tree->node[id - n].area;
-    sam_profile_eval(r->ctx->profile, sam_build_distance(r->ctx->pos + 3 * (size_t)r->o, q), out);
-    for (int c = 0; c < 3; ++c)
-        out[c] *= area;
+    sam_build_unit_k(r->ctx, sam_build_sample_area(r->ctx, r->tree, id),
+                     sam_build_distance(r->ctx->pos + 3 * (size_t)r->o, sam_build_sample_point(r->ctx, r->tree, id)),
+                     out);
 }
 
 /* Vertex o's cut into its result row; `links` NULL when the budget is N.
@@ -777,15 +773,14 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         left = samfile_merge_siblings(links->parent, r->node_children, n, links->area, 1, unit_k, &receiver, id, k, tau,
                                       left, stored);
     for (uint32_t c = 0; c < left; ++c)
-        memcpy(at + 3 * c, id[c] < n ? ctx->pos + 3 * (size_t)id[c] : tree->node[id[c] - n].centroid,
-               3 * sizeof *at);
+        memcpy(at + 3 * c, sam_build_sample_point(ctx, tree, id[c]), 3 * sizeof *at);
     const uint32_t out = left < stored ? left : stored;
     samfile_fold_row(at, 3, k, left, out, folded);
     const float *po = ctx->pos + 3 * (size_t)o;
     for (uint32_t c = 0, slot = 0; c < out; ++c) {
         if (!(k[3 * c] + k[3 * c + 1] + k[3 * c + 2] > 0))
             continue; /* no light through it: no slot (such entries come last) */
-        const float area = id[c] < n ? ctx->fan_area[id[c]] : tree->node[id[c] - n].area;
+        const float area = sam_build_sample_area(ctx, tree, id[c]);
         size_t to = (size_t)o * stored + slot++;
         r->sample[to] = id[c];
         r->tau[to] = tau[c];

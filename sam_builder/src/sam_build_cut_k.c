@@ -243,8 +243,8 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
     double rough[3] = {0, 0, 0}, rough_area = 0;
     for (uint32_t e = 0; e < count; ++e) {
         const uint32_t id = ids[e];
-        const float *q = id < n ? ctx->pos + 3 * (size_t)id : tree->node[id - n].centroid;
-        const float area = id < n ? ctx->fan_area[id] : tree->node[id - n].area;
+        const float *q = sam_build_sample_point(ctx, tree, id);
+        const float area = sam_build_sample_area(ctx, tree, id);
         float rd[4];
         sam_build_rd(ctx, sam_build_distance(p, q), rd);
         for (int ch = 0; ch < 3; ++ch)
@@ -295,7 +295,7 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
     for (uint32_t e = 0; e < count; ++e) {
         const k_sum *s = &scratch->sum[e];
         const double total = s->k[0] + s->k[1] + s->k[2];
-        const float *fallback = ids[e] < n ? ctx->pos + 3 * (size_t)ids[e] : tree->node[ids[e] - n].centroid;
+        const float *fallback = sam_build_sample_point(ctx, tree, ids[e]);
         double mean2 = 0;
         for (int ch = 0; ch < 3; ++ch) {
             k[3 * (size_t)e + ch] = (float)s->k[ch];

@@ -221,6 +221,22 @@ typedef struct sam_build_tree {
  * Deterministic. A mesh of one vertex gets no nodes.
  * Errors: SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_build_tree_create(const sam_build_context *ctx, sam_build_tree *tree, sam_error *err);
+
+/* Where sample index id (a topo vertex below topo_count, else topo_count +
+ * a node) stands, in mm, and the area it stands for: the vertex's
+ * position and fan area, or the node's centroid and area. */
+static inline const float *sam_build_sample_point(const sam_build_context *ctx, const sam_build_tree *tree,
+                                                  uint32_t id)
+{
+    const uint32_t n = ctx->mesh->topo_count;
+    return id < n ? ctx->pos + 3 * (size_t)id : tree->node[id - n].centroid;
+}
+
+static inline float sam_build_sample_area(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t id)
+{
+    const uint32_t n = ctx->mesh->topo_count;
+    return id < n ? ctx->fan_area[id] : tree->node[id - n].area;
+}
 void sam_build_tree_destroy(sam_build_tree *tree);
 
 /* Where a node lies for a receiver, its members' fans asked eq. 13-14
@@ -301,8 +317,13 @@ int sam_build_thread_count(const sam_build_context *ctx);
  * sam_build_kprime gives K' = 1 and that channel's K is lost. */
 #define SAM_BUILD_KPRIME_MIN_DENOM SAMFILE_MIN_UNIT_K
 
+/* The K at rest of one unit of K' (eq. 15's F' R_d) for a sample at
+ * `distance` mm from the receiver standing for `area` mm^2, against the
+ * exact profile. */
+void sam_build_unit_k(const sam_build_context *ctx, float area, float distance, float out[3]);
+
 /* K' of eq. 15 for a sample of K `k` at `distance` mm from the receiver,
- * standing for `area` mm^2: against the exact profile, which is what the
+ * standing for `area` mm^2: k over sam_build_unit_k, which is what the
  * runtime evaluates. */
 void sam_build_kprime(const sam_build_context *ctx, const float k[3], float area, float distance, float out[3]);
 

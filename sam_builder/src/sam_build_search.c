@@ -57,18 +57,23 @@ void sam_build_result_destroy(sam_build_result *r)
     memset(r, 0, sizeof *r);
 }
 
+void sam_build_unit_k(const sam_build_context *ctx, float area, float distance, float out[3])
+{
+    sam_profile_eval(ctx->profile, distance, out);
+    for (int c = 0; c < 3; ++c)
+        out[c] *= area;
+}
+
 void sam_build_kprime(const sam_build_context *ctx, const float k[3], float area, float distance, float out[3])
 {
-    float rd[3];
-    sam_profile_eval(ctx->profile, distance, rd);
-    for (int c = 0; c < 3; ++c) {
-        float denom = area * rd[c];
-        /* Where R_d underflows, K does too; K' = 1 is its far-field limit.
-         * A node's centroid can lie where one channel's R_d is denormal
-         * while a nearer member still carries a little K: the same limit
-         * keeps K' finite (and that channel's sliver of light is lost). */
-        out[c] = denom > SAM_BUILD_KPRIME_MIN_DENOM ? k[c] / denom : 1.0f;
-    }
+    float denom[3];
+    sam_build_unit_k(ctx, area, distance, denom);
+    /* Where R_d underflows, K does too; K' = 1 is its far-field limit.
+     * A node's centroid can lie where one channel's R_d is denormal
+     * while a nearer member still carries a little K: the same limit
+     * keeps K' finite (and that channel's sliver of light is lost). */
+    for (int c = 0; c < 3; ++c)
+        out[c] = denom[c] > SAM_BUILD_KPRIME_MIN_DENOM ? k[c] / denom[c] : 1.0f;
 }
 
 /* A scored candidate. Order: larger value first, then smaller index, so

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sam/samfile.h"
+#include "samfile_internal.h"
 
 static float distance2(const float *a, const float *b)
 {
@@ -136,10 +136,9 @@ typedef struct fit_receiver {
 static void unit_k(void *user, uint32_t id, float out[3])
 {
     const fit_receiver *r = user;
-    const float *p = r->points + 4 * (size_t)r->v, *q = r->points + 4 * (size_t)id;
-    sam_profile_eval(r->profile, r->mm_per_unit * sqrtf(distance2(p, q)), out);
+    const float area = samfile_sample_rd(r->points, 4, r->v, id, r->profile, r->mm_per_unit, out);
     for (int c = 0; c < 3; ++c)
-        out[c] *= q[3];
+        out[c] *= area;
 }
 
 /* Row v of `d` (`count` > `samples` entries) fitted to `samples`: siblings

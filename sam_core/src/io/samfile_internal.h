@@ -70,4 +70,10 @@ static inline size_t padding_of(uint64_t length)
  * from a file, SAM_ERR_INVALID_ARGUMENT when a caller built it. */
 sam_status samfile_check_data(const samfile_data *d, const char *name, sam_status bad, sam_error *err);
 
+/* R_d (RGB, into rd) between vertex v's record and sample index id's in
+ * samfile_sample_points' `points` (`stride` floats each), at mm_per_unit;
+ * returns the sample's area. Eq. 15's K is K' times area times rd. */
+float samfile_sample_rd(const float *points, size_t stride, uint32_t v, uint32_t id, const sam_profile *profile,
+                        float mm_per_unit, float rd[3]);
+
 #endif

@@ -2,18 +2,25 @@
  * a sample's K read from it (samfile_sample_k). */
 #include <math.h>
 
-#include "sam/samfile.h"
+#include "samfile_internal.h"
+
+float samfile_sample_rd(const float *points, size_t stride, uint32_t v, uint32_t id, const sam_profile *profile,
+                        float mm_per_unit, float rd[3])
+{
+    const float *p = points + stride * v, *q = points + stride * id;
+    const float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+    sam_profile_eval(profile, mm_per_unit * sqrtf(dx * dx + dy * dy + dz * dz), rd);
+    return q[3];
+}
 
 void samfile_sample_k(const samfile_data *d, const float *points, size_t stride, uint32_t v, uint32_t k,
                       const sam_profile *profile, float mm_per_unit, float k_rgb[3])
 {
     const size_t slot = (size_t)v * d->samples_per_vertex + k;
-    const float *p = points + stride * v, *q = points + stride * d->sample_index[slot];
-    const float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
     float rd[3];
-    sam_profile_eval(profile, mm_per_unit * sqrtf(dx * dx + dy * dy + dz * dz), rd);
+    const float area = samfile_sample_rd(points, stride, v, d->sample_index[slot], profile, mm_per_unit, rd);
     for (int c = 0; c < 3; ++c)
-        k_rgb[c] = d->sample_kprime[3 * slot + c] * q[3] * rd[c];
+        k_rgb[c] = d->sample_kprime[3 * slot + c] * area * rd[c];
 }
 
 sam_status samfile_sample_points(const samfile_data *d, const float *values, uint32_t channels, float *out,
