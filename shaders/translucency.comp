@@ -3,15 +3,16 @@
 // (eq. 17-18): T(v) = sum_k L_d(b_k) K_k, K_k = K'_k F'_b R_d(|v_b - v|)
 // (eq. 15); then T <- (1 - alpha) T_prev + alpha T. On a deformed pose K
 // is carried from rest by the fans' quadrature (fan_form_factor.glsl), and
-// a sample that has left the back side (eq. 13-14 fail at the pose)
-// contributes 0: its K would add light through the front. It stays stored,
-// so it counts again when the pose brings it back (walk.comp replaces it
-// when it can). A cut map's sample may be a tree node (index >=
-// u_vertex_count), read from the node pass's output as a vertex would be:
-// its centroid, area and L_d (moved by the sample's tau along the node's
-// split, towards where its light comes from); posed, its K is the rest K times
-// eq. 15's change from the rest centroid to the posed one, that change
-// held within [1/4, 4]. Eq. 15 alone multiplies K' by R_d at the posed
+// a vertex sample that has left the back side (eq. 13-14 fail at the pose
+// as the builder asked them, back_side.glsl) contributes 0: its K would
+// add light through the front. It stays stored, so it counts again when
+// the pose brings it back (walk.comp replaces it when it can). A cut
+// map's sample may be a tree node (index >= u_vertex_count), read from
+// the node pass's output as a vertex would be: its centroid, area and L_d
+// (moved by the sample's tau along the node's split, towards where its
+// light comes from); posed, its K is the rest K times eq. 15's change
+// from the rest centroid to the posed one, that change held within
+// [1/4, 4]. Eq. 15 alone multiplies K' by R_d at the posed
 // centroid; a node's K' is large when its centroid lies far out in R_d's
 // tail while its near members carry the light, and there a small move of
 // the centroid multiplied T a billionfold (a bent ear, tests/test_gl_walk.c).
@@ -47,15 +48,17 @@ layout(std430, binding = SAM_B_REST_NODES) readonly buffer RestNodes { Node rest
 #ifdef SAM_REST_K
 layout(std430, binding = SAM_B_REST_K) readonly buffer RestK { uint rest_k[]; }; // K, not K'
 #endif
-#if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
+#ifdef SAM_POSED
 layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
 layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
+#include "back_side.glsl"
 #endif
 
 uniform uint u_vertex_count;
 uniform uint u_samples;       // samples used, <= u_stride
 uniform float u_mm_per_unit;
 uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
+uniform uint u_cut_map;       // 1: the map holds tree nodes
 
 // Compiled three times for each sam_rest_k mode: the rest pose's program
 // (K by eq. 15, which is K itself there, or read from rest_k) and, with
@@ -88,14 +91,6 @@ vec3 sample_light(uint v, uint k, uint index)
     Node d = nodes[index - u_vertex_count];
     return max(d.ld.rgb + sample_tau[sample_slot(v, k, u_vertex_count)] * d.ld_diff.rgb, vec3(0.0));
 }
-
-#ifdef SAM_POSED
-// Eq. 13-14 at the pose for back-side vertex i at q, receiver at p with normal n.
-bool on_back_side(uint i, vec3 q, vec3 p, vec3 n)
-{
-    return dot(q - p, n) < 0.0 && dot(normals[i].xyz, n) < 0.0;
-}
-#endif
 
 void store(uint v, vec3 sum)
 {
@@ -179,7 +174,7 @@ void main()
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
             Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count));
             vec3 q = positions[s.index].xyz;
-            if (on_back_side(s.index, q, p, n))
+            if (sample_on_back_side(s.index, p, n, u_cut_map != 0u))
                 sum += irradiance[s.index].rgb * sample_k(s) * fan_area[s.index] *
                        profile_rd(u_mm_per_unit * distance(q, p));
         }
@@ -189,7 +184,7 @@ void main()
     // iterations, and llvmpipe ran both under a mask.
     for (uint bits = slots_low & QUADRATURE_MASK; bits != 0u; bits &= bits - 1u) {
         Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)), u_vertex_count));
-        if (on_back_side(s.index, positions[s.index].xyz, p, n))
+        if (sample_on_back_side(s.index, p, n, u_cut_map != 0u))
             sum += irradiance[s.index].rgb * posed_form_factor(v, s.index, sample_k(s));
     }
     for (uint w = 0u; w < 2u; ++w)
@@ -200,7 +195,7 @@ void main()
             // node's would (docs/deformation.md). Written out rather than
             // eq15_k, whose node branch this loop never needs.
             vec3 q = positions[s.index].xyz;
-            if (on_back_side(s.index, q, p, n))
+            if (sample_on_back_side(s.index, p, n, u_cut_map != 0u))
                 sum += irradiance[s.index].rgb * sample_k(s) * fan_area[s.index] *
                        profile_rd(u_mm_per_unit * distance(q, p));
         }

@@ -73,10 +73,6 @@ static int fixture_setup(void **state)
                          .triangle_count = s.triangle_count, .triangles = tri};
     sam_build_settings set;
     sam_build_default_settings(&set);
-    /* An 8-entry cut: with the default 32-entry cut the two poses' T
-     * differ by up to 1.7% of its largest here (docs/deformation.md). */
-    set.samples_per_vertex = 8;
-    set.cut_budget = 8;
     if (sam_mesh_create(&in, &f.mesh, NULL, &err) != SAM_OK || sam_profile_preset("skin", &f.profile, &err) ||
         sam_build_samfile(&f.mesh, &f.profile, MM_PER_UNIT, &set, NULL, NULL, NULL, &f.sam, NULL, &err) ||
         sam_runtime_create(&f.sam, &f.profile, MM_PER_UNIT, &f.rt, &err) ||
@@ -87,7 +83,7 @@ static int fixture_setup(void **state)
     free(tri);
     sam_shape_mesh_destroy(&s);
     printf("%.1f%% of the map's samples are tree nodes\n",
-           100.0 * sam_test_node_share(f.sam.sample_index, f.sam.vertex_count, 8, f.sam.vertex_count));
+           100.0 * sam_test_node_share(f.sam.sample_index, f.sam.vertex_count, f.sam.samples_per_vertex, f.sam.vertex_count));
     sam_light light = {.type = SAM_LIGHT_POINT, .color = {1, 1, 1}, .intensity = 3, .position = {0.2f, 0.1f, -1}};
     if (sam_runtime_set_lights(f.rt, &light, 1, &err) || sam_runtime_set_lights(f.own, &light, 1, &err))
         return -1;
