@@ -19,7 +19,7 @@
 /* Four vertices 1-3 mm apart (mm_per_unit 1) and one tree node over
  * vertices 2 and 3 (sample index 4); vertex 3's row holds one sample. */
 typedef struct fixture {
-    float pos[3 * NV], fana[NV], kpr[3 * NV * N], tau[NV * N];
+    float pos[3 * NV], nrm[3 * NV], fana[NV], kpr[3 * NV * N], tau[NV * N];
     uint32_t sidx[NV * N], children[2], levels[2];
     samfile_data d;
 } fixture;
@@ -29,6 +29,8 @@ static void make(fixture *f)
     static const float pos[3 * NV] = {0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 3}, fana[NV] = {1.0f, 2.0f, 0.5f, 1.5f};
     static const uint32_t sidx[NV * N] = {1, 4, 2, 0, 2, 3, 4, 0, 1, 0, PAD, PAD};
     memcpy(f->pos, pos, sizeof pos);
+    for (uint32_t v = 0; v < NV; ++v) /* all one way: the fold goes by position */
+        f->nrm[3 * v] = f->nrm[3 * v + 1] = 0.0f, f->nrm[3 * v + 2] = 1.0f;
     memcpy(f->fana, fana, sizeof fana);
     memcpy(f->sidx, sidx, sizeof sidx);
     for (uint32_t i = 0; i < 3 * NV * N; ++i)
@@ -45,6 +47,7 @@ static void make(fixture *f)
     f->d = (samfile_data){.vertex_count = NV,
                           .samples_per_vertex = N,
                           .positions = f->pos,
+                          .normals = f->nrm,
                           .fan_area = f->fana,
                           .sample_index = f->sidx,
                           .sample_kprime = f->kpr,
@@ -161,14 +164,18 @@ static void test_fitting_the_whole_row_changes_nothing(void **state)
 static void test_fold_hands_each_dropped_k_to_the_nearest_kept_entry(void **state)
 {
     (void)state;
-    static const float at[7 * 3] = {0, 0, 0, 10, 0, 0, 20, 0, 0,            /* kept */
-                                    9, 0, 0, 16, 0, 0, 5, 0, 0, 19, 0, 0}; /* dropped */
+    enum { F = SAMFILE_FOLD_POINT_FLOATS };
+    static const float x[7] = {0, 10, 20, /* kept */ 9, 16, 5, 19 /* dropped */};
+    float at[7 * F];
+    for (int i = 0; i < 7; ++i) /* no normals: positions alone decide */
+        samfile_fold_point((const float[3]){x[i], 0, 0}, (const float[3]){0, 0, 0}, (const float[3]){0, 5, 0},
+                           at + F * i);
     static const float k[7 * 3] = {
         4, 4, 0.1f, 3, 3, 0, 2, 0, 0, /* entry 2 carries no green, entry 0 a little blue */
         1, 1, 1, 0.5f, 0.5f, 0, 0.25f, 0.125f, 0, 2.5f, 0, 0,
     };
     float out[9];
-    samfile_fold_row(at, 3, k, 7, 3, out);
+    samfile_fold_row(at, F, k, 7, 3, out);
     /* Red: 9 goes to 10, 16 to 20, 5 ties between 0 and 10 and goes to the
      * better entry 0, and 19's 2.5 outweighs 20's 2, so 10 takes it.
      * Green: 20 has none, so 10 takes 16's. Blue: entry 0 does not
@@ -180,8 +187,43 @@ static void test_fold_hands_each_dropped_k_to_the_nearest_kept_entry(void **stat
     }
     /* Keeping the whole row copies it. */
     float whole[21];
-    samfile_fold_row(at, 3, k, 7, 7, whole);
+    samfile_fold_row(at, F, k, 7, 7, whole);
     assert_memory_equal(whole, k, sizeof whole);
+}
+
+/* A tube's far wall seen from a receiver at the origin: a dropped entry
+ * goes to the kept entry that faces its way, though another kept entry
+ * lies nearer, when the turn between their normals, seen from the
+ * receiver, spans more than the distance between them. */
+static void test_fold_prefers_the_entry_facing_the_same_way(void **state)
+{
+    (void)state;
+    enum { F = SAMFILE_FOLD_POINT_FLOATS };
+    const float receiver[3] = {0, 0, 0};
+    /* Kept: straight across (normal +y) and around the wall (normal +x, 4
+     * away from the drop); dropped: 3 from the first, facing +x. */
+    const float p[3][3] = {{0, 10, 0}, {7, 10, 0}, {3, 10, 0}};
+    const float n[3][3] = {{0, 2, 0}, {1, 0, 0}, {1, 0, 0}};
+    float at[3 * F];
+    for (int i = 0; i < 3; ++i)
+        samfile_fold_point(p[i], n[i], receiver, at + F * i);
+    /* Unit normals and the distance from the receiver. */
+    assert_float_equal(at[4], 1.0f, 1e-6f);
+    assert_float_equal(at[F + 3], 1.0f, 1e-6f);
+    assert_float_equal(at[F + 6], sqrtf(149.0f), 1e-5f);
+    const float k[9] = {2, 2, 2, 2, 2, 2, 1, 1, 1};
+    float out[6];
+    samfile_fold_row(at, F, k, 3, 2, out);
+    for (int c = 0; c < 3; ++c) {
+        assert_float_equal(out[c], 2.0f, 0.0f);
+        assert_float_equal(out[3 + c], 3.0f, 0.0f);
+    }
+    /* With no normals the nearer one takes it. */
+    for (int i = 0; i < 3; ++i)
+        samfile_fold_point(p[i], receiver, receiver, at + F * i);
+    samfile_fold_row(at, F, k, 3, 2, out);
+    assert_float_equal(out[0], 3.0f, 0.0f);
+    assert_float_equal(out[3], 2.0f, 0.0f);
 }
 
 static void unit_of(void *user, uint32_t id, float out[3])
@@ -248,6 +290,7 @@ int main(void)
         cmocka_unit_test(test_rows_keep_their_whole_k_and_merge_siblings_exactly),
         cmocka_unit_test(test_fitting_the_whole_row_changes_nothing),
         cmocka_unit_test(test_fold_hands_each_dropped_k_to_the_nearest_kept_entry),
+        cmocka_unit_test(test_fold_prefers_the_entry_facing_the_same_way),
         cmocka_unit_test(test_siblings_merge_where_their_parent_holds_them),
         cmocka_unit_test(test_fit_rejects_bad_arguments),
     };

@@ -660,17 +660,21 @@ static uint32_t lightcut(const sam_build_context *ctx, const sam_build_tree *tre
 }
 
 /* What a budget above N needs to merge a cut's siblings
- * (samfile_merge_siblings), per sample index (topo vertices, then nodes):
- * the node it is a child of, and its area. */
+ * (samfile_merge_siblings) and fold the rest (samfile_fold_row), per
+ * sample index (topo vertices, then nodes): the node it is a child of,
+ * its area, and its normals summed by area (3 floats; a node's are its
+ * members', as samfile_sample_points means them at load). */
 typedef struct fit_links {
     uint32_t *parent;
     float *area;
+    float *normal;
 } fit_links;
 
 static void fit_links_free(fit_links *f)
 {
     free(f->parent);
     free(f->area);
+    free(f->normal);
 }
 
 static sam_status fit_links_create(const sam_build_context *ctx, const sam_build_tree *tree, fit_links *f,
@@ -679,13 +683,23 @@ static sam_status fit_links_create(const sam_build_context *ctx, const sam_build
     const size_t n = ctx->mesh->topo_count, all = n + tree->node_count;
     f->parent = malloc(all * sizeof *f->parent);
     f->area = malloc(all * sizeof *f->area);
-    if (!f->parent || !f->area) {
+    f->normal = malloc(3 * all * sizeof *f->normal);
+    if (!f->parent || !f->area || !f->normal) {
         fit_links_free(f);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "build: out of memory for the tree's %zu parent links", all);
     }
     for (size_t i = 0; i < all; ++i) {
         f->parent[i] = SAMFILE_NO_SAMPLE;
         f->area[i] = sam_build_sample_area(ctx, tree, (uint32_t)i);
+    }
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c)
+            f->normal[3 * i + c] = ctx->mesh->topo_normals[3 * i + c] * f->area[i];
+    /* Children are numbered after their parents (level by level). */
+    for (uint32_t j = tree->node_count; j-- > 0;) {
+        const uint32_t *child = tree->node[j].child;
+        for (int c = 0; c < 3; ++c)
+            f->normal[3 * (n + j) + c] = f->normal[3 * (size_t)child[0] + c] + f->normal[3 * (size_t)child[1] + c];
     }
     for (uint32_t j = 0; j < tree->node_count; ++j)
         f->parent[tree->node[j].child[0]] = f->parent[tree->node[j].child[1]] = (uint32_t)n + j;
@@ -756,11 +770,12 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     qsort(e, kept, sizeof *e, cmp_entry);
     /* A budget above N merges the cut's siblings into their parents, whose
      * tau reads the pair's light as it was, then folds each entry past the
-     * N best into the kept one nearest it, as samfile_fit_samples does at
-     * load: a finer cut's N read their light where it comes from, where a
-     * cut of N entries reads it over coarser nodes. */
+     * N best into the kept one nearest it in place and facing, as
+     * samfile_fit_samples does at load: a finer cut's N read their light
+     * where it comes from, where a cut of N entries reads it over coarser
+     * nodes. */
     uint32_t id[SAMFILE_MAX_SAMPLES_PER_VERTEX];
-    float at[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], k[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX],
+    float at[SAMFILE_FOLD_POINT_FLOATS * SAMFILE_MAX_SAMPLES_PER_VERTEX], k[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX],
         tau[SAMFILE_MAX_SAMPLES_PER_VERTEX], folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
     uint32_t left = kept;
     for (uint32_t c = 0; c < kept; ++c) {
@@ -772,11 +787,14 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
     if (links && left > stored)
         left = samfile_merge_siblings(links->parent, r->node_children, n, links->area, 1, unit_k, &receiver, id, k, tau,
                                       left, stored);
-    for (uint32_t c = 0; c < left; ++c)
-        memcpy(at + 3 * c, sam_build_sample_point(ctx, tree, id[c]), 3 * sizeof *at);
-    const uint32_t out = left < stored ? left : stored;
-    samfile_fold_row(at, 3, k, left, out, folded);
     const float *po = ctx->pos + 3 * (size_t)o;
+    static const float no_normal[3] = {0, 0, 0}; /* a budget of N (no links) folds nothing */
+    for (uint32_t c = 0; c < left; ++c)
+        samfile_fold_point(sam_build_sample_point(ctx, tree, id[c]),
+                           links ? links->normal + 3 * (size_t)id[c] : no_normal, po,
+                           at + SAMFILE_FOLD_POINT_FLOATS * c);
+    const uint32_t out = left < stored ? left : stored;
+    samfile_fold_row(at, SAMFILE_FOLD_POINT_FLOATS, k, left, out, folded);
     for (uint32_t c = 0, slot = 0; c < out; ++c) {
         if (!(k[3 * c] + k[3 * c + 1] + k[3 * c + 2] > 0))
             continue; /* no light through it: no slot (such entries come last) */
@@ -784,7 +802,8 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
         size_t to = (size_t)o * stored + slot++;
         r->sample[to] = id[c];
         r->tau[to] = tau[c];
-        sam_build_kprime(ctx, folded + 3 * c, area, sam_build_distance(po, at + 3 * c), r->kprime + 3 * to);
+        sam_build_kprime(ctx, folded + 3 * c, area, sam_build_distance(po, at + SAMFILE_FOLD_POINT_FLOATS * c),
+                         r->kprime + 3 * to);
     }
     return classified;
 }
@@ -821,7 +840,7 @@ sam_status sam_build_run_cut(const sam_build_context *ctx, sam_build_progress_fn
         return st;
     }
     const uint32_t n = ctx->mesh->topo_count;
-    fit_links links = {NULL, NULL};
+    fit_links links = {NULL, NULL, NULL};
     const int fitting = cut_budget(ctx) > ctx->settings.samples_per_vertex;
     if (fitting && (st = fit_links_create(ctx, &tree, &links, err)) != SAM_OK) {
         sam_build_tree_destroy(&tree);

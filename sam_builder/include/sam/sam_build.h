@@ -69,10 +69,11 @@ extern "C" {
  * map asks eq. 13-14 of its members' fans, not their vertices, and counts
  * a fan partly behind the receiver by its pairs of points; 1.10: a cut
  * map stores 16 of a 32-entry cut by default, a budget above N fitted by
- * merging siblings and folding the rest into the nearest kept), and the
+ * merging siblings and folding the rest into the nearest kept; 1.11: the
+ * fold goes to the nearest kept in place and facing), and the
  * tools' map cache keys on it, so that no cached map outlives the builder
  * that made it. */
-#define SAM_BUILD_VERSION "1.10"
+#define SAM_BUILD_VERSION "1.11"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */

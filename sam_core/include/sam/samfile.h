@@ -177,13 +177,30 @@ sam_status samfile_sample_points(const samfile_data *data, const float *values, 
 void samfile_sample_k(const samfile_data *data, const float *points, size_t stride, uint32_t v, uint32_t k,
                       const sam_profile *profile, float mm_per_unit, float k_rgb[3]);
 
+/* Floats per point of samfile_fold_row (samfile_fold_point). */
+#define SAMFILE_FOLD_POINT_FLOATS 7
+
+/*
+ * The point samfile_fold_row compares a row's entries by, from the entry's
+ * position `p`, its normal `normal` (any length; a zero one gives none)
+ * and the receiving vertex's position `receiver` (the same units as p):
+ * the position, the unit normal (or 0) and the distance from the receiver.
+ * An entry is as far from another as their positions are apart plus the
+ * turn between their normals times its distance from the receiver (in
+ * squares): the arc the turn spans seen from there, a length like theirs.
+ * What light reaches the back side depends on which way it faces as much
+ * as on where it is. Writes SAMFILE_FOLD_POINT_FLOATS floats to `out`.
+ */
+void samfile_fold_point(const float p[3], const float normal[3], const float receiver[3], float *out);
+
 /*
  * One row's K (RGB, `k_rgb`: 3 * count floats; entries best first) fitted
  * to its first `kept` entries: each entry past them hands its K, channel by
  * channel, to the nearest kept entry that carries at least as much of that
- * channel (`points`: entry i's position at points + i * stride, 3 floats;
- * ties go to the better entry), so the dropped light is read near where
- * it comes from; what no kept entry outweighs is shared among the kept in
+ * channel (`points`: entry i's samfile_fold_point at points + i * stride,
+ * SAMFILE_FOLD_POINT_FLOATS floats; ties go to the better entry), so the
+ * dropped light is read near where it comes from and from a part of the
+ * back side that faces its way; what no kept entry outweighs is shared among the kept in
  * proportion to their K, and a channel no kept entry carries is left out.
  * So no entry's K grows past its own times (1 + count - kept) plus that
  * share. Writes 3 * kept floats to `out_rgb` (caller owned, may not alias
@@ -232,11 +249,13 @@ uint32_t samfile_merge_siblings(const uint32_t *parent, const uint32_t *children
  * a row longer than `samples` first has pairs of sibling samples merged
  * into their parent node (samfile_merge_siblings; in a cut map), then
  * each sample past the first `samples` folded into the kept sample
- * nearest it (samfile_fold_row), both on the K at rest (K = K' F'_b
- * R_d(mm_per_unit |v_b - v|), eq. 15, with `profile`, at the sample points
- * of samfile_sample_points), so the row carries the K at rest it carried
- * whole; the kept samples' K' are set to carry it. A channel the kept
- * samples carry none of is left out. Shorter rows are copied. Writes vertex_count *
+ * nearest it in place and facing (samfile_fold_row, samfile_fold_point,
+ * a node's normal the area-weighted mean of its members'), both on the K
+ * at rest (K = K' F'_b R_d(mm_per_unit |v_b - v|), eq. 15, with
+ * `profile`, at the sample points of samfile_sample_points), so the row
+ * carries the K at rest it carried whole; the kept samples' K' are set to
+ * carry it. A channel the kept samples carry none of is left out. Shorter
+ * rows are copied. Writes vertex_count *
  * samples entries of `index` and `tau` (NULL allowed for a flat map) and
  * 3 * vertex_count * samples of `kprime`, row by row as the .sam's arrays;
  * all caller owned. Errors: SAM_ERR_INVALID_ARGUMENT (a NULL argument,

@@ -6,10 +6,28 @@
 
 #include "samfile_internal.h"
 
-static float distance2(const float *a, const float *b)
+static float distance2(const float *a, const float *b, int dims)
 {
-    const float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return dx * dx + dy * dy + dz * dz;
+    float sum = 0.0f;
+    for (int c = 0; c < dims; ++c)
+        sum += (a[c] - b[c]) * (a[c] - b[c]);
+    return sum;
+}
+
+void samfile_fold_point(const float p[3], const float normal[3], const float receiver[3], float *out)
+{
+    const float len = sqrtf(distance2(normal, (const float[3]){0, 0, 0}, 3));
+    for (int c = 0; c < 3; ++c) {
+        out[c] = p[c];
+        out[3 + c] = len > 0 ? normal[c] / len : 0.0f;
+    }
+    out[6] = sqrtf(distance2(p, receiver, 3));
+}
+
+/* How far kept point b is from dropped point a (samfile_fold_point). */
+static float fold_distance2(const float *a, const float *b)
+{
+    return distance2(a, b, 3) + a[6] * a[6] * distance2(a + 3, b + 3, 3);
 }
 
 void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, uint32_t count, uint32_t kept,
@@ -35,7 +53,7 @@ void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, ui
             for (uint32_t j = 0; j < kept; ++j) {
                 if (!(k_rgb[3 * j + c] >= ki))
                     continue;
-                const float d = distance2(p, points + (size_t)j * stride);
+                const float d = fold_distance2(p, points + (size_t)j * stride);
                 if (to == kept || d < best) {
                     to = j;
                     best = d;
@@ -141,12 +159,16 @@ static void unit_k(void *user, uint32_t id, float out[3])
         out[c] *= area;
 }
 
+/* samfile_sample_points' records of the mean normal: 4 + 2 * 3 floats. */
+#define NORMAL_RECORD 10
+
 /* Row v of `d` (`count` > `samples` entries) fitted to `samples`: siblings
  * merged in place (the row stays best first), then the entries past
- * `samples` folded into the nearest kept. */
-static void fit_row(const samfile_data *d, const float *points, const uint32_t *parent, uint32_t v, uint32_t count,
-                    uint32_t samples, const sam_profile *profile, float mm_per_unit, uint32_t *index, float *kprime,
-                    float *tau)
+ * `samples` folded into the nearest kept (`normals`: each sample index's
+ * mean normal, NORMAL_RECORD floats from offset 4). */
+static void fit_row(const samfile_data *d, const float *points, const float *normals, const uint32_t *parent,
+                    uint32_t v, uint32_t count, uint32_t samples, const sam_profile *profile, float mm_per_unit,
+                    uint32_t *index, float *kprime, float *tau)
 {
     const size_t n = d->samples_per_vertex;
     uint32_t id[SAMFILE_MAX_SAMPLES_PER_VERTEX];
@@ -160,11 +182,12 @@ static void fit_row(const samfile_data *d, const float *points, const uint32_t *
     if (parent)
         count = samfile_merge_siblings(parent, d->node_children, d->vertex_count, points + 3, 4, unit_k, &receiver, id,
                                        k, t, count, samples);
-    float at[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX], folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
+    float at[SAMFILE_FOLD_POINT_FLOATS * SAMFILE_MAX_SAMPLES_PER_VERTEX], folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
     for (uint32_t s = 0; s < count; ++s)
-        memcpy(at + 3 * s, points + 4 * (size_t)id[s], 3 * sizeof *at);
+        samfile_fold_point(points + 4 * (size_t)id[s], normals + NORMAL_RECORD * (size_t)id[s] + 4,
+                           points + 4 * (size_t)v, at + SAMFILE_FOLD_POINT_FLOATS * s);
     const uint32_t keep = count < samples ? count : samples;
-    samfile_fold_row(at, 3, k, count, keep, folded);
+    samfile_fold_row(at, SAMFILE_FOLD_POINT_FLOATS, k, count, keep, folded);
     for (uint32_t s = 0; s < samples; ++s) {
         const size_t to = (size_t)v * samples + s;
         if (s >= keep) {
@@ -194,10 +217,11 @@ sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sa
                         "samfile fit: %u samples of the map's %u per vertex, at %g mm per unit", samples,
                         d->samples_per_vertex, (double)mm_per_unit);
     const size_t vc = d->vertex_count, n = d->samples_per_vertex, all = vc + d->node_count;
-    float *points = malloc(all * 4 * sizeof *points);
+    float *points = malloc(all * 4 * sizeof *points), *normals = malloc(all * NORMAL_RECORD * sizeof *normals);
     uint32_t *parent = d->node_count ? malloc(all * sizeof *parent) : NULL;
-    if (!points || (d->node_count && !parent)) {
+    if (!points || !normals || (d->node_count && !parent)) {
         free(points);
+        free(normals);
         free(parent);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "samfile fit: out of memory for %zu sample points", all);
     }
@@ -206,12 +230,14 @@ sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sa
     for (size_t j = 0; j < d->node_count; ++j)
         parent[d->node_children[2 * j]] = parent[d->node_children[2 * j + 1]] = (uint32_t)(vc + j);
     sam_status st = samfile_sample_points(d, NULL, 0, points, err);
+    if (st == SAM_OK)
+        st = samfile_sample_points(d, d->normals, 3, normals, err);
     for (size_t v = 0; st == SAM_OK && v < vc; ++v) {
         uint32_t count = 0;
         while (count < n && d->sample_index[v * n + count] != SAMFILE_NO_SAMPLE)
             ++count;
         if (count > samples) {
-            fit_row(d, points, parent, (uint32_t)v, count, samples, profile, mm_per_unit, index, kprime, tau);
+            fit_row(d, points, normals, parent, (uint32_t)v, count, samples, profile, mm_per_unit, index, kprime, tau);
             continue;
         }
         for (size_t s = 0; s < samples; ++s) {
@@ -223,6 +249,7 @@ sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sa
         }
     }
     free(points);
+    free(normals);
     free(parent);
     return st;
 }
