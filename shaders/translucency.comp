@@ -4,7 +4,7 @@
 // (eq. 15); then T <- (1 - alpha) T_prev + alpha T. On a deformed pose K
 // is carried from rest by the fans' quadrature (fan_form_factor.glsl), and
 // a vertex sample that has left the back side (eq. 13-14 fail at the pose
-// as the builder asked them, back_side.glsl) contributes 0: its K would
+// by more than float noise, back_side.glsl) contributes 0: its K would
 // add light through the front. It stays stored, so it counts again when
 // the pose brings it back (walk.comp replaces it when it can). A cut
 // map's sample may be a tree node (index >= u_vertex_count), read from
@@ -48,9 +48,11 @@ layout(std430, binding = SAM_B_REST_NODES) readonly buffer RestNodes { Node rest
 #ifdef SAM_REST_K
 layout(std430, binding = SAM_B_REST_K) readonly buffer RestK { uint rest_k[]; }; // K, not K'
 #endif
-#ifdef SAM_POSED
+#if defined(SAM_POSED) && !defined(SAM_POSED_EQ15)
 layout(std430, binding = SAM_B_ADJ_OFFSETS) readonly buffer AdjOffsets { uint adj_offsets[]; };
 layout(std430, binding = SAM_B_ADJACENCY) readonly buffer Adjacency { uint adjacency[]; };
+#endif
+#ifdef SAM_POSED
 #include "back_side.glsl"
 #endif
 
@@ -58,7 +60,6 @@ uniform uint u_vertex_count;
 uniform uint u_samples;       // samples used, <= u_stride
 uniform float u_mm_per_unit;
 uniform float u_alpha;        // 1 - (1e-10)^dt; 1 replaces the history
-uniform uint u_cut_map;       // 1: the map holds tree nodes
 
 // Compiled three times for each sam_rest_k mode: the rest pose's program
 // (K by eq. 15, which is K itself there, or read from rest_k) and, with
@@ -174,7 +175,7 @@ void main()
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
             Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)) + 32u * w, u_vertex_count));
             vec3 q = positions[s.index].xyz;
-            if (sample_on_back_side(s.index, p, n, u_cut_map != 0u))
+            if (sample_on_back_side(s.index, p, n))
                 sum += irradiance[s.index].rgb * sample_k(s) * fan_area[s.index] *
                        profile_rd(u_mm_per_unit * distance(q, p));
         }
@@ -184,7 +185,7 @@ void main()
     // iterations, and llvmpipe ran both under a mask.
     for (uint bits = slots_low & QUADRATURE_MASK; bits != 0u; bits &= bits - 1u) {
         Sample s = SAMPLE_LOAD(samples, sample_slot(v, uint(findLSB(bits)), u_vertex_count));
-        if (sample_on_back_side(s.index, p, n, u_cut_map != 0u))
+        if (sample_on_back_side(s.index, p, n))
             sum += irradiance[s.index].rgb * posed_form_factor(v, s.index, sample_k(s));
     }
     for (uint w = 0u; w < 2u; ++w)
@@ -195,7 +196,7 @@ void main()
             // node's would (docs/deformation.md). Written out rather than
             // eq15_k, whose node branch this loop never needs.
             vec3 q = positions[s.index].xyz;
-            if (sample_on_back_side(s.index, p, n, u_cut_map != 0u))
+            if (sample_on_back_side(s.index, p, n))
                 sum += irradiance[s.index].rgb * sample_k(s) * fan_area[s.index] *
                        profile_rd(u_mm_per_unit * distance(q, p));
         }

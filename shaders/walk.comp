@@ -69,20 +69,11 @@ uniform uint u_cut_map;
 Sample chosen[MAX_SAMPLES];
 float score[MAX_SAMPLES];
 
+// A stored sample is dead once sample_on_back_side fails, as the
+// translucency pass drops it; a candidate must pass the stricter
+// candidate_on_back_side, so that rounding neither adopts nor drops a
+// vertex on the back side's edge.
 #include "back_side.glsl"
-// Eq. 13-14 of a candidate vertex i at the pose, asked of the vertex, so
-// that an adopted sample's point estimate (K' = 1) stands for a fan behind;
-// a stored sample is dead once sample_on_back_side fails, as the
-// translucency pass drops it. A candidate's normal must face away by more
-// than float noise: on a side wall square to the receiver's face the dot
-// product is 0 but for rounding, and the engine's pose and the runtime's
-// own, equal but for rounding, adopted different vertices there, T of one
-// skin ear vertex 0.0095 against 0.0020 (tests/test_gl_engine.c).
-#define FACING_AWAY -1.0e-5
-bool candidate_on_back_side(uint i, vec3 p, vec3 n)
-{
-    return dot(positions[i].xyz - p, n) < 0.0 && dot(normals[i].xyz, n) < FACING_AWAY;
-}
 
 // The mean over R, G, B of K = K' F'_i R_d(|v_i - v_o|) (eq. 15).
 // A cut map's tree nodes stay as built: the walk moves vertex samples
@@ -115,7 +106,7 @@ void score_vertex_slots(uint slots_low, uint slots_high, vec3 p, vec3 n)
     for (uint w = 0u; w < 2u; ++w)
         for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u) {
             uint k = uint(findLSB(bits)) + 32u * w, i = chosen[k].index;
-            if (sample_on_back_side(i, p, n, u_cut_map != 0u))
+            if (sample_on_back_side(i, p, n))
                 score[k] = approximate_k(i, sample_k(chosen[k]), p);
         }
 }
@@ -165,7 +156,7 @@ void main()
         bool dead = false;
         for (uint w = 0u; w < 2u; ++w)
             for (uint bits = w == 0u ? slots_low : slots_high; bits != 0u; bits &= bits - 1u)
-                dead = dead || !sample_on_back_side(chosen[uint(findLSB(bits)) + 32u * w].index, p, n, true);
+                dead = dead || !sample_on_back_side(chosen[uint(findLSB(bits)) + 32u * w].index, p, n);
         if (!dead)
             return; // the row stays as stored
     }

@@ -141,6 +141,56 @@ static void test_rows_keep_their_whole_k_and_merge_siblings_exactly(void **state
     assert_true(kprime[3 * (1 * M + 0)] == 0.0f);
 }
 
+/* Vertex 0's row {1, node, 2} drops vertex 2, which lies nearer vertex 1
+ * than the node's centroid: with every normal alike vertex 1 takes its K;
+ * with vertex 2 facing as the node's members do and vertex 1 another way,
+ * the node does (the normals read through samfile_fit_samples). */
+static void test_fit_folds_by_facing(void **state)
+{
+    (void)state;
+    sam_profile skin;
+    assert_int_equal(sam_profile_preset("skin", &skin, NULL), SAM_OK);
+    enum { M = 2 };
+    const float value[NV] = {1, 1, 1, 1};
+    double got[2][2][3]; /* [normals alike, facing][slot][channel] */
+    for (int facing = 0; facing < 2; ++facing) {
+        fixture f;
+        make(&f);
+        if (facing)
+            f.nrm[3 * 1] = 1.0f, f.nrm[3 * 1 + 2] = 0.0f; /* vertex 1 faces +x, the rest +z */
+        uint32_t index[NV * M];
+        float kprime[3 * NV * M], tau[NV * M];
+        assert_int_equal(samfile_fit_samples(&f.d, M, &skin, 1.0f, index, kprime, tau, NULL), SAM_OK);
+        assert_int_equal(index[0], 1);
+        assert_int_equal(index[1], 4);
+        double first[3], both[3], l[3];
+        row_k(&f, &skin, 0, index, kprime, tau, M, 1, value, first, l);
+        row_k(&f, &skin, 0, index, kprime, tau, M, 2, value, both, l);
+        for (int c = 0; c < 3; ++c) {
+            got[facing][0][c] = first[c];
+            got[facing][1][c] = both[c] - first[c];
+        }
+    }
+    fixture f;
+    make(&f);
+    double whole_first[3], whole_node[3], whole_2[3], l[3], upto[3];
+    row_k(&f, &skin, 0, f.sidx, f.kpr, f.tau, N, 1, value, whole_first, l);
+    row_k(&f, &skin, 0, f.sidx, f.kpr, f.tau, N, 2, value, upto, l);
+    row_k(&f, &skin, 0, f.sidx, f.kpr, f.tau, N, 3, value, whole_2, l);
+    for (int c = 0; c < 3; ++c) {
+        whole_node[c] = upto[c] - whole_first[c];
+        whole_2[c] -= upto[c];
+        printf("channel %d: K vertex 1 %.4g, node %.4g, vertex 2 %.4g; alike %.4g + %.4g, facing %.4g + %.4g\n", c,
+               whole_first[c], whole_node[c], whole_2[c], got[0][0][c], got[0][1][c], got[1][0][c], got[1][1][c]);
+    }
+    /* Red, which both kept entries outweigh: the nearer by position takes
+     * it when the normals are alike, the one facing its way otherwise. */
+    assert_true(fabs(got[0][0][0] - (whole_first[0] + whole_2[0])) <= 1e-5 * got[0][0][0]);
+    assert_true(fabs(got[0][1][0] - whole_node[0]) <= 1e-5 * whole_node[0]);
+    assert_true(fabs(got[1][0][0] - whole_first[0]) <= 1e-5 * whole_first[0]);
+    assert_true(fabs(got[1][1][0] - (whole_node[0] + whole_2[0])) <= 1e-5 * got[1][1][0]);
+}
+
 static void test_fitting_the_whole_row_changes_nothing(void **state)
 {
     (void)state;
@@ -288,6 +338,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rows_keep_their_whole_k_and_merge_siblings_exactly),
+        cmocka_unit_test(test_fit_folds_by_facing),
         cmocka_unit_test(test_fitting_the_whole_row_changes_nothing),
         cmocka_unit_test(test_fold_hands_each_dropped_k_to_the_nearest_kept_entry),
         cmocka_unit_test(test_fold_prefers_the_entry_facing_the_same_way),

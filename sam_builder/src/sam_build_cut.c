@@ -663,7 +663,9 @@ static uint32_t lightcut(const sam_build_context *ctx, const sam_build_tree *tre
  * (samfile_merge_siblings) and fold the rest (samfile_fold_row), per
  * sample index (topo vertices, then nodes): the node it is a child of,
  * its area, and its normals summed by area (3 floats; a node's are its
- * members', as samfile_sample_points means them at load). */
+ * members', as samfile_sample_points means them at load, though from the
+ * topo normals where the load reads the .sam's, which differ where a mesh
+ * file brings normals of its own). */
 typedef struct fit_links {
     uint32_t *parent;
     float *area;

@@ -95,7 +95,6 @@ sam_status sam_runtime_translucency(sam_runtime *rt, uint32_t samples, float dt,
     glUniform1ui(glGetUniformLocation(p, "u_samples"), samples && samples < rt->stride ? samples : rt->stride);
     glUniform1f(glGetUniformLocation(p, "u_mm_per_unit"), rt->mm_per_unit);
     glUniform1f(glGetUniformLocation(p, "u_alpha"), reset ? 1.0f : sam_runtime_smoothing_alpha(dt));
-    glUniform1ui(glGetUniformLocation(p, "u_cut_map"), rt->nodes.node_count > 0);
     sam_runtime_bind_buffers(rt);
     if (rt->rest_k.buffer)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_REST_K, rt->rest_k.buffer);

@@ -187,7 +187,8 @@ void samfile_sample_k(const samfile_data *data, const float *points, size_t stri
  * the position, the unit normal (or 0) and the distance from the receiver.
  * An entry is as far from another as their positions are apart plus the
  * turn between their normals times its distance from the receiver (in
- * squares): the arc the turn spans seen from there, a length like theirs.
+ * squares): the arc the turn spans seen from there, a length like theirs;
+ * where either has no normal, their positions alone.
  * What light reaches the back side depends on which way it faces as much
  * as on where it is. Writes SAMFILE_FOLD_POINT_FLOATS floats to `out`.
  */

@@ -16,18 +16,35 @@ static float distance2(const float *a, const float *b, int dims)
 
 void samfile_fold_point(const float p[3], const float normal[3], const float receiver[3], float *out)
 {
-    const float len = sqrtf(distance2(normal, (const float[3]){0, 0, 0}, 3));
+    /* Scaled by its largest component first: a sum of normals by area
+     * may be large, and its square past float's range. */
+    const float big = fmaxf(fabsf(normal[0]), fmaxf(fabsf(normal[1]), fabsf(normal[2])));
+    float unit[3] = {0, 0, 0};
+    if (big > 0 && isfinite(big)) {
+        for (int c = 0; c < 3; ++c)
+            unit[c] = normal[c] / big;
+        const float len = sqrtf(distance2(unit, (const float[3]){0, 0, 0}, 3));
+        for (int c = 0; c < 3; ++c)
+            unit[c] /= len;
+    }
     for (int c = 0; c < 3; ++c) {
         out[c] = p[c];
-        out[3 + c] = len > 0 ? normal[c] / len : 0.0f;
+        out[3 + c] = unit[c];
     }
     out[6] = sqrtf(distance2(p, receiver, 3));
 }
 
-/* How far kept point b is from dropped point a (samfile_fold_point). */
+static int has_normal(const float *point)
+{
+    return point[3] != 0 || point[4] != 0 || point[5] != 0;
+}
+
+/* How far kept point b is from dropped point a (samfile_fold_point): the
+ * turn counts only where both have a normal. */
 static float fold_distance2(const float *a, const float *b)
 {
-    return distance2(a, b, 3) + a[6] * a[6] * distance2(a + 3, b + 3, 3);
+    const float turn = has_normal(a) && has_normal(b) ? distance2(a + 3, b + 3, 3) : 0.0f;
+    return distance2(a, b, 3) + a[6] * a[6] * turn;
 }
 
 void samfile_fold_row(const float *points, size_t stride, const float *k_rgb, uint32_t count, uint32_t kept,
@@ -141,6 +158,10 @@ uint32_t samfile_merge_siblings(const uint32_t *parent, const uint32_t *children
     return count;
 }
 
+/* samfile_sample_points' record of each sample index with its mean
+ * normal: position, area, normal, the normal's split (4 + 2 * 3 floats). */
+#define RECORD 10
+
 /* Vertex v's row of a fit, for unit_k. */
 typedef struct fit_receiver {
     const float *points;
@@ -154,19 +175,16 @@ typedef struct fit_receiver {
 static void unit_k(void *user, uint32_t id, float out[3])
 {
     const fit_receiver *r = user;
-    const float area = samfile_sample_rd(r->points, 4, r->v, id, r->profile, r->mm_per_unit, out);
+    const float area = samfile_sample_rd(r->points, RECORD, r->v, id, r->profile, r->mm_per_unit, out);
     for (int c = 0; c < 3; ++c)
         out[c] *= area;
 }
 
-/* samfile_sample_points' records of the mean normal: 4 + 2 * 3 floats. */
-#define NORMAL_RECORD 10
 
 /* Row v of `d` (`count` > `samples` entries) fitted to `samples`: siblings
  * merged in place (the row stays best first), then the entries past
- * `samples` folded into the nearest kept (`normals`: each sample index's
- * mean normal, NORMAL_RECORD floats from offset 4). */
-static void fit_row(const samfile_data *d, const float *points, const float *normals, const uint32_t *parent,
+ * `samples` folded into the nearest kept in place and facing. */
+static void fit_row(const samfile_data *d, const float *points, const uint32_t *parent,
                     uint32_t v, uint32_t count, uint32_t samples, const sam_profile *profile, float mm_per_unit,
                     uint32_t *index, float *kprime, float *tau)
 {
@@ -176,16 +194,16 @@ static void fit_row(const samfile_data *d, const float *points, const float *nor
     for (uint32_t s = 0; s < count; ++s) {
         id[s] = d->sample_index[v * n + s];
         t[s] = d->node_count ? d->sample_tau[v * n + s] : 0.0f;
-        samfile_sample_k(d, points, 4, v, s, profile, mm_per_unit, k + 3 * s);
+        samfile_sample_k(d, points, RECORD, v, s, profile, mm_per_unit, k + 3 * s);
     }
     fit_receiver receiver = {points, v, profile, mm_per_unit};
     if (parent)
-        count = samfile_merge_siblings(parent, d->node_children, d->vertex_count, points + 3, 4, unit_k, &receiver, id,
+        count = samfile_merge_siblings(parent, d->node_children, d->vertex_count, points + 3, RECORD, unit_k, &receiver, id,
                                        k, t, count, samples);
     float at[SAMFILE_FOLD_POINT_FLOATS * SAMFILE_MAX_SAMPLES_PER_VERTEX], folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
     for (uint32_t s = 0; s < count; ++s)
-        samfile_fold_point(points + 4 * (size_t)id[s], normals + NORMAL_RECORD * (size_t)id[s] + 4,
-                           points + 4 * (size_t)v, at + SAMFILE_FOLD_POINT_FLOATS * s);
+        samfile_fold_point(points + RECORD * (size_t)id[s], points + RECORD * (size_t)id[s] + 4,
+                           points + RECORD * (size_t)v, at + SAMFILE_FOLD_POINT_FLOATS * s);
     const uint32_t keep = count < samples ? count : samples;
     samfile_fold_row(at, SAMFILE_FOLD_POINT_FLOATS, k, count, keep, folded);
     for (uint32_t s = 0; s < samples; ++s) {
@@ -217,11 +235,10 @@ sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sa
                         "samfile fit: %u samples of the map's %u per vertex, at %g mm per unit", samples,
                         d->samples_per_vertex, (double)mm_per_unit);
     const size_t vc = d->vertex_count, n = d->samples_per_vertex, all = vc + d->node_count;
-    float *points = malloc(all * 4 * sizeof *points), *normals = malloc(all * NORMAL_RECORD * sizeof *normals);
+    float *points = malloc(all * RECORD * sizeof *points);
     uint32_t *parent = d->node_count ? malloc(all * sizeof *parent) : NULL;
-    if (!points || !normals || (d->node_count && !parent)) {
+    if (!points || (d->node_count && !parent)) {
         free(points);
-        free(normals);
         free(parent);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "samfile fit: out of memory for %zu sample points", all);
     }
@@ -229,15 +246,13 @@ sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sa
         parent[i] = SAMFILE_NO_SAMPLE;
     for (size_t j = 0; j < d->node_count; ++j)
         parent[d->node_children[2 * j]] = parent[d->node_children[2 * j + 1]] = (uint32_t)(vc + j);
-    sam_status st = samfile_sample_points(d, NULL, 0, points, err);
-    if (st == SAM_OK)
-        st = samfile_sample_points(d, d->normals, 3, normals, err);
+    sam_status st = samfile_sample_points(d, d->normals, 3, points, err);
     for (size_t v = 0; st == SAM_OK && v < vc; ++v) {
         uint32_t count = 0;
         while (count < n && d->sample_index[v * n + count] != SAMFILE_NO_SAMPLE)
             ++count;
         if (count > samples) {
-            fit_row(d, points, normals, parent, (uint32_t)v, count, samples, profile, mm_per_unit, index, kprime, tau);
+            fit_row(d, points, parent, (uint32_t)v, count, samples, profile, mm_per_unit, index, kprime, tau);
             continue;
         }
         for (size_t s = 0; s < samples; ++s) {
@@ -249,7 +264,6 @@ sam_status samfile_fit_samples(const samfile_data *d, uint32_t samples, const sa
         }
     }
     free(points);
-    free(normals);
     free(parent);
     return st;
 }

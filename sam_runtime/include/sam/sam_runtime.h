@@ -206,18 +206,18 @@ sam_status sam_runtime_set_keyframes(sam_runtime *rt, const float *const *positi
  * The samples are walked to better back-side vertices by
  * sam_runtime_walk, not here; the rest pose also restores the .sam's
  * samples. On a deformed pose the translucency pass skips every vertex
- * sample that is no longer on the back side (eq. 13-14 at the pose, asked
- * as the builder asked them: of the vertex in a flat map, of the sample's
- * fan in a cut map, where a sample counts while some of its fan is behind):
- * it adds 0 rather than light through the front.
+ * sample that is no longer on the back side (eq. 13-14 at the pose, failed
+ * by more than float rounding, so that a pose equal to rest but for
+ * rounding keeps the rest's samples): it adds 0 rather than light through
+ * the front.
  * Errors: SAM_ERR_INVALID_ARGUMENT (time not finite). */
 sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err);
 
 /* The sample walk of Sec. 3.4, one step: call it after every
  * sam_runtime_deform, before the translucency pass. For every vertex, each
  * one-ring neighbour (adjacency buffer) of its current samples that is on
- * the back side at the current pose (eq. 13-14 of the vertex, its normal
- * facing away by more than float rounding), and not chosen yet,
+ * the back side at the current pose (eq. 13-14 passed by more than float
+ * rounding), and not chosen yet,
  * replaces the sample with the smallest approximated K (mean of R, G, B of
  * K' F'_b R_d(|v_b - v|), eq. 15; 0 for a sample off the back side, so
  * those go first) when its own approximated K is larger. The samples are
