@@ -749,6 +749,10 @@ static void test_hostile_inputs(void **state)
                  "element face 1\nproperty uchar flags\nproperty list uchar int vertex_indices\nend_header\n"
                  "0 0 0\n1 0 0\n0 1 0\n7 3 0 1 2\n",
                  SAM_ERR_UNSUPPORTED, "found the scalar flags");
+    expect_error("face_before_vertex.ply",
+                 "ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int vertex_indices\nelement vertex 3\n"
+                 "property float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n",
+                 SAM_ERR_UNSUPPORTED, "PLY element vertex (element 2) comes after element face (element 1)");
     expect_error("two_vertex_elements.ply",
                  "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
                  "element face 1\nproperty list uchar int vertex_indices\nelement vertex 1\nproperty float x\n"

@@ -386,11 +386,20 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
              * the corners only from a first property that is the list
              * vertex_indices (or vertex_index): another name gave no faces,
              * a property before it garbled them. */
+            int face_at = -1;
             for (int e = 0; st == SAM_OK && e < elements; ++e) {
                 const ply_property *first = el[e].property;
                 if (!strcmp(el[e].name, "vertex")) {
                     expect->vertices = el[e].count;
+                    /* After a face element, even one of 0 faces, OpenMesh
+                     * read no vertices (found by fuzz_mesh_counts). */
+                    if (face_at >= 0)
+                        st = sam_fail(err, SAM_ERR_UNSUPPORTED,
+                                      "%s: PLY element vertex (element %d) comes after element face (element %d); "
+                                      "the PLY reader needs the vertices first",
+                                      path, e + 1, face_at + 1);
                 } else if (!strcmp(el[e].name, "face")) {
+                    face_at = e;
                     expect->faces = expect->file_faces = el[e].count;
                     if (el[e].count && (!el[e].property_count || !first->is_list ||
                                         (strcmp(first->name, "vertex_indices") && strcmp(first->name, "vertex_index"))))
