@@ -180,13 +180,12 @@ static void unit_k(void *user, uint32_t id, float out[3])
         out[c] *= area;
 }
 
-
 /* Row v of `d` (`count` > `samples` entries) fitted to `samples`: siblings
  * merged in place (the row stays best first), then the entries past
  * `samples` folded into the nearest kept in place and facing. */
-static void fit_row(const samfile_data *d, const float *points, const uint32_t *parent,
-                    uint32_t v, uint32_t count, uint32_t samples, const sam_profile *profile, float mm_per_unit,
-                    uint32_t *index, float *kprime, float *tau)
+static void fit_row(const samfile_data *d, const float *points, const uint32_t *parent, uint32_t v, uint32_t count,
+                    uint32_t samples, const sam_profile *profile, float mm_per_unit, uint32_t *index, float *kprime,
+                    float *tau)
 {
     const size_t n = d->samples_per_vertex;
     uint32_t id[SAMFILE_MAX_SAMPLES_PER_VERTEX];
@@ -198,8 +197,8 @@ static void fit_row(const samfile_data *d, const float *points, const uint32_t *
     }
     fit_receiver receiver = {points, v, profile, mm_per_unit};
     if (parent)
-        count = samfile_merge_siblings(parent, d->node_children, d->vertex_count, points + 3, RECORD, unit_k, &receiver, id,
-                                       k, t, count, samples);
+        count = samfile_merge_siblings(parent, d->node_children, d->vertex_count, points + 3, RECORD, unit_k,
+                                       &receiver, id, k, t, count, samples);
     float at[SAMFILE_FOLD_POINT_FLOATS * SAMFILE_MAX_SAMPLES_PER_VERTEX], folded[3 * SAMFILE_MAX_SAMPLES_PER_VERTEX];
     for (uint32_t s = 0; s < count; ++s)
         samfile_fold_point(points + RECORD * (size_t)id[s], points + RECORD * (size_t)id[s] + 4,
