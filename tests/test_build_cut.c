@@ -731,6 +731,53 @@ static void test_bit_identical_for_any_thread_count(void **state)
         destroy_cut(&f[t]);
 }
 
+/* The flat-scaled baseline: each row of the flat map scaled, per channel,
+ * to the total of the largest cut a row holds (64 entries). On a slab in
+ * marble that cut runs to all 64 entries; asked for 128, it overran the
+ * rows (sam_compare's sweep crashed building the armadillo's N = 3). */
+static void test_flat_scaled_carries_the_largest_cut(void **state)
+{
+    (void)state;
+    cut_fixture cut;
+    build_cut(&cut, "slab", 16, 2.0, 0.05, "marble", 50.0f, SAMFILE_MAX_SAMPLES_PER_VERTEX, 0);
+    uint32_t longest = 0;
+    for (uint32_t o = 0; o < cut.r.topo_count; ++o) {
+        uint32_t used = 0;
+        while (used < cut.r.samples_per_vertex &&
+               cut.r.sample[(size_t)o * cut.r.samples_per_vertex + used] != SAM_BUILD_NO_SAMPLE)
+            used++;
+        longest = used > longest ? used : longest;
+    }
+    printf("slab in marble: the longest of its 64-entry cuts holds %u\n", longest);
+    assert_int_equal(longest, SAMFILE_MAX_SAMPLES_PER_VERTEX);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    s.map = SAM_BUILD_MAP_FLAT_SCALED;
+    s.samples_per_vertex = 3;
+    sam_build_context *ctx;
+    sam_build_result r;
+    sam_error err;
+    if (sam_build_context_create(&cut.mesh, &cut.profile, cut.mm_per_unit, &s, &ctx, &err) != SAM_OK ||
+        sam_build_run(ctx, NULL, NULL, &r, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    uint32_t scaled = 0;
+    for (uint32_t o = 0; o < r.topo_count; ++o)
+        for (int c = 0; c < 3; ++c) {
+            double row = 0;
+            for (uint32_t k = 0; k < r.samples_per_vertex; ++k)
+                row += r.k[3 * ((size_t)o * r.samples_per_vertex + k) + c];
+            const double want = cut.r.k_total[3 * (size_t)o + c];
+            if (!(row > 0))
+                continue;
+            scaled++;
+            assert_true(fabs(row - want) <= 1e-5 * want);
+        }
+    assert_true(scaled > r.topo_count);
+    sam_build_result_destroy(&r);
+    sam_build_context_destroy(ctx);
+    destroy_cut(&cut);
+}
+
 /* A cut map is a version-2 .sam whose tree reads back as built; a flat
  * map stays version 1. */
 static void test_samfile_versions(void **state)
@@ -822,6 +869,7 @@ int main(void)
         cmocka_unit_test(test_larger_budget_keeps_how_rows_are_held),
         cmocka_unit_test(test_budget_beyond_n_merges_and_folds),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
+        cmocka_unit_test(test_flat_scaled_carries_the_largest_cut),
         cmocka_unit_test(test_samfile_rows_follow_render_vertices),
         cmocka_unit_test(test_samfile_versions),
     };

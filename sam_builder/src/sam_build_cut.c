@@ -832,6 +832,9 @@ sam_status sam_build_run_cut(const sam_build_context *ctx, sam_build_progress_fn
                              sam_build_result *result, sam_error *err)
 {
     double start = sam_seconds();
+    if (cut_budget(ctx) > SAMFILE_MAX_SAMPLES_PER_VERTEX) /* cut_vertex's rows are that long */
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "build: a cut of %u entries; at most %u", cut_budget(ctx),
+                        SAMFILE_MAX_SAMPLES_PER_VERTEX);
     sam_build_tree tree;
     sam_status st = sam_build_result_alloc(ctx, ctx->settings.samples_per_vertex, 1, result, err);
     if (st != SAM_OK)

@@ -29,9 +29,11 @@ static sam_status run_flat_scaled(const sam_build_context *ctx, sam_build_progre
     if (st != SAM_OK)
         return st;
     two.part = 1;
-    /* The total from a generous cut, whatever N the flat map has. */
+    /* The total from the largest cut a row can hold, whatever N the flat
+     * map has. Four times the default budget (128) overran the cut's
+     * rows, which hold at most SAMFILE_MAX_SAMPLES_PER_VERTEX entries. */
     sam_build_context generous = *ctx;
-    generous.settings.samples_per_vertex = 4 * SAM_BUILD_CUT_DEFAULT_BUDGET;
+    generous.settings.samples_per_vertex = generous.settings.cut_budget = SAMFILE_MAX_SAMPLES_PER_VERTEX;
     sam_build_result cut;
     if ((st = sam_build_run_cut(&generous, fn, &two, &cut, err)) != SAM_OK) {
         sam_build_result_destroy(result);
