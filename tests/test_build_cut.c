@@ -778,6 +778,38 @@ static void test_flat_scaled_carries_the_largest_cut(void **state)
     destroy_cut(&cut);
 }
 
+/* The fewest Monte Carlo pairs a build takes (4): a member's cheaper
+ * estimate asked 8 pairs of the receiver's 4 points and read past them
+ * (ASan: heap-buffer-overflow on the bundled slab). The cuts' total K
+ * stays that of 64 pairs within the noise of 4. */
+static void test_fewest_pairs_build(void **state)
+{
+    (void)state;
+    cut_fixture cut;
+    build_cut_of(&cut, SAM_SOURCE_DIR "/meshes/slab.obj", 0, 0, 0, "marble", 50.0f, 8, SAM_BUILD_CUT_DEFAULT_BUDGET, 0);
+    sam_build_settings s;
+    sam_build_default_settings(&s);
+    s.samples_per_vertex = 8;
+    s.cut_budget = SAM_BUILD_CUT_DEFAULT_BUDGET;
+    s.mc_samples = 4;
+    sam_build_context *ctx;
+    sam_build_result r;
+    sam_error err;
+    if (sam_build_context_create(&cut.mesh, &cut.profile, cut.mm_per_unit, &s, &ctx, &err) != SAM_OK ||
+        sam_build_run(ctx, NULL, NULL, &r, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    double few = 0, many = 0;
+    for (uint32_t o = 0; o < r.topo_count; ++o) {
+        few += cut_total(&r, o);
+        many += cut_total(&cut.r, o);
+    }
+    printf("slab in marble: the cuts' K with 4 pairs / with 64: %.4f\n", few / many);
+    assert_true(many > 0 && fabs(few / many - 1.0) < 0.05);
+    sam_build_result_destroy(&r);
+    sam_build_context_destroy(ctx);
+    destroy_cut(&cut);
+}
+
 /* A cut map is a version-2 .sam whose tree reads back as built; a flat
  * map stays version 1. */
 static void test_samfile_versions(void **state)
@@ -870,6 +902,7 @@ int main(void)
         cmocka_unit_test(test_budget_beyond_n_merges_and_folds),
         cmocka_unit_test(test_bit_identical_for_any_thread_count),
         cmocka_unit_test(test_flat_scaled_carries_the_largest_cut),
+        cmocka_unit_test(test_fewest_pairs_build),
         cmocka_unit_test(test_samfile_rows_follow_render_vertices),
         cmocka_unit_test(test_samfile_versions),
     };

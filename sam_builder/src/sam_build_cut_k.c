@@ -172,6 +172,7 @@ typedef struct cut_k {
     sam_rng rng;
     sam_build_cut_k_scratch *s;
     uint32_t pending;
+    uint32_t few; /* pairs of a member's cheaper Monte Carlo: STRADDLE_SAMPLES, at most the receiver's points */
 } cut_k;
 
 /* Takes `id` into entry `entry`'s sum: adds it at once where it is flat,
@@ -199,7 +200,7 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
         if (fan == SAM_BUILD_FAN_PART) {
             /* Flat, but only part of it behind: which part, the pairs tell. */
             float ev;
-            sam_build_form_factor_from(ctx, c->o, c->points, id, STRADDLE_SAMPLES, ctx->settings.seed, 1, kv, &ev);
+            sam_build_form_factor_from(ctx, c->o, c->points, id, c->few, ctx->settings.seed, 1, kv, &ev);
             k_add(s, q, kv);
             return;
         }
@@ -236,7 +237,8 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
 {
     const uint32_t n = ctx->mesh->topo_count, m = ctx->settings.mc_samples;
     const float tol = ctx->settings.cut_tolerance, *p = ctx->pos + 3 * (size_t)o;
-    cut_k c = {ctx, tree, o, points, {expf(sqrtf(8.0f * tol)), {0, 0, 0}}, {0}, scratch, 0};
+    cut_k c = {ctx, tree, o, points, {expf(sqrtf(8.0f * tol)), {0, 0, 0}}, {0}, scratch, 0,
+               m < STRADDLE_SAMPLES ? m : STRADDLE_SAMPLES};
     sam_rng_seed(&c.rng, ctx->settings.seed, o, (uint64_t)n + tree->node_count);
     /* The floor: tol of each channel's mean R_d over the cut's parts, every
      * part taken as a point. */
@@ -287,7 +289,7 @@ void sam_build_cut_k(const sam_build_context *ctx, const sam_build_tree *tree, u
             /* A member: the fans' Monte Carlo, with fewer samples once the
              * budget is spent. */
             float kv[3], ev;
-            sam_build_form_factor_from(ctx, o, points, at.id, open ? m : STRADDLE_SAMPLES, ctx->settings.seed, 1, kv,
+            sam_build_form_factor_from(ctx, o, points, at.id, open ? m : c.few, ctx->settings.seed, 1, kv,
                                        &ev);
             k_add(s, ctx->pos + 3 * (size_t)at.id, kv);
         }
