@@ -731,6 +731,17 @@ static void test_bit_identical_for_any_thread_count(void **state)
         destroy_cut(&f[t]);
 }
 
+/* Another build of f's mesh and material with settings `s`, into *r. */
+static void build_again(const cut_fixture *f, const sam_build_settings *s, sam_build_result *r)
+{
+    sam_build_context *ctx;
+    sam_error err;
+    if (sam_build_context_create(&f->mesh, &f->profile, f->mm_per_unit, s, &ctx, &err) != SAM_OK ||
+        sam_build_run(ctx, NULL, NULL, r, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    sam_build_context_destroy(ctx);
+}
+
 /* The flat-scaled baseline: each row of the flat map scaled, per channel,
  * to the total of the largest cut a row holds (64 entries). On a slab in
  * marble that cut runs to all 64 entries; asked for 128, it overran the
@@ -754,12 +765,8 @@ static void test_flat_scaled_carries_the_largest_cut(void **state)
     sam_build_default_settings(&s);
     s.map = SAM_BUILD_MAP_FLAT_SCALED;
     s.samples_per_vertex = 3;
-    sam_build_context *ctx;
     sam_build_result r;
-    sam_error err;
-    if (sam_build_context_create(&cut.mesh, &cut.profile, cut.mm_per_unit, &s, &ctx, &err) != SAM_OK ||
-        sam_build_run(ctx, NULL, NULL, &r, &err) != SAM_OK)
-        fail_msg("%s", err.message);
+    build_again(&cut, &s, &r);
     uint32_t scaled = 0;
     for (uint32_t o = 0; o < r.topo_count; ++o)
         for (int c = 0; c < 3; ++c) {
@@ -774,7 +781,6 @@ static void test_flat_scaled_carries_the_largest_cut(void **state)
         }
     assert_true(scaled > r.topo_count);
     sam_build_result_destroy(&r);
-    sam_build_context_destroy(ctx);
     destroy_cut(&cut);
 }
 
@@ -792,12 +798,8 @@ static void test_fewest_pairs_build(void **state)
     s.samples_per_vertex = 8;
     s.cut_budget = SAM_BUILD_CUT_DEFAULT_BUDGET;
     s.mc_samples = 4;
-    sam_build_context *ctx;
     sam_build_result r;
-    sam_error err;
-    if (sam_build_context_create(&cut.mesh, &cut.profile, cut.mm_per_unit, &s, &ctx, &err) != SAM_OK ||
-        sam_build_run(ctx, NULL, NULL, &r, &err) != SAM_OK)
-        fail_msg("%s", err.message);
+    build_again(&cut, &s, &r);
     double few = 0, many = 0;
     for (uint32_t o = 0; o < r.topo_count; ++o) {
         few += cut_total(&r, o);
@@ -806,7 +808,6 @@ static void test_fewest_pairs_build(void **state)
     printf("slab in marble: the cuts' K with 4 pairs / with 64: %.4f\n", few / many);
     assert_true(many > 0 && fabs(few / many - 1.0) < 0.05);
     sam_build_result_destroy(&r);
-    sam_build_context_destroy(ctx);
     destroy_cut(&cut);
 }
 
