@@ -148,8 +148,8 @@ static void test_write_report(void **state)
     self.all.psnr_db = self.normalised.psnr_db = INFINITY;
     const sam_truth_report_step steps[2] = {{4096, 1.5, 30.0, NAN}, {8192, 3.0, 31.0, 29.0}};
     const sam_truth_report_sweep_point sweep[2] = {
-        {3, 0.5, {.rmse = 4.0}, {.rmse = 5.0}, 1, {.rmse = 6.0}, {.rmse = 7.0}, {.rmse = 3.5}, {.rmse = 4.25}},
-        {5, 0.75, {.rmse = 3.0}, {.rmse = 4.5}, 1, {.rmse = 5.5}, {.rmse = 6.5}, {.rmse = 2.5}, {.rmse = 3.75}}};
+        {3, 32, 0.5, {.rmse = 4.0}, {.rmse = 5.0}, 1, {.rmse = 6.0}, {.rmse = 7.0}, {.rmse = 3.5}, {.rmse = 4.25}},
+        {5, 32, 0.75, {.rmse = 3.0}, {.rmse = 4.5}, 1, {.rmse = 5.5}, {.rmse = 6.5}, {.rmse = 2.5}, {.rmse = 3.75}}};
     const sam_truth_report report = {.scene_path = "scenes/slab.json", .width = 64, .height = 48,
                                      .vertex_count = 1234, .samples_per_vertex = 3, .map = "flat", .build_seconds = 2.0,
                                      .diffusion = 3, .animated = 1, .frame = 15, .fps = 30, .truth_tolerance = 0.01f,
@@ -179,7 +179,7 @@ static void test_write_report(void **state)
         "{\"name\": \"tsm\", \"available\": false, \"reason\": \"no shadow maps here\"}",
         "\"rmse_falls_monotonically\": true",
         "{\"n\": 5, \"build_seconds\": 0.750, \"rmse\": 3.0000, \"rmse_translucency\": 4.5000",
-        "\"flat_rmse\": 5.5000, \"flat_rmse_translucency\": 6.5000, \"flat_scaled_rmse\": 2.5000, "
+        "\"cut_budget\": 32, \"flat_rmse\": 5.5000, \"flat_rmse_translucency\": 6.5000, \"flat_scaled_rmse\": 2.5000, "
         "\"flat_scaled_rmse_translucency\": 3.7500",
     };
     assert_all(json, json_has, sizeof json_has / sizeof *json_has);
@@ -195,7 +195,8 @@ static void test_write_report(void **state)
         "| sam | 40.12 | 2.500 | inf | 10 of 100 | 38.50 | 3.000 |",
         "| tsm | unavailable: no shadow maps here |",
         "RMSE falls monotonically",
-        "| 3 | 0.50 | 4.0000 | 5.0000 | 6.0000 | 7.0000 | 3.5000 | 4.2500 |",
+        "| N | cut budget | build s |",
+        "| 3 | 32 | 0.50 | 4.0000 | 5.0000 | 6.0000 | 7.0000 | 3.5000 | 4.2500 |",
         "flat map RMSE",
         "flat-scaled translucency RMSE",
         ("The truth's translucency is 0.4% of its light: the translucency scores judge a part of the picture "

@@ -248,6 +248,17 @@ static sam_status converge_truth(compare_state *s, const sam_image *positions, c
     }
 }
 
+/* The builder's settings of a sweep's map of kind `map` with n samples
+ * per vertex. */
+static void sweep_settings(const compare_state *s, sam_build_map map, long n, sam_build_settings *settings)
+{
+    sam_build_default_settings(settings);
+    settings->map = map;
+    settings->samples_per_vertex = (uint32_t)n;
+    if (s->set->whole_cut)
+        settings->cut_budget = (uint32_t)n;
+}
+
 /* Builds the scene's map of kind `map` with n samples per vertex and
  * scores SAM with it against `ref`. */
 static sam_status score_map(const compare_state *s, const sam_truth_report_reference *ref, sam_build_map map,
@@ -258,9 +269,7 @@ static sam_status score_map(const compare_state *s, const sam_truth_report_refer
     snprintf(what, sizeof what, "sweep: building the %s map with N = %ld", sam_build_map_name(map), n);
     progress_state ps = {s->set->tool, what, -1};
     sam_build_settings settings;
-    sam_build_default_settings(&settings);
-    settings.map = map;
-    settings.samples_per_vertex = (uint32_t)n;
+    sweep_settings(s, map, n, &settings);
     samfile_data sam;
     sam_profile profile;
     float mm;
@@ -310,6 +319,9 @@ static sam_status run_sweep(const compare_state *s, const sam_truth_report_refer
         double baseline_seconds;
         out[i].n = s->set->sweep[i];
         out[i].has_flat = map == SAM_BUILD_MAP_CUT;
+        sam_build_settings settings;
+        sweep_settings(s, map, out[i].n, &settings);
+        out[i].cut_budget = map == SAM_BUILD_MAP_CUT ? sam_build_cut_budget(&settings) : 0;
         sam_status st = score_map(s, ref, map, out[i].n, &out[i].build_seconds, &out[i].all, &out[i].normalised, err);
         if (st == SAM_OK && out[i].has_flat)
             st = score_map(s, ref, SAM_BUILD_MAP_FLAT, out[i].n, &baseline_seconds, &out[i].flat_all,
@@ -499,6 +511,8 @@ static sam_status setup(compare_state *s, sam_error *err)
     build.map = (sam_build_map)s->set->map;
     if (s->set->map_samples)
         build.samples_per_vertex = s->set->map_samples;
+    if (s->set->whole_cut)
+        build.cut_budget = build.samples_per_vertex;
     /* The cache names its map in a shallow copy of the scene, so the
      * sweep's builds still start from the mesh. */
     char cache_dir[4096];

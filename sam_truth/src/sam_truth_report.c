@@ -111,6 +111,8 @@ static void write_json(FILE *f, const void *what)
                        "\"psnr_db\": ",
                     i ? ", " : "", p->n, p->build_seconds, p->all.rmse, p->normalised.rmse);
             json_number(f, p->all.psnr_db);
+            if (p->cut_budget)
+                fprintf(f, ", \"cut_budget\": %u", p->cut_budget);
             if (p->has_flat)
                 fprintf(f, ", \"flat_rmse\": %.4f, \"flat_rmse_translucency\": %.4f, \"flat_scaled_rmse\": %.4f, "
                            "\"flat_scaled_rmse_translucency\": %.4f",
@@ -180,16 +182,20 @@ static void write_md(FILE *f, const void *what)
     md_techniques(f, r->techniques);
     if (r->sweep_count) {
         const int flat = r->sweep[0].has_flat;
+        const int cut = r->sweep[0].cut_budget != 0;
         fprintf(f, "\nSAM against the truth as the map is rebuilt with N samples per vertex (rmse_vs_samples.png); "
-                   "RMSE %s monotonically%s:\n\n| N | build s | RMSE | translucency RMSE |%s\n| --- | --- | --- | --- |%s\n",
+                   "RMSE %s monotonically%s:\n\n| N |%s build s | RMSE | translucency RMSE |%s\n| --- |%s --- | --- | --- |%s\n",
                 r->monotonic ? "falls" : "does not fall",
-                flat ? " (the flat map's and the flat-scaled baseline's beside it)" : "",
+                flat ? " (the flat map's and the flat-scaled baseline's beside it)" : "", cut ? " cut budget |" : "",
                 flat ? " flat map RMSE | flat map translucency RMSE | flat-scaled RMSE | flat-scaled translucency RMSE |"
                      : "",
-                flat ? " --- | --- | --- | --- |" : "");
+                cut ? " --- |" : "", flat ? " --- | --- | --- | --- |" : "");
         for (int i = 0; i < r->sweep_count; ++i) {
-            fprintf(f, "| %ld | %.2f | %.4f | %.4f |", r->sweep[i].n, r->sweep[i].build_seconds,
-                    r->sweep[i].all.rmse, r->sweep[i].normalised.rmse);
+            fprintf(f, "| %ld |", r->sweep[i].n);
+            if (cut)
+                fprintf(f, " %u |", r->sweep[i].cut_budget);
+            fprintf(f, " %.2f | %.4f | %.4f |", r->sweep[i].build_seconds, r->sweep[i].all.rmse,
+                    r->sweep[i].normalised.rmse);
             if (flat)
                 fprintf(f, " %.4f | %.4f | %.4f | %.4f |", r->sweep[i].flat_all.rmse,
                         r->sweep[i].flat_normalised.rmse, r->sweep[i].scaled_all.rmse,
@@ -362,6 +368,13 @@ sam_status sam_truth_report_plot_sweep(const char *dir, const char *mesh_path,
     if ((st = sam_atomic_open(&f, dat, err)) != SAM_OK)
         return st;
     const int flat = count > 0 && sweep[0].has_flat;
+    /* The x axis says what N is: all of a cut, or fitted from a larger one. */
+    int whole = count > 0 && sweep[0].cut_budget != 0;
+    for (int i = 0; i < count; ++i)
+        whole = whole && sweep[i].cut_budget == (uint32_t)sweep[i].n;
+    const char *xlabel = !flat    ? "back-side samples per vertex N"
+                         : whole ? "cut budget = back-side samples per vertex N (the whole cut stored)"
+                                 : "back-side samples per vertex N (of a cut of the larger of N and 32)";
     fprintf(f.fp, "# N rmse rmse_translucency%s (8-bit levels)\n",
             flat ? " flat_rmse flat_rmse_translucency flat_scaled_rmse flat_scaled_rmse_translucency" : "");
     for (int i = 0; i < count; ++i) {
@@ -379,11 +392,11 @@ sam_status sam_truth_report_plot_sweep(const char *dir, const char *mesh_path,
      * from leaving half a picture. */
     fprintf(f.fp,
             "set terminal pngcairo size 800,500 noenhanced\nset output '%s.tmp'\n"
-            "set title 'SAM against the ground truth (%s)'\nset xlabel 'back-side samples per vertex N'\n"
+            "set title 'SAM against the ground truth (%s)'\nset xlabel '%s'\n"
             "set ylabel 'RMSE (8-bit sRGB levels)'\nset grid\nset key top right\n"
             "plot '%s' using 1:2 with linespoints lw 2 title 'full shading', '' using 1:3 with linespoints lw 2 "
             "title 'translucency (normalised)'%s\n",
-            png, sam_path_basename(mesh_path ? mesh_path : "scene"), dat,
+            png, sam_path_basename(mesh_path ? mesh_path : "scene"), xlabel, dat,
             flat ? ", '' using 1:4 with linespoints lw 2 dt 2 title 'full shading, flat map', '' using 1:5 with "
                    "linespoints lw 2 dt 2 title 'translucency, flat map', '' using 1:6 with linespoints lw 2 dt 3 "
                    "title 'full shading, flat-scaled', '' using 1:7 with linespoints lw 2 dt 3 title "

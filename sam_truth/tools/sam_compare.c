@@ -54,6 +54,9 @@ static void usage(FILE *out)
             "  --map cut|flat|flat-scaled\n"
             "                         the kind of map built for SAM and its sweep (default cut; see\n"
             "                         sam_build --help)\n"
+            "  --whole-cut            a cut map stores its whole cut: the cut's budget is N, for the\n"
+            "                         map shown and each point of the sweep (default: N fitted from a\n"
+            "                         cut of the larger of N and 32, as sam_build does)\n"
             "  --truth-samples N      the ground truth's first surface sample count (default 65536);\n"
             "                         it is doubled (up to 6 times) until doubling changes SAM's\n"
             "                         PSNRs by under 0.5 dB\n"
@@ -80,6 +83,7 @@ static void usage(FILE *out)
             "\n"
             "examples:\n"
             "  sam_compare scenes/compare_slab_area.json -o cmp_slab --samples-sweep 3,5,10,20\n"
+            "  sam_compare scenes/compare_knot.json -o cmp_budget --techniques sam --samples-sweep 8,16,32,64 --whole-cut\n"
             "  sam_compare scenes/ear_twist.json -o cmp_twist --frames 0,15,30 --techniques sam,none\n");
 }
 
@@ -168,6 +172,7 @@ static int parse_options(int argc, char **argv, options *o)
         {"--truth-tolerance", SAM_ARG_FLOAT, &set->truth_tolerance, .lo = 0, .hi = 0.5, .hi_open = 1, .value = "X"},
         {"--samples", SAM_ARG_INT, &map_samples, .lo = 1, .hi = 64, .value = "N"},
         {"--map", SAM_ARG_CHOICE, &set->map, .choices = map_names},
+        {.name = "--whole-cut", .kind = SAM_ARG_FLAG, .target = &set->whole_cut},
         {"--truth-samples", SAM_ARG_INT, &truth_samples, .lo = 1, .hi = 100000000, .value = "N"},
         {.name = "--force", .kind = SAM_ARG_FLAG, .target = &o->force},
         {"--cache", SAM_ARG_STRING, &set->cache_dir, .value = "DIR"},
@@ -179,6 +184,8 @@ static int parse_options(int argc, char **argv, options *o)
         r = parse_techniques(techniques, set->requested);
     if (r == SAM_ARGS_OK)
         r = parse_lists(sweep_list, frame_list, fps_given, o);
+    if (r == SAM_ARGS_OK && set->whole_cut && set->map != 0)
+        r = sam_args_fail(TOOL, "--whole-cut sets a cut map's budget; give it without --map %s", map_names[set->map]);
     if (r == SAM_ARGS_OK && set->cache_dir && set->no_cache)
         r = sam_args_fail(TOOL, "--cache DIR and --no-cache exclude each other");
     set->map_samples = (uint32_t)map_samples;

@@ -59,6 +59,7 @@ assert sam["psnr_translucency_db"] > none["psnr_translucency_db"], (sam, none)
 assert t["thickness"]["psnr_translucency_db"] > none["psnr_translucency_db"], (t["thickness"], none)
 pts = r["samples_sweep"]["points"]
 assert [p["n"] for p in pts] == [1, 3, 6], pts
+assert all(p["cut_budget"] == 32 for p in pts), pts
 assert r["map"] == "cut", r["map"]
 print("truth %d samples %.2f s; PSNR sam %s none %s transmittance %s thickness %s dB; sweep RMSE %s" % (
     truth["samples"], truth["seconds"], sam["psnr_db"], none["psnr_db"], t["transmittance"]["psnr_db"],
@@ -81,6 +82,19 @@ pts = json.load(open(sys.argv[1]))["samples_sweep"]["points"]
 assert [p["n"] for p in pts] == [1, 6] and pts[0]["rmse"] != pts[1]["rmse"], pts
 mesh = {p["n"]: p["rmse"] for p in json.load(open(sys.argv[2]))["samples_sweep"]["points"]}
 assert all(abs(p["rmse"] - mesh[p["n"]]) <= 1e-6 * max(1.0, mesh[p["n"]]) for p in pts), (pts, mesh)
+PY
+# --whole-cut: each point stores all of an N-entry cut, not N of a 32-entry
+# one, and the report and plot say so.
+"$bin/sam_compare" "$tmp/scene.json" -o "$tmp/whole" --techniques sam --samples-sweep 2,6 --whole-cut \
+  2> "$tmp/whole_log.txt" || fail "sam_compare --whole-cut: $(cat "$tmp/whole_log.txt")"
+grep -q "whole cut stored" "$tmp/whole/sweep.gnuplot" || fail "the whole cut's plot does not say so"
+grep -q "^| 6 | 6 |" "$tmp/whole/report.md" || fail "report.md's sweep has no budget: $(cat "$tmp/whole/report.md")"
+python3 - "$tmp/whole/report.json" "$tmp/out/report.json" <<'PY' || fail "the whole cut's sweep"
+import json, sys
+pts = json.load(open(sys.argv[1]))["samples_sweep"]["points"]
+assert [(p["n"], p["cut_budget"]) for p in pts] == [(2, 2), (6, 6)], pts
+fitted = {p["n"]: p["rmse"] for p in json.load(open(sys.argv[2]))["samples_sweep"]["points"]}
+assert pts[1]["rmse"] != fitted[6], (pts, fitted)
 PY
 # An animated scene: the slab bends up (period 0.8 s) and --frames 0,2 at 10 fps compares the rest pose and
 # the full bend (t = 0.2 s), each against a truth of its own pose, in frame_0000/ and frame_0002/.
@@ -155,6 +169,8 @@ expect_error "unknown technique" "$tmp/scene.json" -o "$tmp/x" --techniques sam,
 grep -q '"foo"' "$tmp/err.txt" && grep -q "thickness" "$tmp/err.txt" \
   || fail "unknown technique message: $(cat "$tmp/err.txt")"
 expect_error "bad sweep" "$tmp/scene.json" -o "$tmp/x" --samples-sweep 3,0
+expect_error "--whole-cut, flat map" "$tmp/scene.json" -o "$tmp/x" --whole-cut --map flat
+grep -q "without --map flat" "$tmp/err.txt" || fail "--whole-cut --map flat message: $(cat "$tmp/err.txt")"
 "$bin/sam_compare" "$tmp/slab.obj" -o "$tmp/x" 2> "$tmp/err.txt" && fail "sam_compare took a bare mesh"
 grep -q "needs a scene.*--write-scene" "$tmp/err.txt" || fail "bare mesh: $(cat "$tmp/err.txt")"
 expect_error "bad tolerance" "$tmp/scene.json" -o "$tmp/x" --truth-tolerance 0.7

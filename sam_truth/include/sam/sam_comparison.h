@@ -42,6 +42,8 @@ typedef struct sam_comparison_settings {
     int requested[SAM_TRUTH_REPORT_TECHNIQUES]; /* 1: render and score technique t */
     uint32_t map_samples;    /* back-side samples per vertex of a map that is built; 0: the builder's default */
     int map;                 /* sam_build_map of a map that is built (and of the sweep's): 0 is the cut map */
+    int whole_cut;           /* 1: a cut map that is built (and each of the sweep's) stores its whole cut, the
+                              * cut's budget equal to N; 0: the builder's budget (the larger of N and 32) */
     uint64_t truth_samples;  /* the truth's first sample count; 0: SAM_TRUTH_MIN_SAMPLES */
     float truth_tolerance;   /* the truth's far-field tolerance, in [0, 0.5) */
     float fps;               /* > 0: frames are at t = frame / fps, and T is smoothed with dt = 1 / fps */

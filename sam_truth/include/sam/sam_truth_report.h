@@ -66,6 +66,7 @@ typedef struct sam_truth_report_step {
  * same n, to plot beside it. */
 typedef struct sam_truth_report_sweep_point {
     long n;
+    uint32_t cut_budget; /* the cut map's entries per vertex the n samples were fitted from; 0: not a cut map */
     double build_seconds;
     sam_image_comparison all, normalised;
     int has_flat; /* 1: flat_* and scaled_* hold scores */
