@@ -315,7 +315,10 @@ float sam_app_stage_exposure(const sam_image *hdr)
         const float *p = hdr->pixels + i * hdr->channels;
         if (hdr->channels == 4 && !(p[3] > 0.5f))
             continue;
-        float y = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+        /* The brightest channel, not the luminance: a strongly coloured
+         * material (ketchup, apple) read by its luminance was exposed until
+         * its own colour clipped, and the back light's rims with it. */
+        float y = fmaxf(p[0], fmaxf(p[1], p[2]));
         if (isfinite(y))
             lum[count++] = y;
     }

@@ -88,8 +88,8 @@ void sam_app_stage_defaults(sam_app_stage_options *options);
 sam_status sam_app_stage_scene(const char *mesh_path, const char *material, const sam_app_stage_options *options,
                                sam_scene *scene, sam_app_stage_notes *notes, sam_error *err);
 
-/* The exposure in EV that maps the 97th percentile of the luminance of the
- * picture's covered pixels (alpha > 0.5 in an RGBA image; every pixel of
+/* The exposure in EV that maps the 97th percentile of the brightest
+ * channel (the largest of R, G, B) of the picture's covered pixels (alpha > 0.5 in an RGBA image; every pixel of
  * an RGB one) to 1.2, clamped to [-32, 32]; 0 when no pixel is covered or
  * lit. */
 float sam_app_stage_exposure(const sam_image *hdr);
