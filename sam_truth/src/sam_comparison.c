@@ -512,7 +512,7 @@ static sam_status setup(compare_state *s, sam_error *err)
     if (s->set->map_samples)
         build.samples_per_vertex = s->set->map_samples;
     if (s->set->whole_cut)
-        build.cut_budget = build.samples_per_vertex;
+        build.cut_budget = sam_build_samples(&build);
     /* The cache names its map in a shallow copy of the scene, so the
      * sweep's builds still start from the mesh. */
     char cache_dir[4096];
