@@ -394,9 +394,10 @@ static void test_one_sided_light_matches_brute_force(void **state)
 
 /* L_d rising along a marble slab and a knot, whose rows are cuts through
  * the tree (N = 8), summed as the runtime sums it (node means moved by
- * tau) against every back-side fan's L_d K: 2.9% and 8.5% off (before
- * rims counted, 2.4% and 7.5%), where the K alone (L_d = 1) is 0.3% and
- * 0.4% off. The rest is where a node reads L_d: its members' mean, while
+ * tau) against every back-side fan's L_d K: 2.4% and 3.1% off (builder
+ * 1.11, which gave a node partly behind the largest node wholly behind,
+ * 2.9% and 8.5%; before rims counted, 2.4% and 7.5%), where the K alone
+ * (L_d = 1) is 0.3% and 0.4% off. The rest is where a node reads L_d: its members' mean, while
  * its light comes mostly from its edge nearest the receiver, and where a
  * rim's light is read (the sample nearest it). Builder 1.5 read 2.7% and
  * 8.0% here; its
@@ -411,7 +412,7 @@ static void test_linear_light_is_read_where_it_comes_from(void **state)
         double size, thickness;
         float mm_per_unit;
         double bound;
-    } cases[] = {{"slab", 24, 2.0, 0.05, 50.0f, 0.03}, {"knot", 24, 0, 0, 40.0f, 0.09}};
+    } cases[] = {{"slab", 24, 2.0, 0.05, 50.0f, 0.03}, {"knot", 24, 0, 0, 40.0f, 0.05}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         cut_fixture f;
         build_cut(&f, cases[c].shape, cases[c].resolution, cases[c].size, cases[c].thickness, "marble",
@@ -492,12 +493,15 @@ static void test_nodes_stay_within_reach(void **state)
  * sum (8.6% and 13.3% of it under a 4 mm checkerboard of light, where 1.8
  * errs by 9.5% and 15.8%: L_d reads from a smaller node); going down
  * towards where the light comes from first (sam_build_cut.c's
- * concentrate), 6.9% and 10.2%. */
+ * concentrate), 6.9% and 10.2%. Builder 1.11 erred by 6.3% and
+ * 13.2%: a node partly behind handed its K to the largest node wholly
+ * behind on the way to its light, tens of mm across where the K came
+ * from a few; narrowed to the K's spread (focus), 5.8% and 1.0%. */
 static void test_large_nodes_read_light_near_the_receiver(void **state)
 {
     (void)state;
-    static const half_lit_case cases[] = {{"torus", 128, "marble", 30.0f, 32, 47, 100, 0.1},
-                                          {"blobs", 40, "marble", 60.0f, 32, 25, 100, 0.14}};
+    static const half_lit_case cases[] = {{"torus", 128, "marble", 30.0f, 32, 47, 100, 0.075},
+                                          {"blobs", 40, "marble", 60.0f, 32, 25, 100, 0.03}};
     check_half_lit(cases, sizeof cases / sizeof *cases);
 }
 

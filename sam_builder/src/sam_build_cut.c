@@ -220,16 +220,48 @@ static uint32_t carrier(const sam_build_context *ctx, const sam_build_tree *tree
  * translucency then erred by 2.3 times what it does with this. Such a
  * node, of at most SAM_BUILD_EXACT_MEMBERS members (concentrate narrows a
  * larger one first), hands its K to the node around its back-side member nearest
- * `centre` (where its light comes from): the largest node on the way down
- * to that member that lies wholly behind o, else the member's parent
- * (whose tau, as every node's, leans towards `centre`). Not the member
+ * `centre` (where its light comes from): the first node on the way down
+ * to that member that lies wholly behind o, narrowed on that way while it
+ * is at least `spread` (the K's, mm) in half-diagonal, as concentrate
+ * narrows; else the member's parent (whose tau, as every node's, leans
+ * towards `centre`). Not narrowed, the first such node on a carved head
+ * in marble held members from 0.1 to 56 mm from the receiver: its K came
+ * from a crease's far side in shadow, its mean L_d from the lit rest, and
+ * the forehead glowed (docs/comparison.md). Not the member
  * itself: the runtime takes a vertex sample for one pair of fans (the walk
  * adopts its neighbours as if their light were not counted, and the pose
  * re-asks eq. 13-14 and its fans' quadrature), and a vertex carrying a
  * node's K broke the engine's rest pose by 18% of T
  * (tests/test_gl_engine.c). */
+/* The smallest node on the way down from `id` to the member at tree
+ * position `at` that is at least `spread` (mm) in half-diagonal: `id`
+ * itself when its child on the way is smaller, or a vertex. */
+static uint32_t narrow(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t id, uint32_t at,
+                       float spread)
+{
+    const uint32_t n = ctx->mesh->topo_count;
+    for (;;) {
+        const sam_build_node *here = &tree->node[id - n];
+        uint32_t next = UINT32_MAX;
+        for (int c = 0; c < 2; ++c) {
+            const uint32_t kid = here->child[c];
+            if (kid >= n && at >= tree->node[kid - n].first && at - tree->node[kid - n].first < tree->node[kid - n].count)
+                next = kid;
+        }
+        if (next == UINT32_MAX)
+            return id;
+        const sam_build_node *k = &tree->node[next - n];
+        float diagonal2 = 0;
+        for (int a = 0; a < 3; ++a)
+            diagonal2 += (k->hi[a] - k->lo[a]) * (k->hi[a] - k->lo[a]);
+        if (!(0.25f * diagonal2 >= spread * spread))
+            return id;
+        id = next;
+    }
+}
+
 static uint32_t focus(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id,
-                      const float centre[3])
+                      const float centre[3], float spread)
 {
     const uint32_t n = ctx->mesh->topo_count;
     const sam_build_node *node = &tree->node[id - n];
@@ -263,8 +295,10 @@ static uint32_t focus(const sam_build_context *ctx, const sam_build_tree *tree, 
                 next = kid;
             }
         }
-        if (next == UINT32_MAX || members_behind(ctx, tree, o, next - n) == tree->node[next - n].count)
-            return next == UINT32_MAX ? id : next;
+        if (next == UINT32_MAX)
+            return id;
+        if (members_behind(ctx, tree, o, next - n) == tree->node[next - n].count)
+            return narrow(ctx, tree, next, at, spread);
         id = next;
     }
 }
@@ -763,7 +797,7 @@ static uint64_t cut_vertex(const sam_build_context *ctx, const sam_build_tree *t
             const float *centre = sc->centre + 3 * (size_t)c;
             uint32_t held = concentrate(ctx, tree, o, e[c].id, centre, sc->spread[c], !e[c].back);
             if (!e[c].back)
-                held = focus(ctx, tree, o, held, centre);
+                held = focus(ctx, tree, o, held, centre, sc->spread[c]);
             e[c].id = carrier(ctx, tree, o, held, e[c].k, centre);
             e[c].tau = node_tau(ctx, tree, e[c].id - n, centre);
         }

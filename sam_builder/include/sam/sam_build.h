@@ -70,10 +70,12 @@ extern "C" {
  * a fan partly behind the receiver by its pairs of points; 1.10: a cut
  * map stores 16 of a 32-entry cut by default, a budget above N fitted by
  * merging siblings and folding the rest into the nearest kept; 1.11: the
- * fold goes to the nearest kept in place and facing), and the
+ * fold goes to the nearest kept in place and facing; 1.12: a cut node
+ * partly behind its receiver hands its K to a node no larger than its
+ * light's spread needs, not to the largest wholly behind), and the
  * tools' map cache keys on it, so that no cached map outlives the builder
  * that made it. */
-#define SAM_BUILD_VERSION "1.11"
+#define SAM_BUILD_VERSION "1.12"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
