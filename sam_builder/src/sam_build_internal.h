@@ -327,4 +327,26 @@ void sam_build_unit_k(const sam_build_context *ctx, float area, float distance, 
  * runtime evaluates. */
 void sam_build_kprime(const sam_build_context *ctx, const float k[3], float area, float distance, float out[3]);
 
+/* Whether any of topo vertex v's fan can send receiver o light: some of it
+ * behind o (sam_build_fan_side), v within the search radius. Its distance
+ * (mm) into *d when it can. */
+static inline int sam_build_fan_reaches(const sam_build_context *ctx, uint32_t o, uint32_t v, float *d)
+{
+    if (v == o || sam_build_fan_side(ctx, o, v) == SAM_BUILD_FAN_NONE)
+        return 0;
+    *d = sam_build_distance(ctx->pos + 3 * (size_t)o, ctx->pos + 3 * (size_t)v);
+    return *d < ctx->search_radius;
+}
+
+/* ---- the node that holds a cut entry's K (sam_build_cut_hold.c) */
+
+/* The node (topo_count + node index) that holds cut node `id`'s K `k` for
+ * receiver o, whose light comes from around `centre` (the K-weighted
+ * centre, mm) with K-weighted spread `spread` (mm), as sam_build_cut_k
+ * gives them; `back` 1 where every member of `id` lies behind o. Writes
+ * the held node's tau (where along its split the light comes from, in
+ * [-1, 1]) to *tau. Deterministic. */
+uint32_t sam_build_cut_hold(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t o, uint32_t id,
+                            const float k[3], const float centre[3], float spread, int back, float *tau);
+
 #endif
