@@ -22,6 +22,7 @@ example:
   build/bin/sam_compare bunny_directional.json -o cmp_bunny_directional --no-cache
 """
 import argparse
+import copy
 import json
 import math
 import os
@@ -74,7 +75,8 @@ def absolute(scene, scene_dir):
     env = scene.get("environment")
     if isinstance(env, dict) and isinstance(env.get("map"), str):
         env["map"] = fix(env["map"])
-    for k in scene.get("keyframes", []) if isinstance(scene.get("keyframes"), list) else []:
+    keyframes = scene.get("keyframes")
+    for k in keyframes if isinstance(keyframes, list) else []:
         if isinstance(k, dict) and isinstance(k.get("mesh"), str):
             k["mesh"] = fix(k["mesh"])
 
@@ -108,11 +110,12 @@ def relit(scene, kind, scene_dir):
     back = points[max(behind)[1]]
     others = [l for l in lights if l is not back]
     p = vector(back["position"], "the back light's position")
-    towards = unit(sub(target, p), "the back light")
-    dist = math.sqrt(dot(sub(target, p), sub(target, p)))
+    to_target = sub(target, p)
+    towards = unit(to_target, "the back light")
+    dist = math.sqrt(dot(to_target, to_target))
     color, intensity = back.get("color", [1, 1, 1]), float(back.get("intensity", 1.0))
     irradiance = intensity / dist**2
-    out = json.loads(json.dumps(scene))
+    out = copy.deepcopy(scene)
     out.pop("sam", None)
     absolute(out, scene_dir)
     if kind == "directional":

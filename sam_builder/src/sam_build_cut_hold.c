@@ -115,10 +115,18 @@ static int spans(const sam_build_tree *tree, uint32_t j, float spread)
     return 0.25f * diagonal2 >= spread * spread;
 }
 
-/* Whether `node`'s members hold tree position `at`. */
-static int holds_position(const sam_build_node *node, uint32_t at)
+/* The child of node j (topo_count + node index) whose members hold tree
+ * position `at`; UINT32_MAX when none does, as when the member there is a
+ * vertex child of j itself. */
+static uint32_t child_holding(const sam_build_context *ctx, const sam_build_tree *tree, uint32_t j, uint32_t at)
 {
-    return at >= node->first && at - node->first < node->count;
+    const uint32_t n = ctx->mesh->topo_count;
+    for (int c = 0; c < 2; ++c) {
+        const uint32_t kid = tree->node[j].child[c];
+        if (kid >= n && at >= tree->node[kid - n].first && at - tree->node[kid - n].first < tree->node[kid - n].count)
+            return kid;
+    }
+    return UINT32_MAX;
 }
 
 /* The smallest node on the way down from `id` to the member at tree
@@ -129,13 +137,7 @@ static uint32_t narrow(const sam_build_context *ctx, const sam_build_tree *tree,
 {
     const uint32_t n = ctx->mesh->topo_count;
     for (;;) {
-        const sam_build_node *here = &tree->node[id - n];
-        uint32_t next = UINT32_MAX;
-        for (int c = 0; c < 2; ++c) {
-            const uint32_t kid = here->child[c];
-            if (kid >= n && holds_position(&tree->node[kid - n], at))
-                next = kid;
-        }
+        const uint32_t next = child_holding(ctx, tree, id - n, at);
         if (next == UINT32_MAX || !spans(tree, next - n, spread))
             return id;
         id = next;
@@ -186,19 +188,9 @@ static uint32_t focus(const sam_build_context *ctx, const sam_build_tree *tree, 
     if (behind == node->count || best == UINT32_MAX)
         return id;
     for (;;) {
-        const sam_build_node *here = &tree->node[id - n];
-        uint32_t next = UINT32_MAX;
-        for (int c = 0; c < 2; ++c) {
-            const uint32_t kid = here->child[c];
-            if (kid < n) {
-                if (kid == best)
-                    return id; /* the member's parent */
-            } else if (holds_position(&tree->node[kid - n], at)) {
-                next = kid;
-            }
-        }
+        const uint32_t next = child_holding(ctx, tree, id - n, at);
         if (next == UINT32_MAX)
-            return id;
+            return id; /* the member's parent */
         if (members_behind(ctx, tree, o, next - n) == tree->node[next - n].count)
             return narrow(ctx, tree, next, at, spread);
         id = next;
