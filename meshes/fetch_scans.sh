@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Copies real scanned meshes from the Debian package libcgal-demo (its CGAL
-# data archive) into meshes/scans/, which git ignores, and derives denser
-# ones from them with loop_subdivide.py. Installs the package with apt-get
-# when it is missing. Safe to run again: files whose contents are already
-# there are left alone, and a derived mesh is remade only when its source
-# changed, it is missing, or loop_subdivide.py is newer than it.
+# Copies real scanned and modelled meshes from the Debian package
+# libcgal-demo (its CGAL data archive) into meshes/scans/, which git
+# ignores, and derives denser ones from them with loop_subdivide.py.
+# Installs the package with apt-get when it is missing. Safe to run again:
+# files whose contents are already there are left alone, and a derived mesh
+# is remade only when its source changed, it is missing, or
+# loop_subdivide.py is newer than it.
 #
 #   meshes/fetch_scans.sh [DEST_DIR]      (default: the scans/ folder beside this script)
 set -euo pipefail
@@ -18,6 +19,12 @@ MESHES=(
   "elephant.off:data/meshes/elephant.off"
   "head.off:data/meshes/mannequin-devil.off"
   "man.off:data/meshes/man.off"
+  "hand.off:data/meshes/hand.off"
+  "camel.off:data/meshes/camel.off"
+  "mushroom.off:data/meshes/mushroom.off"
+  "lion_head.off:data/meshes/lion-head.off"
+  "homer.off:data/meshes/homer.off"
+  "cow.off:data/meshes/cow.off"
 )
 # derived name : stable name above : Loop subdivision steps. The archive's
 # densest statue-like scan, man.off (a standing figure, 17,495 vertices,
@@ -34,7 +41,7 @@ die() {
 
 case "${1:-}" in
   -h|--help)
-    sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
     exit 0
     ;;
 esac
