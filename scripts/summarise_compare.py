@@ -29,7 +29,8 @@ def psnr(rmse):
 
 def sam_best(t):
     """Whether SAM is above every other available technique on all three
-    scores (an infinite PSNR, an exact picture, ties with another)."""
+    scores. A PSNR of None (an exact picture) counts as infinite, above any
+    finite one; equal scores are not above."""
     sam = t.get("sam")
     if not sam or not sam["available"]:
         return False
