@@ -98,7 +98,7 @@ for step in ${only//,/ }; do
   esac
 done
 
-# The machine, for the README's Performance section.
+# The machine, for docs/performance.md.
 cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//' || echo unknown)
 memory=$(awk '/MemTotal/ {printf "%.1f", $2 / 1048576}' /proc/meminfo)
 commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs sam_compare on every comparison scene (scenes/compare_*.json) and
 # writes OUT/summary.md (scripts/summarise_compare.py): one table of PSNRs
-# over the scenes, as the README's "Comparison results" shows, and a second
+# over the scenes, as the README's "How close to the truth" shows, and a second
 # one of the map against the flat maps: every scene but the statue gets the
 # samples sweep 3,16,32,64, which scores the cut map, the flat map and the
 # flat-scaled baseline at each N against the same truth (the statue's 280k
