@@ -206,32 +206,29 @@ static void test_same_cube_in_every_format(void **state)
     }
 }
 
-/* A 2x2 grid of quads in the plane z = 0 (an open square sheet). */
-static void test_open_sheet_rings_and_fan_areas(void **state)
+/* A 2x2 grid of unit quads in the plane z = 0 (an open square sheet, 3x3
+ * vertices), each cut along the same diagonal, moved `offset` units along x. */
+static sam_status sheet_at(float offset, sam_mesh *m, sam_mesh_report *rep, sam_error *err)
 {
-    (void)state;
     float pos[9 * 3];
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
-            pos[3 * (3 * j + i)] = (float)i;
+            pos[3 * (3 * j + i)] = offset + (float)i;
             pos[3 * (3 * j + i) + 1] = (float)j;
             pos[3 * (3 * j + i) + 2] = 0.0f;
         }
-    uint32_t tri[8 * 3];
-    int n = 0;
-    for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) {
-            uint32_t a = 3 * j + i, b = a + 1, c = a + 4, d = a + 3;
-            uint32_t t[6] = {a, b, c, a, c, d};
-            memcpy(tri + n, t, sizeof t);
-            n += 6;
-        }
-    sam_mesh_input in = {.name = "sheet", .vertex_count = 9, .positions = pos,
-                         .triangle_count = 8, .triangles = tri};
+    static const uint32_t tri[8 * 3] = {0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7};
+    sam_mesh_input in = {.name = "sheet", .vertex_count = 9, .positions = pos, .triangle_count = 8, .triangles = tri};
+    return sam_mesh_create(&in, m, rep, err);
+}
+
+static void test_open_sheet_rings_and_fan_areas(void **state)
+{
+    (void)state;
     sam_mesh m;
     sam_mesh_report rep;
     sam_error err;
-    assert_int_equal(sam_mesh_create(&in, &m, &rep, &err), SAM_OK);
+    assert_int_equal(sheet_at(0.0f, &m, &rep, &err), SAM_OK);
     assert_int_equal(m.topo_count, 9);
     assert_int_equal(rep.boundary_vertices, 8);
     /* Centre vertex 4: interior, 6 triangles (the diagonals a-c meet it in
@@ -987,6 +984,33 @@ static void test_render_of_source(void **state)
     sam_mesh_destroy(&m);
 }
 
+static void test_far_from_the_origin_is_warned(void **state)
+{
+    (void)state;
+    char msg[256];
+    sam_mesh m;
+    /* Floats at 1e5 are 1/128 apart, under 1% of the mean edge (1.14):
+     * nothing to say. At 4e6 they are 0.25 apart, 22% of it. */
+    assert_int_equal(sheet_at(1e5f, &m, NULL, NULL), SAM_OK);
+    assert_int_equal(sam_mesh_precision_warning(&m, "sheet.obj", msg, sizeof msg), 0);
+    assert_string_equal(msg, "");
+    sam_mesh_destroy(&m);
+    assert_int_equal(sheet_at(4e6f, &m, NULL, NULL), SAM_OK);
+    assert_int_equal(sam_mesh_precision_warning(&m, "sheet.obj", msg, sizeof msg), 1);
+    assert_non_null(strstr(msg, "sheet.obj lies 4e+06 units from its origin"));
+    assert_non_null(strstr(msg, "to 0.25 units there (22% of an edge)"));
+    assert_non_null(strstr(msg, "move it near the origin"));
+    assert_int_equal(sam_mesh_precision_warning(&m, NULL, msg, sizeof msg), 1);
+    assert_non_null(strstr(msg, "the mesh lies"));
+    /* A short buffer is cut, never overrun; NULLs give 0. */
+    char tiny[8];
+    assert_int_equal(sam_mesh_precision_warning(&m, NULL, tiny, sizeof tiny), 1);
+    assert_int_equal(strlen(tiny), 7);
+    assert_int_equal(sam_mesh_precision_warning(NULL, NULL, msg, sizeof msg), 0);
+    assert_int_equal(sam_mesh_precision_warning(&m, NULL, NULL, 0), 0);
+    sam_mesh_destroy(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1007,6 +1031,7 @@ int main(void)
         cmocka_unit_test(test_truncated_prefixes),
         cmocka_unit_test(test_body_counts_are_checked),
         cmocka_unit_test(test_render_of_source),
+        cmocka_unit_test(test_far_from_the_origin_is_warned),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

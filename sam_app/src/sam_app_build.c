@@ -65,6 +65,8 @@ static int load_mesh(const sam_app_build_job *job, const char *tool, sam_mesh *m
     sam_mesh_report_summary(&report, summary, sizeof summary);
     if (strcmp(summary, "no repairs"))
         fprintf(stderr, "%s: %s: %s\n", tool, job->mesh_path, summary);
+    if (sam_mesh_precision_warning(mesh, job->mesh_path, summary, sizeof summary))
+        fprintf(stderr, "%s: warning: %s\n", tool, summary);
     if (!job->keep_orientation && sam_mesh_orient_outward(mesh))
         fprintf(stderr, "%s: warning: %s is closed and faces inward (negative volume): turned outside out "
                         "(--keep-orientation keeps it)\n", tool, job->mesh_path);

@@ -249,6 +249,9 @@ sam_status sam_app_stage_scene(const char *mesh_path, const char *material, cons
         goto done;
     /* As the map's build will turn it (sam_app_scene_object). */
     sam_mesh_orient_outward(&mesh);
+    char rounding[256];
+    if (sam_mesh_precision_warning(&mesh, NULL, rounding, sizeof rounding))
+        note(notes, "warning: %s", rounding);
     if ((st = measure_mesh(&mesh, &ms, err)) != SAM_OK)
         goto done;
     float mm_per_unit;

@@ -83,6 +83,8 @@ static int info_mesh(const char *path, float mm_per_unit)
     printf("  attributes:        %s, normals %s\n", m.uvs ? "UVs" : "no UVs",
            rep.normals_from_file ? "from the file" : "computed (area-weighted)");
     printf("  repairs:           %s\n", sam_mesh_report_summary(&rep, summary, sizeof summary));
+    if (sam_mesh_precision_warning(&m, NULL, summary, sizeof summary))
+        printf("  precision:         %s\n", summary);
     if (!rep.boundary_vertices && sam_mesh_signed_volume(&m) < 0)
         printf("  orientation:       closed and facing inward (negative volume): sam_build and sam_render turn it "
                "outside out\n");

@@ -15,6 +15,15 @@ grep -q "orientation" <<<"$out" && fail "an outward tetrahedron said to face inw
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n' > "$tmp/tet_in.obj"
 out=$("$bin/sam_info" "$tmp/tet_in.obj") || fail "inward mesh rejected"
 grep -q "orientation: *closed and facing inward" <<<"$out" || fail "an inward tetrahedron not named: $out"
+grep -q "precision" <<<"$out" && fail "a tetrahedron at the origin warned of: $out"
+# The same 4e6 units away, where floats are 0.25 apart: said, and by
+# sam_build too (which still builds it).
+printf 'v 4e6 0 0\nv 4000001 0 0\nv 4e6 1 0\nv 4e6 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' > "$tmp/tet_far.obj"
+out=$("$bin/sam_info" "$tmp/tet_far.obj") || fail "far mesh rejected"
+grep -q "precision: *the mesh lies 4e+06 units from its origin" <<<"$out" || fail "far mesh not warned of: $out"
+"$bin/sam_build" "$tmp/tet_far.obj" -o "$tmp/tet_far.sam" --material skin --mm-per-unit 1 --quiet 2> "$tmp/far.log" \
+  || fail "far mesh not built: $(cat "$tmp/far.log")"
+grep -q "warning: .*tet_far.obj lies 4e+06 units from its origin" "$tmp/far.log" || fail "sam_build: $(cat "$tmp/far.log")"
 
 # A .sam file from the container's seed corpus.
 sam=$(ls "$src"/fuzz/corpus/samfile/*.sam 2>/dev/null | head -1)

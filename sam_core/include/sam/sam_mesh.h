@@ -193,6 +193,16 @@ int sam_mesh_orient_outward(sam_mesh *mesh);
 double sam_mesh_winding_number(const float *positions, const uint32_t *triangles, uint32_t triangle_count,
                                const float point[3]);
 
+/* Whether 32-bit floats place the mesh's vertices finely enough: 1 when
+ * the spacing of floats at its farthest coordinate from the origin is over
+ * a twentieth of its mean edge (a scan left in georeferenced coordinates,
+ * say, whose vertices the loader rounded to a grid as coarse as its
+ * triangles: its normals and shading come out blotched), with a one-line
+ * warning naming the offset, the spacing and what to do in buf (size n);
+ * else 0 and buf "". Reads positions and triangles only. `name` (for the
+ * message; NULL: "the mesh") may be NULL; a mesh without triangles gives 0. */
+int sam_mesh_precision_warning(const sam_mesh *mesh, const char *name, char *buf, size_t n);
+
 /* One-line summary of a report's repairs into buf (size n), e.g.
  * "dropped 2 degenerate, 1 zero-area triangles; split 1 non-manifold vertex"
  * or "no repairs". Returns buf. */
