@@ -26,6 +26,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         sam_mesh_fan_areas(&mesh, NULL, 1.0f, area);
         sam_mesh_mean_curvature(&mesh, area);
         free(area);
+        char warning[256];
+        sam_mesh_precision_warning(&mesh, path, warning, sizeof warning);
         sam_mesh_destroy(&mesh);
     }
     remove(path);
