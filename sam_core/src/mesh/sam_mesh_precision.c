@@ -29,9 +29,10 @@ int sam_mesh_precision_warning(const sam_mesh *mesh, const char *name, char *buf
             edges += sqrt(dx * dx + dy * dy + dz * dz);
         }
     const double edge = edges / (3.0 * mesh->triangle_count);
-    /* The spacing of floats at the farthest coordinate. */
-    const double step = (double)nextafterf(far, INFINITY) - far;
-    if (!(edge > 0) || !isfinite(step) || step <= SAM_MESH_ROUNDING_LIMIT * edge)
+    /* The spacing of floats at the farthest coordinate, taken below it so
+     * that it stays finite at FLT_MAX. */
+    const double step = (double)far - nextafterf(far, 0.0f);
+    if (!(edge > 0) || step <= SAM_MESH_ROUNDING_LIMIT * edge)
         return 0;
     snprintf(buf, n,
              "%s lies %.3g units from its origin, %.3g mean edges: 32-bit floats place its vertices to %.2g "
