@@ -1008,6 +1008,7 @@ static void test_far_from_the_origin_is_warned(void **state)
     assert_int_equal(strlen(tiny), 7);
     assert_int_equal(sam_mesh_precision_warning(NULL, NULL, msg, sizeof msg), 0);
     assert_int_equal(sam_mesh_precision_warning(&m, NULL, NULL, 0), 0);
+    assert_int_equal(sam_mesh_precision_warning(&m, NULL, NULL, sizeof msg), 0);
     sam_mesh_destroy(&m);
 }
 

@@ -200,7 +200,8 @@ double sam_mesh_winding_number(const float *positions, const uint32_t *triangles
  * triangles: its normals and shading come out blotched), with a one-line
  * warning naming the offset, the spacing and what to do in buf (size n);
  * else 0 and buf "". Reads positions and triangles only. `name` (for the
- * message; NULL: "the mesh") may be NULL; a mesh without triangles gives 0. */
+ * message; NULL: "the mesh") may be NULL; a mesh without triangles, a NULL
+ * buf or n = 0 give 0 (buf untouched for the last two). */
 int sam_mesh_precision_warning(const sam_mesh *mesh, const char *name, char *buf, size_t n);
 
 /* One-line summary of a report's repairs into buf (size n), e.g.

@@ -13,13 +13,15 @@
 
 int sam_mesh_precision_warning(const sam_mesh *mesh, const char *name, char *buf, size_t n)
 {
-    if (n)
-        buf[0] = '\0';
-    if (!mesh || !mesh->positions || !mesh->triangles || !mesh->triangle_count || !buf || !n)
+    if (!buf || !n)
         return 0;
-    float far = 0;
-    for (size_t i = 0; i < 3 * (size_t)mesh->vertex_count; ++i)
-        far = fmaxf(far, fabsf(mesh->positions[i]));
+    buf[0] = '\0';
+    if (!mesh || !mesh->positions || !mesh->triangles || !mesh->triangle_count)
+        return 0;
+    float lo[3], hi[3], far = 0;
+    sam_mesh_bounds(mesh, lo, hi);
+    for (int c = 0; c < 3; ++c)
+        far = fmaxf(far, fmaxf(fabsf(lo[c]), fabsf(hi[c])));
     double edges = 0;
     for (uint32_t t = 0; t < mesh->triangle_count; ++t)
         for (int k = 0; k < 3; ++k) {
