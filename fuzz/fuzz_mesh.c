@@ -28,6 +28,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         free(area);
         char warning[256];
         sam_mesh_precision_warning(&mesh, path, warning, sizeof warning);
+        /* Whatever the loader let through must solidify, or be refused
+         * with a status: never a crash. */
+        sam_shape_mesh solid;
+        if (sam_mesh_solidify(&mesh, (float)(0.01 * sam_mesh_diagonal(&mesh)), &solid, NULL, &err) == SAM_OK)
+            sam_shape_mesh_destroy(&solid);
         sam_mesh_destroy(&mesh);
     }
     remove(path);

@@ -49,7 +49,7 @@ int sam_build_explain_empty(const samfile_data *map, float mm_per_unit, float re
         used += snprintf(buf + used, n - (size_t)used,
                          " %s is open (%u vertices on its boundary): if it is a single sheet, a leaf or a cloth "
                          "card, it has no back side for light to come through, and needs thickness (two faces "
-                         "and a rim).",
+                         "and a rim: sam_solidify gives it that).",
                          what, open);
     const sam_mesh view = triangle_view(map);
     if (!open && sam_mesh_signed_volume(&view) < 0) {

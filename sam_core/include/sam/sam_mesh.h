@@ -35,6 +35,7 @@
 
 #include "sam/sam_common.h"
 #include "sam/sam_image.h"
+#include "sam/sam_shape.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -203,6 +204,38 @@ double sam_mesh_winding_number(const float *positions, const uint32_t *triangles
  * message; NULL: "the mesh") may be NULL; a mesh without triangles, a NULL
  * buf or n = 0 give 0 (buf untouched for the last two). */
 int sam_mesh_precision_warning(const sam_mesh *mesh, const char *name, char *buf, size_t n);
+
+/* What sam_mesh_solidify did. */
+typedef struct sam_mesh_solidify_report {
+    uint32_t open_parts;      /* connected parts with a boundary: given thickness */
+    uint32_t closed_parts;    /* closed parts: copied as they are */
+    uint32_t rim_edges;       /* boundary edges, each closed by a quad of the rim */
+    uint32_t folded_vertices; /* vertices of open parts curved tighter than half the thickness
+                               * (|mean curvature| * thickness > 1: a cylinder's radius under
+                               * half the thickness): the inner face may cross itself there */
+} sam_mesh_solidify_report;
+
+/* Gives every open connected part of `mesh` (a single sheet: a leaf, a
+ * cloth card, paper) a thickness of `thickness` model units, so that light
+ * has a back side to come through: the sheet becomes the mid-surface of a
+ * thin solid, its render vertices moved half the thickness along their
+ * topo normal (the front, triangles as they were) and copied half the
+ * thickness the other way (the back, triangles wound the other way, the
+ * same UVs), and each boundary edge closed by a quad between the two.
+ * Closed parts are copied unchanged. In `out` (caller frees with
+ * sam_shape_mesh_destroy; zeroed on failure): the mesh's render vertices
+ * in their order, then the back copies in render order; the mesh's
+ * triangles, then the back's, then the rim's two per boundary edge in
+ * triangle order. `uvs` is NULL when the mesh has none. Write it with
+ * sam_shape_write_obj or _ply and load it again: welded by position it is
+ * closed where the sheet was open. `report` may be NULL.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL mesh or out; a thickness outside
+ * SAM_SHAPE_MIN_RELATIVE_THICKNESS..1 times the mesh's diagonal: the
+ * message gives both; faces that would leave float range, on a mesh near
+ * FLT_MAX; a result past SAM_SHAPE_MAX_VERTICES),
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_solidify(const sam_mesh *mesh, float thickness, sam_shape_mesh *out,
+                             sam_mesh_solidify_report *report, sam_error *err);
 
 /* One-line summary of a report's repairs into buf (size n), e.g.
  * "dropped 2 degenerate, 1 zero-area triangles; split 1 non-manifold vertex"

@@ -113,7 +113,8 @@ typedef struct sam_shape_info {
 typedef struct sam_shape_mesh {
     uint32_t vertex_count;
     float *positions;        /* 3 * vertex_count */
-    float *uvs;              /* 2 * vertex_count, in [0,1] */
+    float *uvs;              /* 2 * vertex_count, in [0,1] for a generated shape; NULL for a
+                              * solidified mesh without UVs (sam_mesh_solidify), written without */
     uint32_t triangle_count;
     uint32_t *triangles;     /* 3 * triangle_count, counter-clockwise seen from outside */
 } sam_shape_mesh;
@@ -161,7 +162,8 @@ sam_status sam_shape_weld(const sam_shape_mesh *mesh, uint32_t *ids, uint32_t *u
 
 /* Writes a Wavefront OBJ atomically: each distinct position once as `v`,
  * each render vertex's UV as `vt` (in render vertex order), and faces
- * `f p/t p/t p/t`, so seams are UV splits of one position as in real assets.
+ * `f p/t p/t p/t`, so seams are UV splits of one position as in real assets
+ * (`f p p p` and no `vt` when `uvs` is NULL).
  * Floats are printed with 9 significant digits (they read back exactly).
  * Errors: SAM_ERR_INVALID_ARGUMENT (NULL or empty mesh), SAM_ERR_IO (the
  * message names the path), SAM_ERR_OUT_OF_MEMORY. An existing file at
@@ -169,7 +171,7 @@ sam_status sam_shape_weld(const sam_shape_mesh *mesh, uint32_t *ids, uint32_t *u
 sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam_error *err);
 
 /* Writes a PLY atomically, one PLY vertex per render vertex with float
- * properties x y z u v, and faces as `list uchar int vertex_indices`;
+ * properties x y z u v (x y z when `uvs` is NULL), and faces as `list uchar int vertex_indices`;
  * binary_little_endian when `binary` is non-zero, else ascii (9 significant
  * digits). Errors as sam_shape_write_obj. */
 sam_status sam_shape_write_ply(const char *path, const sam_shape_mesh *mesh, int binary,

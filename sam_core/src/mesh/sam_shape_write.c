@@ -53,8 +53,7 @@ sam_status sam_shape_weld(const sam_shape_mesh *mesh, uint32_t *ids, uint32_t *u
 
 static sam_status check_mesh(const char *path, const sam_shape_mesh *mesh, sam_error *err)
 {
-    if (!mesh || !mesh->vertex_count || !mesh->triangle_count || !mesh->positions || !mesh->uvs ||
-        !mesh->triangles)
+    if (!mesh || !mesh->vertex_count || !mesh->triangle_count || !mesh->positions || !mesh->triangles)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: no mesh to write",
                         path ? path : "(null)");
     if (mesh->vertex_count > SAM_SHAPE_MAX_VERTICES || mesh->triangle_count > SAM_SHAPE_MAX_VERTICES)
@@ -97,7 +96,7 @@ sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam
         free(ids);
         return st;
     }
-    fprintf(f.fp, "# sam_shape: %u positions, %u uvs, %u triangles\n", unique, n,
+    fprintf(f.fp, "# sam_shape: %u positions, %u uvs, %u triangles\n", unique, mesh->uvs ? n : 0,
             mesh->triangle_count);
     for (uint32_t v = 0, written = 0; v < n; ++v)
         if (ids[v] == written) {
@@ -105,12 +104,15 @@ sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam
             fprintf(f.fp, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
             ++written;
         }
-    for (uint32_t v = 0; v < n; ++v)
+    for (uint32_t v = 0; mesh->uvs && v < n; ++v)
         fprintf(f.fp, "vt %.9g %.9g\n", mesh->uvs[2 * (size_t)v], mesh->uvs[2 * (size_t)v + 1]);
     for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
         const uint32_t *tri = mesh->triangles + 3 * (size_t)t;
-        fprintf(f.fp, "f %u/%u %u/%u %u/%u\n", ids[tri[0]] + 1, tri[0] + 1, ids[tri[1]] + 1,
-                tri[1] + 1, ids[tri[2]] + 1, tri[2] + 1);
+        if (mesh->uvs)
+            fprintf(f.fp, "f %u/%u %u/%u %u/%u\n", ids[tri[0]] + 1, tri[0] + 1, ids[tri[1]] + 1,
+                    tri[1] + 1, ids[tri[2]] + 1, tri[2] + 1);
+        else
+            fprintf(f.fp, "f %u %u %u\n", ids[tri[0]] + 1, ids[tri[1]] + 1, ids[tri[2]] + 1);
     }
     free(ids);
     return finish_write(&f, path, err);
@@ -143,21 +145,24 @@ sam_status sam_shape_write_ply(const char *path, const sam_shape_mesh *mesh, int
         return st;
     fprintf(f.fp,
             "ply\nformat %s 1.0\ncomment sam_shape render vertices (seams are split)\n"
-            "element vertex %u\nproperty float x\nproperty float y\nproperty float z\n"
-            "property float u\nproperty float v\nelement face %u\n"
-            "property list uchar int vertex_indices\nend_header\n",
-            binary ? "binary_little_endian" : "ascii", mesh->vertex_count, mesh->triangle_count);
+            "element vertex %u\nproperty float x\nproperty float y\nproperty float z\n%s"
+            "element face %u\nproperty list uchar int vertex_indices\nend_header\n",
+            binary ? "binary_little_endian" : "ascii", mesh->vertex_count,
+            mesh->uvs ? "property float u\nproperty float v\n" : "", mesh->triangle_count);
+    const int fields = mesh->uvs ? 5 : 3;
     for (uint32_t v = 0; v < mesh->vertex_count; ++v) {
-        const float *p = mesh->positions + 3 * (size_t)v, *uv = mesh->uvs + 2 * (size_t)v;
+        float x[5];
+        memcpy(x, mesh->positions + 3 * (size_t)v, 3 * sizeof *x);
+        if (mesh->uvs)
+            memcpy(x + 3, mesh->uvs + 2 * (size_t)v, 2 * sizeof *x);
         if (binary) {
             uint8_t rec[20];
-            for (int k = 0; k < 3; ++k)
-                put_float(rec + 4 * k, p[k]);
-            put_float(rec + 12, uv[0]);
-            put_float(rec + 16, uv[1]);
-            fwrite(rec, 1, sizeof rec, f.fp);
+            for (int k = 0; k < fields; ++k)
+                put_float(rec + 4 * k, x[k]);
+            fwrite(rec, 4, (size_t)fields, f.fp);
         } else {
-            fprintf(f.fp, "%.9g %.9g %.9g %.9g %.9g\n", p[0], p[1], p[2], uv[0], uv[1]);
+            for (int k = 0; k < fields; ++k)
+                fprintf(f.fp, k + 1 < fields ? "%.9g " : "%.9g\n", x[k]);
         }
     }
     for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
