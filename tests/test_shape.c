@@ -6,9 +6,12 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
+#include "sam/sam_mesh.h"
 #include "sam/sam_shape.h"
 #include "sam_test.h"
 
@@ -748,6 +751,79 @@ static void test_write_obj(void **state)
     sam_shape_mesh_destroy(&m);
 }
 
+static void test_obj_companions(void **state)
+{
+    (void)state;
+    char mtl[64], png[64];
+    sam_error err;
+    assert_int_equal(sam_shape_obj_companions("dir.v2/leaf.obj", mtl, png, sizeof mtl, &err), SAM_OK);
+    assert_string_equal(mtl, "dir.v2/leaf.mtl");
+    assert_string_equal(png, "dir.v2/leaf_albedo.png");
+    /* A dot in a folder's name, or one that starts a file's, is no extension. */
+    assert_int_equal(sam_shape_obj_companions("dir.v2/leaf", mtl, png, sizeof mtl, &err), SAM_OK);
+    assert_string_equal(mtl, "dir.v2/leaf.mtl");
+    assert_int_equal(sam_shape_obj_companions(".leaf", mtl, png, sizeof mtl, &err), SAM_OK);
+    assert_string_equal(png, ".leaf_albedo.png");
+    assert_int_equal(sam_shape_obj_companions("a-rather-long-name-for-a-leaf-of-a-tree.obj", mtl, png, 40, &err),
+                     SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "a-rather-long-name"));
+    assert_int_equal(sam_shape_obj_companions(NULL, mtl, png, sizeof mtl, &err), SAM_ERR_INVALID_ARGUMENT);
+}
+
+/* The albedo goes with the OBJ and comes back through the loader that
+ * reads a mesh's own texture, as 8-bit sRGB; a failed OBJ takes its
+ * companions with it. */
+static void test_write_obj_albedo(void **state)
+{
+    (void)state;
+    sam_shape_mesh m = generate("torus", 12);
+    sam_image albedo;
+    sam_error err;
+    assert_int_equal(sam_image_create(&albedo, 3, 2, 3, &err), SAM_OK);
+    for (uint32_t k = 0; k < 18; ++k)
+        albedo.pixels[k] = (float)k / 17.0f;
+    char path[512], mtl[512], png[512];
+    sam_test_tmp_path(path, sizeof path, "shape_albedo.obj");
+    assert_int_equal(sam_shape_write_obj_albedo(path, &m, &albedo, &err), SAM_OK);
+    assert_int_equal(sam_shape_obj_companions(path, mtl, png, sizeof mtl, &err), SAM_OK);
+    char *text = slurp(mtl, NULL);
+    assert_non_null(strstr(text, "\nmap_Kd shape_albedo_albedo.png\n"));
+    free(text);
+    sam_image back;
+    char note[1200];
+    assert_int_equal(sam_mesh_load_albedo(path, &back, note, sizeof note, &err), SAM_OK);
+    assert_non_null(back.pixels);
+    assert_int_equal(back.width, 3);
+    assert_int_equal(back.height, 2);
+    for (uint32_t k = 0; k < 18; ++k) {
+        /* Half an 8-bit sRGB step, in linear terms, at its steepest (1.0). */
+        assert_true(fabsf(back.pixels[3 * (k / 3) + k % 3] - albedo.pixels[k]) < 0.0045f);
+    }
+    sam_image_destroy(&back);
+    /* The OBJ reads back as the plain writer's mesh. */
+    sam_mesh mesh;
+    assert_int_equal(sam_mesh_load(path, &mesh, NULL, &err), SAM_OK);
+    assert_int_equal(mesh.triangle_count, m.triangle_count);
+    sam_mesh_destroy(&mesh);
+
+    assert_int_equal(sam_shape_write_obj_albedo(path, &m, NULL, &err), SAM_ERR_INVALID_ARGUMENT);
+    float *uvs = m.uvs;
+    m.uvs = NULL;
+    assert_int_equal(sam_shape_write_obj_albedo(path, &m, &albedo, &err), SAM_ERR_INVALID_ARGUMENT);
+    m.uvs = uvs;
+    /* An OBJ that cannot be put in place (a folder is there) leaves no
+     * texture or material library behind. */
+    sam_test_tmp_path(path, sizeof path, "shape_albedo_dir.obj");
+    mkdir(path, 0755);
+    assert_int_equal(sam_shape_write_obj_albedo(path, &m, &albedo, &err), SAM_ERR_IO);
+    assert_int_equal(sam_shape_obj_companions(path, mtl, png, sizeof mtl, &err), SAM_OK);
+    assert_false(sam_test_file_exists(mtl));
+    assert_false(sam_test_file_exists(png));
+    rmdir(path);
+    sam_image_destroy(&albedo);
+    sam_shape_mesh_destroy(&m);
+}
+
 /* Parses the PLY header; returns the offset of the body. */
 static size_t ply_header(const char *data, const char *format, uint32_t vc, uint32_t tc)
 {
@@ -832,6 +908,8 @@ int main(void)
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_invalid_params),
         cmocka_unit_test(test_write_obj),
+        cmocka_unit_test(test_obj_companions),
+        cmocka_unit_test(test_write_obj_albedo),
         cmocka_unit_test(test_write_ply),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

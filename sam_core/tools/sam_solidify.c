@@ -25,11 +25,12 @@ static void usage(FILE *out)
             "mid-surface of a solid T millimetres thick: two faces T/2 to either side along\n"
             "the normals, with the same UVs, closed by a rim along the boundary. Closed parts\n"
             "are copied as they are. Build, render and compare OUT like any mesh, at the\n"
-            "scale printed (normals are recomputed from the faces; a texture is not copied).\n"
+            "scale printed (normals are recomputed from the faces). MESH's albedo texture (an\n"
+            "OBJ's map_Kd, a glTF's base colour) goes with an OBJ: OUT.mtl and OUT_albedo.png.\n"
             "\n"
             "  MESH                .obj, .ply, .off, .stl, .gltf or .glb\n"
             "  -o OUT              .obj or .ply (binary), written atomically; an existing file\n"
-            "                      needs --force\n"
+            "                      (OUT's .mtl and texture too) needs --force\n"
             "  --thickness-mm T    the solid's thickness in millimetres\n"
             "  --mm-per-unit X     millimetres per model unit, or\n"
             "  --size-mm D         MESH's bounding-box diagonal in millimetres\n"
@@ -108,19 +109,39 @@ int main(int argc, char **argv)
                 "there (a thinner solid, or a smoother sheet, keeps them apart)\n",
                 done.folded_vertices, (double)thickness_mm);
     sam_image albedo;
-    char note[1200] = "";
-    if (sam_mesh_load_albedo(mesh_path, &albedo, note, sizeof note, NULL) == SAM_OK && albedo.pixels)
-        fprintf(stderr, TOOL ": note: the texture %s is not copied: name it in a scene's \"albedo_map\"\n", note);
-    sam_image_destroy(&albedo);
+    char texture[1200] = "", mtl[4096] = "", png[4096] = "";
+    const int obj = !sam_app_has_extension(out_path, ".ply");
+    if (sam_mesh_load_albedo(mesh_path, &albedo, texture, sizeof texture, NULL) != SAM_OK || !albedo.pixels) {
+        if (texture[0])
+            fprintf(stderr, TOOL ": warning: %s\n", texture);
+        sam_image_destroy(&albedo);
+    } else if (!obj || !solid.uvs) {
+        fprintf(stderr, TOOL ": note: the texture %s is not carried: %s\n", texture,
+                obj ? "the mesh has no UVs" : "a PLY holds none (write an .obj to keep it)");
+        sam_image_destroy(&albedo);
+    } else if (sam_shape_obj_companions(out_path, mtl, png, sizeof mtl, &err) != SAM_OK ||
+               sam_app_check_output("-o's material library", mtl, NULL, force, &err) != SAM_OK ||
+               sam_app_check_output("-o's texture", png, NULL, force, &err) != SAM_OK) {
+        fprintf(stderr, TOOL ": %s\n", err.message);
+        sam_image_destroy(&albedo);
+        sam_shape_mesh_destroy(&solid);
+        sam_mesh_destroy(&mesh);
+        return 1;
+    }
     sam_mesh_destroy(&mesh);
 
-    st = sam_app_has_extension(out_path, ".ply") ? sam_shape_write_ply(out_path, &solid, 1, &err)
-                                                  : sam_shape_write_obj(out_path, &solid, &err);
+    st = !obj             ? sam_shape_write_ply(out_path, &solid, 1, &err)
+         : albedo.pixels ? sam_shape_write_obj_albedo(out_path, &solid, &albedo, &err)
+                         : sam_shape_write_obj(out_path, &solid, &err);
     if (st != SAM_OK) {
         fprintf(stderr, TOOL ": %s\n", err.message);
+        sam_image_destroy(&albedo);
         sam_shape_mesh_destroy(&solid);
         return 1;
     }
+    if (albedo.pixels)
+        fprintf(stderr, TOOL ": wrote %s and %s: the texture %s\n", mtl, png, texture);
+    sam_image_destroy(&albedo);
     fprintf(stderr,
             TOOL ": wrote %s: %u open part%s %g mm thick (%g units), %u closed part%s kept, %u rim edges; "
             "%u vertices, %u triangles. Give it --mm-per-unit %g (its diagonal grew with the thickness)\n",

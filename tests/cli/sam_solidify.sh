@@ -38,6 +38,39 @@ grep -q "attributes:        UVs" "$tmp/info.txt" || fail "UVs lost: $(cat "$tmp/
 "$bin/sam_info" "$tmp/solid.ply" > "$tmp/info.txt" 2>&1 || fail "sam_info PLY: $(cat "$tmp/info.txt")"
 grep -q "0 on boundaries" "$tmp/info.txt" || fail "PLY solid is not closed"
 
+# A textured sheet's albedo goes with an OBJ (its .mtl and PNG, named by
+# file name, so the three move together) and reads back pixel for pixel;
+# a PLY says it is not carried. Without --force an existing companion
+# stops the write before anything is written.
+python3 "$src/tests/cli/lib/png.py" checker "$tmp/checker.png" 32
+printf 'newmtl leaf\nKd 1 1 1\nmap_Kd checker.png\n' > "$tmp/leaf_tex.mtl"
+{ echo "mtllib leaf_tex.mtl"; echo "usemtl leaf"; cat "$tmp/leaf.obj"; } > "$tmp/leaf_tex.obj"
+mkdir -p "$tmp/out"
+"$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/out/tex.obj" --thickness-mm 1 --mm-per-unit 50 2> "$tmp/err.txt" \
+  || fail "textured solidify: $(cat "$tmp/err.txt")"
+grep -q "wrote $tmp/out/tex.mtl and $tmp/out/tex_albedo.png: the texture .*checker.png" "$tmp/err.txt" \
+  || fail "textured summary: $(cat "$tmp/err.txt")"
+grep -q "^mtllib tex.mtl$" "$tmp/out/tex.obj" || fail "the OBJ names no material library"
+grep -q "^map_Kd tex_albedo.png$" "$tmp/out/tex.mtl" || fail "the material names no texture"
+[ "$(python3 "$src/tests/cli/lib/png.py" psnr "$tmp/checker.png" "$tmp/out/tex_albedo.png")" = inf ] \
+  || fail "the texture changed on the way"
+mv "$tmp/out" "$tmp/moved"
+"$bin/sam_render" "$tmp/moved/tex.obj" -o "$tmp/tex.png" --material skin --mm-per-unit 50 --size 64x48 --no-cache \
+  > "$tmp/render.txt" 2>&1 || fail "render of the moved solid: $(cat "$tmp/render.txt")"
+grep -q "albedo map: .*tex_albedo.png (map_Kd of .*moved/tex.obj)" "$tmp/render.txt" \
+  || fail "the renderer did not take the texture: $(cat "$tmp/render.txt")"
+"$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/tex.ply" --thickness-mm 1 --mm-per-unit 50 2> "$tmp/err.txt" \
+  || fail "textured solidify to PLY: $(cat "$tmp/err.txt")"
+grep -q "texture .*checker.png.* is not carried: a PLY holds none" "$tmp/err.txt" || fail "PLY note: $(cat "$tmp/err.txt")"
+touch "$tmp/stop_albedo.png"
+"$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/stop.obj" --thickness-mm 1 --mm-per-unit 50 2> "$tmp/err.txt"; rc=$?
+[ $rc -eq 1 ] || fail "existing texture without --force: exit $rc"
+one_line "existing texture without --force"
+[ ! -e "$tmp/stop.obj" ] && [ ! -e "$tmp/stop.mtl" ] && [ ! -s "$tmp/stop_albedo.png" ] \
+  || fail "existing texture without --force: something was written"
+"$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/stop.obj" --thickness-mm 1 --mm-per-unit 50 --force 2> /dev/null \
+  && [ -s "$tmp/stop_albedo.png" ] || fail "--force did not write the texture"
+
 # The sheet has no back side, and sam_build names the way out; the solid
 # gives every vertex one.
 "$bin/sam_build" "$tmp/leaf.obj" -o "$tmp/leaf.sam" --material skin --mm-per-unit 50 --quiet 2> "$tmp/err.txt" \

@@ -71,6 +71,7 @@
 #define SAM_SHAPE_H
 
 #include "sam/sam_common.h"
+#include "sam/sam_image.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -169,6 +170,27 @@ sam_status sam_shape_weld(const sam_shape_mesh *mesh, uint32_t *ids, uint32_t *u
  * message names the path), SAM_ERR_OUT_OF_MEMORY. An existing file at
  * `path` survives a failure. */
 sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam_error *err);
+
+/* The two files sam_shape_write_obj_albedo writes beside an OBJ at `path`:
+ * PATH with its extension replaced by ".mtl" and by "_albedo.png" (a path
+ * without an extension gets them appended), into `mtl` and `png` (n bytes
+ * each). Errors: SAM_ERR_INVALID_ARGUMENT (NULL arguments, or a name that
+ * does not fit in n bytes). */
+sam_status sam_shape_obj_companions(const char *path, char *mtl, char *png, size_t n, sam_error *err);
+
+/* Writes the OBJ as sam_shape_write_obj does, carrying `albedo` (a linear
+ * image, 3 or 4 channels, such as sam_mesh_load_albedo gives) as its
+ * material's diffuse texture: the texture as an 8-bit sRGB PNG, then a
+ * material library naming it (`map_Kd`), then the OBJ with `mtllib` and
+ * `usemtl` lines, at the paths sam_shape_obj_companions gives and named in
+ * each other by file name alone (so the three move together). Each is
+ * written atomically, the OBJ last; when one fails, those this call wrote
+ * are removed, so no OBJ names a missing file (a file that was at a
+ * companion's path before is then gone too: check first). `mesh` needs
+ * `uvs`. Errors: those of sam_shape_write_obj and sam_image_write_png, and
+ * SAM_ERR_INVALID_ARGUMENT (NULL albedo or uvs, an empty image). */
+sam_status sam_shape_write_obj_albedo(const char *path, const sam_shape_mesh *mesh, const sam_image *albedo,
+                                      sam_error *err);
 
 /* Writes a PLY atomically, one PLY vertex per render vertex with float
  * properties x y z u v (x y z when `uvs` is NULL), and faces as `list uchar int vertex_indices`;

@@ -1,5 +1,6 @@
 #include "sam/sam_shape.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -76,7 +77,10 @@ static sam_status finish_write(sam_atomic_file *f, const char *path, sam_error *
     return sam_atomic_commit(f, err);
 }
 
-sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam_error *err)
+/* The OBJ, naming the material `material` of the library `mtllib` when
+ * mtllib is not NULL. */
+static sam_status write_obj(const char *path, const sam_shape_mesh *mesh, const char *mtllib,
+                            const char *material, sam_error *err)
 {
     sam_status st = check_mesh(path, mesh, err);
     if (st != SAM_OK)
@@ -98,6 +102,8 @@ sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam
     }
     fprintf(f.fp, "# sam_shape: %u positions, %u uvs, %u triangles\n", unique, mesh->uvs ? n : 0,
             mesh->triangle_count);
+    if (mtllib)
+        fprintf(f.fp, "mtllib %s\nusemtl %s\n", mtllib, material);
     for (uint32_t v = 0, written = 0; v < n; ++v)
         if (ids[v] == written) {
             const float *p = mesh->positions + 3 * (size_t)v;
@@ -116,6 +122,59 @@ sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam
     }
     free(ids);
     return finish_write(&f, path, err);
+}
+
+sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam_error *err)
+{
+    return write_obj(path, mesh, NULL, NULL, err);
+}
+
+static const char *file_name(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+sam_status sam_shape_obj_companions(const char *path, char *mtl, char *png, size_t n, sam_error *err)
+{
+    if (!path || !mtl || !png || !n)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "OBJ companions: path and buffers required");
+    const char *name = file_name(path), *dot = strrchr(name, '.');
+    const int stem = dot && dot > name ? (int)(dot - path) : (int)strlen(path);
+    if (snprintf(mtl, n, "%.*s.mtl", stem, path) >= (int)n || snprintf(png, n, "%.*s_albedo.png", stem, path) >= (int)n)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: the name is too long for its material files", path);
+    return SAM_OK;
+}
+
+sam_status sam_shape_write_obj_albedo(const char *path, const sam_shape_mesh *mesh, const sam_image *albedo,
+                                      sam_error *err)
+{
+    sam_status st = check_mesh(path, mesh, err);
+    if (st != SAM_OK)
+        return st;
+    if (!albedo || !albedo->pixels || !mesh->uvs)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: a texture needs an image and the mesh's UVs", path);
+    char mtl[4096], png[4096];
+    if ((st = sam_shape_obj_companions(path, mtl, png, sizeof mtl, err)) != SAM_OK)
+        return st;
+    /* Names are written as they are: a space would end them for most
+     * readers of the material library. */
+    if (strpbrk(file_name(mtl), " \t") || strpbrk(file_name(png), " \t"))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: an OBJ cannot name a material file whose name has blanks",
+                        path);
+    if ((st = sam_image_write_png(png, albedo, SAM_PNG_SRGB, err)) != SAM_OK)
+        return st;
+    sam_atomic_file f;
+    if ((st = sam_atomic_open(&f, mtl, err)) == SAM_OK) {
+        fprintf(f.fp, "# sam_shape: the albedo of %s\nnewmtl albedo\nKd 1 1 1\nmap_Kd %s\n", file_name(path),
+                file_name(png));
+        st = finish_write(&f, mtl, err);
+    }
+    if (st == SAM_OK && (st = write_obj(path, mesh, file_name(mtl), "albedo", err)) != SAM_OK)
+        remove(mtl);
+    if (st != SAM_OK)
+        remove(png);
+    return st;
 }
 
 static void put_le32(uint8_t *o, uint32_t x)
