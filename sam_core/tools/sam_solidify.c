@@ -116,7 +116,7 @@ int main(int argc, char **argv)
             fprintf(stderr, TOOL ": warning: %s\n", texture);
         sam_image_destroy(&albedo);
     } else if (!obj || !solid.uvs) {
-        fprintf(stderr, TOOL ": note: the texture %s is not carried: %s\n", texture,
+        fprintf(stderr, TOOL ": note: %s is not carried: %s\n", texture,
                 obj ? "the mesh has no UVs" : "a PLY holds none (write an .obj to keep it)");
         sam_image_destroy(&albedo);
     } else if (sam_shape_obj_companions(out_path, mtl, png, sizeof mtl, &err) != SAM_OK ||
@@ -140,7 +140,7 @@ int main(int argc, char **argv)
         return 1;
     }
     if (albedo.pixels)
-        fprintf(stderr, TOOL ": wrote %s and %s: the texture %s\n", mtl, png, texture);
+        fprintf(stderr, TOOL ": wrote %s and %s, from %s\n", mtl, png, texture);
     sam_image_destroy(&albedo);
     fprintf(stderr,
             TOOL ": wrote %s: %u open part%s %g mm thick (%g units), %u closed part%s kept, %u rim edges; "

@@ -48,7 +48,7 @@ printf 'newmtl leaf\nKd 1 1 1\nmap_Kd checker.png\n' > "$tmp/leaf_tex.mtl"
 mkdir -p "$tmp/out"
 "$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/out/tex.obj" --thickness-mm 1 --mm-per-unit 50 2> "$tmp/err.txt" \
   || fail "textured solidify: $(cat "$tmp/err.txt")"
-grep -q "wrote $tmp/out/tex.mtl and $tmp/out/tex_albedo.png: the texture .*checker.png" "$tmp/err.txt" \
+grep -q "wrote $tmp/out/tex.mtl and $tmp/out/tex_albedo.png, from .*checker.png (map_Kd of " "$tmp/err.txt" \
   || fail "textured summary: $(cat "$tmp/err.txt")"
 grep -q "^mtllib tex.mtl$" "$tmp/out/tex.obj" || fail "the OBJ names no material library"
 grep -q "^map_Kd tex_albedo.png$" "$tmp/out/tex.mtl" || fail "the material names no texture"
@@ -61,7 +61,7 @@ grep -q "albedo map: .*tex_albedo.png (map_Kd of .*moved/tex.obj)" "$tmp/render.
   || fail "the renderer did not take the texture: $(cat "$tmp/render.txt")"
 "$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/tex.ply" --thickness-mm 1 --mm-per-unit 50 2> "$tmp/err.txt" \
   || fail "textured solidify to PLY: $(cat "$tmp/err.txt")"
-grep -q "texture .*checker.png.* is not carried: a PLY holds none" "$tmp/err.txt" || fail "PLY note: $(cat "$tmp/err.txt")"
+grep -q "note: .*checker.png (map_Kd of .*) is not carried: a PLY holds none" "$tmp/err.txt" || fail "PLY note: $(cat "$tmp/err.txt")"
 touch "$tmp/stop_albedo.png"
 "$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/stop.obj" --thickness-mm 1 --mm-per-unit 50 2> "$tmp/err.txt"; rc=$?
 [ $rc -eq 1 ] || fail "existing texture without --force: exit $rc"
