@@ -768,6 +768,10 @@ static void test_obj_companions(void **state)
                      SAM_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(err.message, "a-rather-long-name"));
     assert_int_equal(sam_shape_obj_companions(NULL, mtl, png, sizeof mtl, &err), SAM_ERR_INVALID_ARGUMENT);
+    /* The material lines could not name them; a blank in a folder is fine. */
+    assert_int_equal(sam_shape_obj_companions("my leaf.obj", mtl, png, sizeof mtl, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "blanks"));
+    assert_int_equal(sam_shape_obj_companions("my dir/leaf.obj", mtl, png, sizeof mtl, &err), SAM_OK);
 }
 
 /* The albedo goes with the OBJ and comes back through the loader that
@@ -795,10 +799,10 @@ static void test_write_obj_albedo(void **state)
     assert_non_null(back.pixels);
     assert_int_equal(back.width, 3);
     assert_int_equal(back.height, 2);
-    for (uint32_t k = 0; k < 18; ++k) {
-        /* Half an 8-bit sRGB step, in linear terms, at its steepest (1.0). */
-        assert_true(fabsf(back.pixels[3 * (k / 3) + k % 3] - albedo.pixels[k]) < 0.0045f);
-    }
+    assert_int_equal(back.channels, 3);
+    /* Half an 8-bit sRGB step, in linear terms, at its steepest (1.0). */
+    for (uint32_t k = 0; k < 18; ++k)
+        assert_true(fabsf(back.pixels[k] - albedo.pixels[k]) < 0.0045f);
     sam_image_destroy(&back);
     /* The OBJ reads back as the plain writer's mesh. */
     sam_mesh mesh;
@@ -819,6 +823,20 @@ static void test_write_obj_albedo(void **state)
     assert_int_equal(sam_shape_obj_companions(path, mtl, png, sizeof mtl, &err), SAM_OK);
     assert_false(sam_test_file_exists(mtl));
     assert_false(sam_test_file_exists(png));
+    /* Companions that were there are replaced and kept: an OBJ there
+     * before would still name them. */
+    sam_test_write_text(mtl, "old");
+    sam_test_write_text(png, "old");
+    assert_int_equal(sam_shape_write_obj_albedo(path, &m, &albedo, &err), SAM_ERR_IO);
+    text = slurp(mtl, NULL);
+    assert_non_null(strstr(text, "map_Kd shape_albedo_dir_albedo.png"));
+    free(text);
+    sam_image kept;
+    assert_int_equal(sam_image_read_png(png, &kept, SAM_PNG_SRGB, &err), SAM_OK);
+    assert_int_equal(kept.width, 3);
+    sam_image_destroy(&kept);
+    remove(mtl);
+    remove(png);
     rmdir(path);
     sam_image_destroy(&albedo);
     sam_shape_mesh_destroy(&m);

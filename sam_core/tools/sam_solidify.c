@@ -34,7 +34,7 @@ static void usage(FILE *out)
             "  --thickness-mm T    the solid's thickness in millimetres\n"
             "  --mm-per-unit X     millimetres per model unit, or\n"
             "  --size-mm D         MESH's bounding-box diagonal in millimetres\n"
-            "  --force             overwrite OUT if it exists\n"
+            "  --force             overwrite OUT (and its .mtl and texture) if they exist\n"
             "  -h, --help          this help;  --version  the version\n"
             "\n"
             "examples:\n"
@@ -108,30 +108,39 @@ int main(int argc, char **argv)
                 TOOL ": warning: %u vertices are curved tighter than half of %g mm: the two faces may cross "
                 "there (a thinner solid, or a smoother sheet, keeps them apart)\n",
                 done.folded_vertices, (double)thickness_mm);
-    sam_image albedo;
+    /* A texture that cannot go with OUT leaves OUT untextured, said on a
+     * line; only a companion file in the way (without --force) stops. */
+    sam_image albedo = {0};
+    sam_error albedo_err;
     char texture[1200] = "", mtl[4096] = "", png[4096] = "";
     const int obj = !sam_app_has_extension(out_path, ".ply");
-    if (sam_mesh_load_albedo(mesh_path, &albedo, texture, sizeof texture, NULL) != SAM_OK || !albedo.pixels) {
-        if (texture[0])
-            fprintf(stderr, TOOL ": warning: %s\n", texture);
-        sam_image_destroy(&albedo);
-    } else if (!obj || !solid.uvs) {
+    int carry = 0;
+    if (sam_mesh_load_albedo(mesh_path, &albedo, texture, sizeof texture, &albedo_err) != SAM_OK)
+        fprintf(stderr, TOOL ": warning: the texture cannot be read (%s): %s is written without one\n",
+                albedo_err.message, out_path);
+    else if (!albedo.pixels && texture[0])
+        fprintf(stderr, TOOL ": warning: %s: %s is written without a texture\n", texture, out_path);
+    else if (albedo.pixels && (!obj || !solid.uvs))
         fprintf(stderr, TOOL ": note: %s is not carried: %s\n", texture,
                 obj ? "the mesh has no UVs" : "a PLY holds none (write an .obj to keep it)");
-        sam_image_destroy(&albedo);
-    } else if (sam_shape_obj_companions(out_path, mtl, png, sizeof mtl, &err) != SAM_OK ||
-               sam_app_check_output("-o's material library", mtl, NULL, force, &err) != SAM_OK ||
-               sam_app_check_output("-o's texture", png, NULL, force, &err) != SAM_OK) {
+    else if (albedo.pixels && sam_shape_obj_companions(out_path, mtl, png, sizeof mtl, &albedo_err) != SAM_OK)
+        fprintf(stderr, TOOL ": note: %s is not carried: %s\n", texture, albedo_err.message);
+    else if (albedo.pixels && (sam_app_check_output("-o's material library", mtl, NULL, force, &err) != SAM_OK ||
+                               sam_app_check_output("-o's texture", png, NULL, force, &err) != SAM_OK)) {
         fprintf(stderr, TOOL ": %s\n", err.message);
         sam_image_destroy(&albedo);
         sam_shape_mesh_destroy(&solid);
         sam_mesh_destroy(&mesh);
         return 1;
+    } else if (albedo.pixels) {
+        carry = 1;
     }
+    if (!carry)
+        sam_image_destroy(&albedo);
     sam_mesh_destroy(&mesh);
 
     st = !obj             ? sam_shape_write_ply(out_path, &solid, 1, &err)
-         : albedo.pixels ? sam_shape_write_obj_albedo(out_path, &solid, &albedo, &err)
+         : carry         ? sam_shape_write_obj_albedo(out_path, &solid, &albedo, &err)
                          : sam_shape_write_obj(out_path, &solid, &err);
     if (st != SAM_OK) {
         fprintf(stderr, TOOL ": %s\n", err.message);
@@ -139,7 +148,7 @@ int main(int argc, char **argv)
         sam_shape_mesh_destroy(&solid);
         return 1;
     }
-    if (albedo.pixels)
+    if (carry)
         fprintf(stderr, TOOL ": wrote %s and %s, from %s\n", mtl, png, texture);
     sam_image_destroy(&albedo);
     fprintf(stderr,

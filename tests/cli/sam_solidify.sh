@@ -70,6 +70,26 @@ one_line "existing texture without --force"
   || fail "existing texture without --force: something was written"
 "$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/stop.obj" --thickness-mm 1 --mm-per-unit 50 --force 2> /dev/null \
   && [ -s "$tmp/stop_albedo.png" ] || fail "--force did not write the texture"
+touch "$tmp/stop2.mtl"
+"$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/stop2.obj" --thickness-mm 1 --mm-per-unit 50 2> "$tmp/err.txt"; rc=$?
+[ $rc -eq 1 ] || fail "existing material library without --force: exit $rc"
+[ ! -e "$tmp/stop2.obj" ] && [ ! -s "$tmp/stop2.mtl" ] && [ ! -e "$tmp/stop2_albedo.png" ] \
+  || fail "existing material library without --force: something was written"
+# A name the material lines cannot hold: the OBJ is written without the
+# texture, and a note says why.
+"$bin/sam_solidify" "$tmp/leaf_tex.obj" -o "$tmp/my leaf.obj" --thickness-mm 1 --mm-per-unit 50 2> "$tmp/err.txt" \
+  || fail "a name with a blank: $(cat "$tmp/err.txt")"
+grep -q "is not carried: .*blanks" "$tmp/err.txt" || fail "a name with a blank: $(cat "$tmp/err.txt")"
+[ -s "$tmp/my leaf.obj" ] && [ ! -e "$tmp/my leaf.mtl" ] || fail "a name with a blank: wrong files"
+# A glTF's base colour (gltfpack embeds the PNG as it is) goes the same way.
+if command -v gltfpack > /dev/null; then
+  (cd "$tmp" && gltfpack -i leaf_tex.obj -o leaf_tex.glb -noq > /dev/null) || fail "gltfpack"
+  "$bin/sam_solidify" "$tmp/leaf_tex.glb" -o "$tmp/glb.obj" --thickness-mm 1 --mm-per-unit 50 2> "$tmp/err.txt" \
+    || fail "solidify of a glb: $(cat "$tmp/err.txt")"
+  grep -q "from the base colour texture of .*leaf_tex.glb" "$tmp/err.txt" || fail "glb texture: $(cat "$tmp/err.txt")"
+  [ "$(python3 "$src/tests/cli/lib/png.py" psnr "$tmp/checker.png" "$tmp/glb_albedo.png")" = inf ] \
+    || fail "the glb's texture changed on the way"
+fi
 
 # The sheet has no back side, and sam_build names the way out; the solid
 # gives every vertex one.

@@ -174,21 +174,25 @@ sam_status sam_shape_write_obj(const char *path, const sam_shape_mesh *mesh, sam
 /* The two files sam_shape_write_obj_albedo writes beside an OBJ at `path`:
  * PATH with its extension replaced by ".mtl" and by "_albedo.png" (a path
  * without an extension gets them appended), into `mtl` and `png` (n bytes
- * each). Errors: SAM_ERR_INVALID_ARGUMENT (NULL arguments, or a name that
- * does not fit in n bytes). */
+ * each). Errors: SAM_ERR_INVALID_ARGUMENT (NULL arguments, a file name
+ * with blanks, which an OBJ's material lines cannot name, or names that do
+ * not fit in n bytes). */
 sam_status sam_shape_obj_companions(const char *path, char *mtl, char *png, size_t n, sam_error *err);
 
 /* Writes the OBJ as sam_shape_write_obj does, carrying `albedo` (a linear
- * image, 3 or 4 channels, such as sam_mesh_load_albedo gives) as its
- * material's diffuse texture: the texture as an 8-bit sRGB PNG, then a
- * material library naming it (`map_Kd`), then the OBJ with `mtllib` and
- * `usemtl` lines, at the paths sam_shape_obj_companions gives and named in
- * each other by file name alone (so the three move together). Each is
- * written atomically, the OBJ last; when one fails, those this call wrote
- * are removed, so no OBJ names a missing file (a file that was at a
- * companion's path before is then gone too: check first). `mesh` needs
- * `uvs`. Errors: those of sam_shape_write_obj and sam_image_write_png, and
- * SAM_ERR_INVALID_ARGUMENT (NULL albedo or uvs, an empty image). */
+ * image, 3 or 4 channels, such as sam_mesh_load_albedo gives) as the
+ * diffuse texture of one material on every face: the texture as an 8-bit
+ * sRGB PNG, then a material library naming it (`map_Kd`), then the OBJ
+ * with `mtllib` and `usemtl` lines, at the paths sam_shape_obj_companions
+ * gives and named in each other by file name alone (so the three move
+ * together). Each is written atomically, the OBJ last. Files at the
+ * companions' paths are replaced (check first where they must not be).
+ * When a later file fails, the companions this call created are removed
+ * and those it replaced keep their new contents, so an OBJ that was at
+ * `path` (which survives a failure) still names files that exist.
+ * `mesh` needs `uvs`. Errors: those of sam_shape_write_obj,
+ * sam_shape_obj_companions and sam_image_write_png, and
+ * SAM_ERR_INVALID_ARGUMENT (NULL path, albedo or uvs, an empty image). */
 sam_status sam_shape_write_obj_albedo(const char *path, const sam_shape_mesh *mesh, const sam_image *albedo,
                                       sam_error *err);
 

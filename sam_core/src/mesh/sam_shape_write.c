@@ -1,8 +1,10 @@
+#define _POSIX_C_SOURCE 200809L
 #include "sam/sam_shape.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* ---------------------------------------------------------------- welding */
 
@@ -140,8 +142,14 @@ sam_status sam_shape_obj_companions(const char *path, char *mtl, char *png, size
     if (!path || !mtl || !png || !n)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "OBJ companions: path and buffers required");
     const char *name = file_name(path), *dot = strrchr(name, '.');
+    /* The material library names its texture as its last word, and most
+     * readers split the names on blanks. */
+    if (strpbrk(name, " \t"))
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "%s: an OBJ cannot name material files whose names have blanks in them", path);
     const int stem = dot && dot > name ? (int)(dot - path) : (int)strlen(path);
-    if (snprintf(mtl, n, "%.*s.mtl", stem, path) >= (int)n || snprintf(png, n, "%.*s_albedo.png", stem, path) >= (int)n)
+    const int a = snprintf(mtl, n, "%.*s.mtl", stem, path), b = snprintf(png, n, "%.*s_albedo.png", stem, path);
+    if (a < 0 || b < 0 || (size_t)a >= n || (size_t)b >= n)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: the name is too long for its material files", path);
     return SAM_OK;
 }
@@ -149,19 +157,19 @@ sam_status sam_shape_obj_companions(const char *path, char *mtl, char *png, size
 sam_status sam_shape_write_obj_albedo(const char *path, const sam_shape_mesh *mesh, const sam_image *albedo,
                                       sam_error *err)
 {
+    if (!path || !albedo || !albedo->pixels || !mesh || !mesh->uvs)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: a texture needs a path, an image and the mesh's UVs",
+                        path ? path : "(null)");
     sam_status st = check_mesh(path, mesh, err);
     if (st != SAM_OK)
         return st;
-    if (!albedo || !albedo->pixels || !mesh->uvs)
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: a texture needs an image and the mesh's UVs", path);
     char mtl[4096], png[4096];
     if ((st = sam_shape_obj_companions(path, mtl, png, sizeof mtl, err)) != SAM_OK)
         return st;
-    /* Names are written as they are: a space would end them for most
-     * readers of the material library. */
-    if (strpbrk(file_name(mtl), " \t") || strpbrk(file_name(png), " \t"))
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: an OBJ cannot name a material file whose name has blanks",
-                        path);
+    /* A companion that was there is replaced, not removed, when a later
+     * file fails: an OBJ already at `path` (kept by its atomic write) may
+     * name it. */
+    const int had_mtl = access(mtl, F_OK) == 0, had_png = access(png, F_OK) == 0;
     if ((st = sam_image_write_png(png, albedo, SAM_PNG_SRGB, err)) != SAM_OK)
         return st;
     sam_atomic_file f;
@@ -170,9 +178,9 @@ sam_status sam_shape_write_obj_albedo(const char *path, const sam_shape_mesh *me
                 file_name(png));
         st = finish_write(&f, mtl, err);
     }
-    if (st == SAM_OK && (st = write_obj(path, mesh, file_name(mtl), "albedo", err)) != SAM_OK)
+    if (st == SAM_OK && (st = write_obj(path, mesh, file_name(mtl), "albedo", err)) != SAM_OK && !had_mtl)
         remove(mtl);
-    if (st != SAM_OK)
+    if (st != SAM_OK && !had_png)
         remove(png);
     return st;
 }
