@@ -1180,7 +1180,8 @@ static void test_default_axes(void **state)
     } cases[] = {{{1, 1, 3}, 1}, {{1, 2, 1}, 0}, {{3, 1, 2}, 0}, {{1, 1, 1}, 0}, {{1, 1, 1.2f}, 1}, {{2, 1, 2}, 1}};
     for (size_t k = 0; k < sizeof cases / sizeof *cases; ++k) {
         float up[3], front[3];
-        assert_int_equal(sam_scene_default_axes(cases[k].extent, up, front), cases[k].z_up);
+        assert_int_equal(sam_scene_default_axes(cases[k].extent, up, front),
+                         cases[k].z_up ? SAM_UP_POS_Z : SAM_UP_POS_Y);
         const float want_up[3] = {0, cases[k].z_up ? 0.0f : 1.0f, cases[k].z_up ? 1.0f : 0.0f};
         const float want_front[3] = {0, cases[k].z_up ? -1.0f : 0.0f, cases[k].z_up ? 0.0f : 1.0f};
         for (int c = 0; c < 3; ++c) {
@@ -1188,6 +1189,45 @@ static void test_default_axes(void **state)
             assert_true(front[c] == want_front[c]);
         }
     }
+}
+
+/* Every up axis has a front at right angles to it, the one the name
+ * promises, and parses back from its name in either case, the sign
+ * optional; anything else is refused. */
+static void test_up_axes(void **state)
+{
+    (void)state;
+    static const float want_front[SAM_UP_AXIS_COUNT][3] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1},
+                                                           {0, 0, -1}, {0, -1, 0}, {0, 1, 0}};
+    static const char *const lower[SAM_UP_AXIS_COUNT] = {"x", "-x", "y", "-y", "z", "-z"};
+    for (int a = 0; a < SAM_UP_AXIS_COUNT; ++a) {
+        float up[3], front[3];
+        const sam_up_axis f = sam_scene_axes_for_up((sam_up_axis)a, up, front);
+        for (int c = 0; c < 3; ++c) {
+            assert_true(up[c] == (c == a / 2 ? (a % 2 ? -1.0f : 1.0f) : 0.0f));
+            assert_true(front[c] == want_front[a][c]);
+            assert_true(front[c] == (c == (int)f / 2 ? ((int)f % 2 ? -1.0f : 1.0f) : 0.0f));
+        }
+        assert_true(up[0] * front[0] + up[1] * front[1] + up[2] * front[2] == 0.0f);
+        sam_up_axis parsed = SAM_UP_AXIS_COUNT;
+        assert_true(sam_up_axis_parse(sam_up_axis_name((sam_up_axis)a), &parsed));
+        assert_int_equal(parsed, a);
+        parsed = SAM_UP_AXIS_COUNT;
+        assert_true(sam_up_axis_parse(lower[a], &parsed));
+        assert_int_equal(parsed, a);
+    }
+    static const char *const bad[] = {"", "+", "-", "w", "+xy", "xx", "--x", "+ x", "y "};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; ++k) {
+        sam_up_axis parsed = SAM_UP_NEG_Z;
+        assert_false(sam_up_axis_parse(bad[k], &parsed));
+        assert_int_equal(parsed, SAM_UP_NEG_Z);
+    }
+    sam_up_axis parsed = SAM_UP_NEG_Z;
+    assert_false(sam_up_axis_parse(NULL, &parsed));
+    assert_string_equal(sam_up_axis_name(SAM_UP_AXIS_COUNT), "unknown");
+    float up[3], front[3];
+    assert_int_equal(sam_scene_axes_for_up(SAM_UP_AXIS_COUNT, up, front), SAM_UP_POS_Z);
+    assert_true(up[1] == 1.0f && front[2] == 1.0f);
 }
 
 int main(void)
@@ -1207,6 +1247,7 @@ int main(void)
         cmocka_unit_test(test_thickness_technique),
         cmocka_unit_test(test_names),
         cmocka_unit_test(test_default_axes),
+        cmocka_unit_test(test_up_axes),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

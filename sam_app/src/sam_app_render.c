@@ -18,7 +18,7 @@
 void sam_app_render_defaults(sam_app_render_job *job)
 {
     memset(job, 0, sizeof *job);
-    job->technique = job->diffusion = job->sss_kernel = job->tonemap = job->beside = -1;
+    job->technique = job->diffusion = job->sss_kernel = job->tonemap = job->beside = job->up = -1;
     job->exposure = NAN;
     job->frames = 1;
     job->fps = 30.0f;
@@ -364,9 +364,10 @@ static sam_status check_job(const sam_app_render_job *job, int bare, sam_error *
         st = sam_app_check_output("--dump-vertices", job->dump, NULL, job->force, err);
     if (st != SAM_OK)
         return st;
-    if (!bare && (job->material || job->size_mm || job->mm_per_unit || job->angle_deg))
+    if (!bare && (job->material || job->size_mm || job->mm_per_unit || job->angle_deg || job->up >= 0))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
-                        "--material, --size-mm, --mm-per-unit and --angle are for a bare mesh; %s sets its own",
+                        "--material, --size-mm, --mm-per-unit, --angle and --up are for a bare mesh; %s sets its "
+                        "own",
                         job->scene_path);
     if (job->animate && job->turntable)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "--animate and --turntable cannot go together");
@@ -391,6 +392,7 @@ static sam_status job_scene(const sam_app_render_job *job, const char *tool, int
     options.size_mm = job->size_mm;
     options.mm_per_unit = job->mm_per_unit;
     options.angle_deg = job->angle_deg;
+    options.up = job->up;
     options.width = job->width;
     options.height = job->height;
     sam_app_stage_notes notes;

@@ -20,6 +20,7 @@
 void sam_app_stage_defaults(sam_app_stage_options *options)
 {
     memset(options, 0, sizeof *options);
+    options->up = -1;
 }
 
 static void note(sam_app_stage_notes *notes, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -129,21 +130,23 @@ static void point_light(sam_light *l, const float at[3], float intensity)
 }
 
 /* Camera and lights around the measured mesh. */
-static sam_status place(const measure *ms, float angle_deg, sam_scene *scene, sam_app_stage_notes *notes,
-                        sam_error *err)
+static sam_status place(const measure *ms, const sam_app_stage_options *o, sam_scene *scene,
+                        sam_app_stage_notes *notes, sam_error *err)
 {
-    /* Up is +Z where the mesh is clearly tallest along Z (scanners' and
-     * CAD's convention, front then -Y), else +Y (OBJ's and glTF's, front
-     * +Z). A part much flatter along up than across (a plate, a leaf lying
-     * down) is seen from higher up. */
+    /* Up is the axis given, else +Z where the mesh is clearly tallest
+     * along Z (scanners' and CAD's convention, front then -Y), else +Y
+     * (OBJ's and glTF's, front +Z). A part much flatter along up than
+     * across (a plate, a leaf lying down) is seen from higher up. */
     const float *ext = ms->extent;
     float up_axis[3], front[3];
-    const int z_up = sam_scene_default_axes(ext, up_axis, front);
+    const sam_up_axis axis = o->up >= 0 ? (sam_up_axis)o->up : sam_scene_default_axes(ext, up_axis, front);
+    const sam_up_axis seen_from = sam_scene_axes_for_up(axis, up_axis, front);
+    const int u = (int)axis / 2;
     float side[3];
     sam_vec3_cross(up_axis, front, side);
-    const float tall = z_up ? ext[2] : ext[1], across = fminf(ext[0], z_up ? ext[1] : ext[2]);
+    const float tall = ext[u], across = fminf(ext[(u + 1) % 3], ext[(u + 2) % 3]);
     const float elevation = tall < 0.25f * across ? 50.0f : ELEVATION_DEG;
-    const float a = angle_deg * PI_F / 180.0f, e = elevation * PI_F / 180.0f;
+    const float a = o->angle_deg * PI_F / 180.0f, e = elevation * PI_F / 180.0f;
     float dir[3];
     for (int c = 0; c < 3; ++c)
         dir[c] = cosf(e) * (cosf(a) * front[c] + sinf(a) * side[c]) + sinf(e) * up_axis[c];
@@ -182,8 +185,9 @@ static sam_status place(const measure *ms, float angle_deg, sam_scene *scene, sa
     for (int c = 0; c < 3; ++c)
         back[c] = ms->centre[c] - back_dist * dir[c];
     point_light(&scene->lights[1], back, 4.0f * back_dist * back_dist);
-    note(notes, "camera: up %s, from the front (%s) turned %.0f degrees about up and raised %.0f, %.0f degree field "
-         "of view, the whole object in view", z_up ? "+Z" : "+Y", z_up ? "-Y" : "+Z", angle_deg, elevation, FOV_DEG);
+    note(notes, "camera: up %s (%s), from the front (%s) turned %.0f degrees about up and raised %.0f, %.0f degree "
+         "field of view, the whole object in view", sam_up_axis_name(axis), o->up >= 0 ? "given" : "guessed; --up to change",
+         sam_up_axis_name(seen_from), o->angle_deg, elevation, FOV_DEG);
     note(notes, "key light: a point light above-left of the camera, %.3g units from the centre", key_dist);
     return SAM_OK;
 }
@@ -220,6 +224,8 @@ static sam_status check_options(const sam_app_stage_options *o, sam_error *err)
     if (o->mm_per_unit && !(o->mm_per_unit > 0 && isfinite(o->mm_per_unit)))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "mm per unit: expected a finite number > 0, got %g",
                         o->mm_per_unit);
+    if (o->up < -1 || o->up >= SAM_UP_AXIS_COUNT)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "up: expected -1 (guess) or a sam_up_axis, got %d", o->up);
     if (!isfinite(o->angle_deg))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "camera angle: expected a finite number, got %g",
                         o->angle_deg);
@@ -284,7 +290,7 @@ sam_status sam_app_stage_scene(const char *mesh_path, const char *material, cons
     }
     note(notes, "material: %s%s", mat, material ? "" : " (not given)");
     if ((st = parse_bare(mesh_path, mat, 0, mm_per_unit, options, scene, err)) == SAM_OK)
-        st = place(&ms, options->angle_deg, scene, notes, err);
+        st = place(&ms, options, scene, notes, err);
     /* The renderer takes the texture the file names (sam_runtime_scene_setup):
      * say which, as every assumption is said. One that cannot be used is its
      * warning. */

@@ -27,6 +27,8 @@ static void usage(FILE *out)
             "  --size-mm D            the mesh's bounding-box diagonal in mm, or\n"
             "  --mm-per-unit X        millimetres per model unit (neither: a size is chosen at which\n"
             "                         the thinnest parts glow, and said loudly)\n"
+            "  --up AXIS              the mesh's up axis, +X, -X, +Y, -Y, +Z or -Z (default: +Z where the\n"
+            "                         mesh is clearly tallest along Z, else +Y; said either way)\n"
             "  --angle DEG            turn the camera about the up axis from the front (default 0)\n"
             "  --write-scene S.json   save the scene used (camera, lights, exposure) to edit and re-render\n"
             "  --cache DIR, --no-cache  the map cache (default $XDG_CACHE_HOME/sam or ~/.cache/sam)\n"
@@ -75,6 +77,7 @@ static void usage(FILE *out)
             "examples:\n"
             "  sam_render head.ply --material skin --size-mm 250 -o head.png --beside none\n"
             "  sam_render bunny.obj --material marble --turntable 8 -o turn.png --write-scene bunny.json\n"
+            "  sam_render lizard.off --material skin --size-mm 90 --up -Z --angle 90 -o lizard.png\n"
             "  sam_render scenes/ear_backlit.json -o ear.exr --png ear.png\n");
 }
 
@@ -88,13 +91,14 @@ int main(int argc, char **argv)
     sam_app_render_job job;
     sam_app_render_defaults(&job);
     int frames_given = 0;
-    const char *size = NULL;
+    const char *size = NULL, *up = NULL;
     const sam_arg args[] = {
         {"-o", SAM_ARG_STRING, &job.out, .value = "OUT.png|OUT.exr", .required = 1},
         {"--material", SAM_ARG_STRING, &job.material, .value = "M"},
         {"--size-mm", SAM_ARG_FLOAT, &job.size_mm, .lo = 0, .hi = FLT_MAX, .lo_open = 1, .value = "D"},
         {"--mm-per-unit", SAM_ARG_FLOAT, &job.mm_per_unit, .lo = 0, .hi = FLT_MAX, .lo_open = 1, .value = "X"},
         {"--angle", SAM_ARG_FLOAT, &job.angle_deg, .lo = -360, .hi = 360, .value = "DEG"},
+        {"--up", SAM_ARG_STRING, &up, .value = "AXIS"},
         {"--size", SAM_ARG_STRING, &size, .value = "WxH"},
         {"--write-scene", SAM_ARG_STRING, &job.write_scene, .value = "S.json"},
         {"--beside", SAM_ARG_CHOICE, &job.beside, .choices = techniques},
@@ -128,6 +132,11 @@ int main(int argc, char **argv)
     if (size && !sam_args_size(size, &job.width, &job.height))
         return sam_args_fail("sam_render", "--size must be WxH with each in 1..%d, got \"%s\"",
                              SAM_SCENE_MAX_RESOLUTION, size);
+    sam_up_axis up_axis;
+    if (up && !sam_up_axis_parse(up, &up_axis))
+        return sam_args_fail("sam_render", "--up must be +X, -X, +Y, -Y, +Z or -Z, got \"%s\"", up);
+    if (up)
+        job.up = (int)up_axis;
     if (job.size_mm && job.mm_per_unit)
         return sam_args_fail("sam_render", "--size-mm and --mm-per-unit say the same thing: give one");
     if (job.cache_dir && job.no_cache)

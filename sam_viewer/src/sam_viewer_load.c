@@ -45,14 +45,13 @@ static sam_status bare_sam_scene(const char *input, const char *material, const 
 
 /* A bare mesh's staged scene (sam_app_stage.h), its assumptions printed,
  * with the environment map when given. */
-static sam_status mesh_scene(const char *input, const char *material, float size_mm, const char *environment,
-                             sam_scene *scene, sam_error *err)
+static sam_status mesh_scene(const char *input, const char *material, const sam_app_stage_options *stage,
+                             const char *environment, sam_scene *scene, sam_error *err)
 {
-    sam_app_stage_options options;
-    sam_app_stage_defaults(&options);
-    options.size_mm = size_mm;
+    sam_app_stage_options defaults;
+    sam_app_stage_defaults(&defaults);
     sam_app_stage_notes notes;
-    sam_status st = sam_app_stage_scene(input, material, &options, scene, &notes, err);
+    sam_status st = sam_app_stage_scene(input, material, stage ? stage : &defaults, scene, &notes, err);
     if (st != SAM_OK)
         return st;
     for (int i = 0; i < notes.count; ++i)
@@ -67,8 +66,8 @@ static sam_status mesh_scene(const char *input, const char *material, float size
     return scene->environment.map ? SAM_OK : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "out of memory");
 }
 
-sam_status sam_viewer_load_scene(const char *input, const char *material, float size_mm, const char *environment,
-                                 sam_scene *scene, sam_viewer_input *kind, sam_error *err)
+sam_status sam_viewer_load_scene(const char *input, const char *material, const sam_app_stage_options *stage,
+                                 const char *environment, sam_scene *scene, sam_viewer_input *kind, sam_error *err)
 {
     const int scene_file = has_suffix(input, ".json"), sam_file = has_suffix(input, ".sam");
     if (kind)
@@ -76,10 +75,13 @@ sam_status sam_viewer_load_scene(const char *input, const char *material, float 
     if (scene_file && (material || environment))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
                         "--material and --environment are for a bare mesh or .sam; %s sets its own", input);
+    if ((scene_file || sam_file) && stage && stage->up >= 0)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "--up is for a bare mesh; %s is seen from its own camera",
+                        input);
     if (scene_file)
         return sam_scene_load(input, scene, err);
     return sam_file ? bare_sam_scene(input, material, environment, scene, err)
-                    : mesh_scene(input, material, size_mm, environment, scene, err);
+                    : mesh_scene(input, material, stage, environment, scene, err);
 }
 
 sam_status sam_viewer_default_lights(sam_scene *s, const float centre[3], float radius, sam_error *err)

@@ -33,6 +33,8 @@ static void usage(FILE *out)
             "  --material M         material of a bare mesh (a preset or a profile file; default skin)\n"
             "  --size-mm D          a bare mesh's bounding-box diagonal in mm (default: chosen so that\n"
             "                       its thinnest parts glow, and said so)\n"
+            "  --up AXIS            a bare mesh's up axis, +X, -X, +Y, -Y, +Z or -Z (default: +Z where\n"
+            "                       it is clearly tallest along Z, else +Y; said either way)\n"
             "  --environment E.exr  a lat-long environment for a bare mesh or .sam\n"
             "  --truth T.exr        a ground-truth image for the difference view (same camera and size)\n"
             "  --size WxH           window size in pixels (default: the scene's resolution, at most\n"
@@ -75,8 +77,9 @@ static void usage(FILE *out)
 }
 
 typedef struct options {
-    const char *input, *material, *environment, *truth, *shot, *cache, *script, *size;
-    float size_mm, fps;
+    const char *input, *material, *environment, *truth, *shot, *cache, *script, *size, *up;
+    sam_app_stage_options stage; /* a bare mesh's size and up axis */
+    float fps;
     int width, height, no_cache;
 } options;
 
@@ -84,10 +87,12 @@ typedef struct options {
 static int parse_options(int argc, char **argv, options *o)
 {
     *o = (options){.shot = "sam_view"};
+    sam_app_stage_defaults(&o->stage);
     const sam_arg args[] = {
         {"--material", SAM_ARG_STRING, &o->material, .value = "M"},
-        {"--size-mm", SAM_ARG_FLOAT, &o->size_mm, .lo = 0, .hi = FLT_MAX, .lo_open = 1, .value = "D",
+        {"--size-mm", SAM_ARG_FLOAT, &o->stage.size_mm, .lo = 0, .hi = FLT_MAX, .lo_open = 1, .value = "D",
          .must = "a positive number"},
+        {"--up", SAM_ARG_STRING, &o->up, .value = "AXIS"},
         {"--environment", SAM_ARG_STRING, &o->environment, .value = "E.exr"},
         {"--truth", SAM_ARG_STRING, &o->truth, .value = "T.exr"},
         {"--size", SAM_ARG_STRING, &o->size, .value = "WxH"},
@@ -105,6 +110,12 @@ static int parse_options(int argc, char **argv, options *o)
         if (!sam_args_size(o->size, &w, &h) || w < 16 || h < 16)
             return sam_args_fail("sam_view", "--size must be WxH with each in 16..16384, got \"%s\"", o->size);
         o->width = (int)w, o->height = (int)h;
+    }
+    sam_up_axis up;
+    if (r == SAM_ARGS_OK && o->up) {
+        if (!sam_up_axis_parse(o->up, &up))
+            return sam_args_fail("sam_view", "--up must be +X, -X, +Y, -Y, +Z or -Z, got \"%s\"", o->up);
+        o->stage.up = (int)up;
     }
     return r;
 }
@@ -126,7 +137,7 @@ int main(int argc, char **argv)
     if (o.script)
         st = sam_view_script_load(o.script, &events, &event_count, &err);
     if (st == SAM_OK)
-        st = sam_viewer_load_scene(o.input, o.material, o.size_mm, o.environment, &w.state.scene, &kind, &err);
+        st = sam_viewer_load_scene(o.input, o.material, &o.stage, o.environment, &w.state.scene, &kind, &err);
     char cache_dir[4096];
     sam_app_cache_dir(o.cache, cache_dir, sizeof cache_dir);
     sam_profile profile;

@@ -67,6 +67,25 @@ echo "$glow of $obj object pixels at least 20 levels brighter with sam than with
   2> "$tmp/turn.txt" || fail "--turntable: $(cat "$tmp/turn.txt")"
 for k in 0000 0001 0002; do [ -s "$tmp/turn_$k.png" ] || fail "--turntable wrote no picture $k"; done
 [ "$(png differ "$tmp/turn_0000.png" "$tmp/turn_0001.png")" = 0 ] && fail "turntable pictures 0 and 1 are the same"
+# The up axis: guessed and said so, or given (either case, the sign optional); the camera and the saved
+# scene follow it, and the picture is another one.
+grep -q "^sam_render: camera: up +Y (guessed; --up to change), from the front (+Z)" "$tmp/log.txt" \
+  || fail "the guessed up axis: $(grep camera "$tmp/log.txt")"
+for k in "+X:+Z:1, 0, 0" "-y:-Z:0, -1, 0" "z:-Y:0, 0, 1" "-Z:+Y:0, 0, -1"; do
+  IFS=: read -r axis front vec <<< "$k"
+  "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/up.png" --up "$axis" --size-mm 70 --size 48x36 --force \
+    --write-scene "$tmp/up.json" "${cache[@]}" 2> "$tmp/up.txt" || fail "--up $axis: $(cat "$tmp/up.txt")"
+  want=$(echo "$axis" | tr 'xyz' 'XYZ'); [ "${want:0:1}" = - ] || want=+${want#+}
+  grep -q "^sam_render: camera: up $want (given), from the front ($front)" "$tmp/up.txt" \
+    || fail "--up $axis: $(grep camera "$tmp/up.txt")"
+  python3 -c "import json, sys; u = json.load(open('$tmp/up.json'))['camera']['up']; sys.exit(u != [$vec])" \
+    || fail "--up $axis: the saved camera's up is not [$vec]: $(cat "$tmp/up.json")"
+done
+"$bin/sam_render" "$tmp/ear.obj" -o "$tmp/upx.png" --up +X --size-mm 70 --size 48x36 "${cache[@]}" 2>/dev/null \
+  || fail "--up +X"
+"$bin/sam_render" "$tmp/ear.obj" -o "$tmp/upy.png" --up +Y --size-mm 70 --size 48x36 "${cache[@]}" 2>/dev/null \
+  || fail "--up +Y"
+[ "$(png differ "$tmp/upx.png" "$tmp/upy.png")" = 0 ] && fail "--up +X renders the picture of --up +Y"
 # A scene whose only light is inside the object, and one with no light at all: a warning each.
 "$bin/sam_meshgen" sphere -o "$tmp/sphere.obj" --resolution 12 2>/dev/null || fail "meshgen sphere"
 printf '{"mesh": "sphere.obj", "material": "skin", "scale": {"size_mm": 30}, "resolution": [32, 32], "lights": [{"type": "point", "position": [0.05, 0, 0]}]}' > "$tmp/inside.json"
@@ -91,6 +110,10 @@ grep -q "does not exist" "$tmp/err.txt" || fail "missing folder message: $(cat "
 expect_error "an unknown format" "$tmp/ear.obj" -o "$tmp/x.jpg"
 grep -q "must end in .png or .exr" "$tmp/err.txt" || fail "format message: $(cat "$tmp/err.txt")"
 expect_error "--size-mm with a scene" "$tmp/ear.json" -o "$tmp/x.png" --size-mm 50
+expect_error "--up with a scene" "$tmp/ear.json" -o "$tmp/x.png" --up +Z
+grep -q -- "--up are for a bare mesh" "$tmp/err.txt" || fail "--up with a scene: $(cat "$tmp/err.txt")"
+expect_error "an unknown --up" "$tmp/ear.obj" -o "$tmp/x.png" --up w
+grep -q -- '--up must be +X, -X, +Y, -Y, +Z or -Z, got "w"' "$tmp/err.txt" || fail "--up w: $(cat "$tmp/err.txt")"
 expect_error "both sizes" "$tmp/ear.obj" -o "$tmp/x.png" --size-mm 50 --mm-per-unit 2
 expect_error "--png beside a PNG" "$tmp/ear.obj" -o "$tmp/x.png" --png "$tmp/y.png"
 expect_error "a bad --size" "$tmp/ear.obj" -o "$tmp/x.png" --size 96by72

@@ -87,6 +87,15 @@ grep -q "^sam_view: size: NOT GIVEN; assuming" "$tmp/err.txt" || fail "a bare me
 # No display at all: one line, exit 1.
 DISPLAY= WAYLAND_DISPLAY= "$bin/sam_view" "$tmp/ear.obj" --cache "$tmp/cache" 2> "$tmp/err.txt"; rc=$?
 [ $rc -eq 1 ] && grep -q "cannot reach a window system" "$tmp/err.txt" || fail "no display: exit $rc: $(cat "$tmp/err.txt")"
+# A bare mesh's up axis is staged before any window: given, it is said so.
+DISPLAY= WAYLAND_DISPLAY= "$bin/sam_view" "$tmp/ear.obj" --up x --cache "$tmp/cache" 2> "$tmp/err.txt"
+grep -q "^sam_view: camera: up +X (given), from the front (+Z)" "$tmp/err.txt" || fail "--up x: $(cat "$tmp/err.txt")"
+"$bin/sam_view" "$tmp/ear.obj" --up sideways 2> "$tmp/err.txt"; rc=$?
+[ $rc -eq 2 ] && grep -q -- '--up must be +X, -X, +Y, -Y, +Z or -Z, got "sideways"' "$tmp/err.txt" \
+  || fail "--up sideways: exit $rc: $(cat "$tmp/err.txt")"
+"$bin/sam_view" "$tmp/bend.json" --up +Z 2> "$tmp/err.txt"; rc=$?
+[ $rc -eq 1 ] && grep -q -- "--up is for a bare mesh; .*bend.json is seen from its own camera" "$tmp/err.txt" \
+  || fail "--up with a scene: exit $rc: $(cat "$tmp/err.txt")"
 # Bad input: one message, exit 1 or 2, no window needed.
 "$bin/sam_view" "$tmp/missing.obj" --cache "$tmp/cache" 2> "$tmp/err.txt"; rc=$?
 [ $rc -eq 1 ] && grep -q "missing.obj" "$tmp/err.txt" || fail "missing mesh: exit $rc: $(cat "$tmp/err.txt")"

@@ -31,7 +31,8 @@ typedef struct sam_app_render_job {
     const char *material;    /* a bare mesh's material (NULL: skin); not with a scene file */
     float size_mm;           /* a bare mesh's bounding-box diagonal in mm; 0: not given */
     float mm_per_unit;       /* a bare mesh's scale; 0: not given (neither: chosen, sam_app_stage.h) */
-    float angle_deg;         /* a bare mesh's camera turn about +Y from the front */
+    float angle_deg;         /* a bare mesh's camera turn about up from the front */
+    int up;                  /* a bare mesh's up axis: -1 guessed (sam_app_stage.h); else a sam_up_axis */
     uint32_t width, height;  /* the picture in pixels; 0: the scene's */
     const char *write_scene; /* the scene rendered (with the exposure used) saved here, or NULL */
     long turntable;          /* 0: none; else this many pictures with camera and lights turned about the

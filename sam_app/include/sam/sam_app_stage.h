@@ -30,8 +30,9 @@
  *     transmission, mean of RGB), so that they glow whatever the material,
  *     kept within SAM_APP_STAGE_MIN_MM..SAM_APP_STAGE_MAX_MM across (the
  *     objects people render translucent, from a grape to a torso).
- *   - Camera: up is +Z where the mesh is clearly tallest along Z (front
- *     then -Y), else +Y (front +Z); 30 degrees of vertical field of view,
+ *   - Camera: up is the axis given, else +Z where the mesh is clearly
+ *     tallest along Z, else +Y; seen from the front sam_scene_axes_for_up
+ *     gives that axis (+Y from +Z, +Z from -Y); 30 degrees of vertical field of view,
  *     looking at the bounding box's centre from the front turned by
  *     angle_deg about up and raised 10 degrees (50 for a part much flatter
  *     along up than across), far enough that the bounding sphere fits.
@@ -64,6 +65,7 @@ typedef struct sam_app_stage_options {
     float size_mm;     /* > 0: the bounding-box diagonal in mm; 0: not given */
     float mm_per_unit; /* > 0: millimetres per model unit; 0: not given (not with size_mm) */
     float angle_deg;   /* the camera's turn about up from the front, degrees, finite */
+    int up;            /* -1: guessed from the mesh's box; else the sam_up_axis that points up */
     uint32_t width, height; /* the picture, 1..SAM_SCENE_MAX_RESOLUTION; 0: the scene default */
 } sam_app_stage_options;
 
@@ -74,7 +76,7 @@ typedef struct sam_app_stage_notes {
     int size_guessed; /* 1: neither size was given and one was chosen */
 } sam_app_stage_notes;
 
-/* Zero sizes (not given), angle 0, the scene's default resolution. */
+/* Zero sizes (not given), angle 0, up guessed, the scene's default resolution. */
 void sam_app_stage_defaults(sam_app_stage_options *options);
 
 /* A whole scene for the mesh at `mesh_path` in `material` (a preset or a
@@ -82,7 +84,8 @@ void sam_app_stage_defaults(sam_app_stage_options *options);
  * sam_scene_destroy whatever the result), with `notes` (may be NULL)
  * saying what was assumed.
  * Errors: SAM_ERR_INVALID_ARGUMENT (both sizes given, a size not finite and
- * > 0, an angle not finite, a resolution out of range), those of
+ * > 0, an angle not finite, an up outside -1..SAM_UP_AXIS_COUNT - 1, a
+ * resolution out of range), those of
  * sam_scene_parse (a missing file, an unknown material), sam_mesh_load and
  * sam_thickness_compute. */
 sam_status sam_app_stage_scene(const char *mesh_path, const char *material, const sam_app_stage_options *options,

@@ -204,13 +204,39 @@ typedef struct sam_scene {
  * arrays; sam_scene_destroy frees them. */
 void sam_scene_init(sam_scene *scene);
 
-/* Which way is up, and where the front is seen from, for an object whose
- * bounding box measures `extent` (model units) when no camera is given:
- * +Z up, seen from -Y, where the box is clearly tallest along Z (more than
- * 1.1 times its Y and at least its X: scanners' and CAD's convention);
- * else +Y up, seen from +Z (OBJ's and glTF's). Unit vectors into up[3] and
- * front[3] (from the object towards the camera). Returns 1 for Z up. */
-int sam_scene_default_axes(const float extent[3], float up[3], float front[3]);
+/* A model axis that points up in the object's own frame. */
+typedef enum sam_up_axis {
+    SAM_UP_POS_X,
+    SAM_UP_NEG_X,
+    SAM_UP_POS_Y,
+    SAM_UP_NEG_Y,
+    SAM_UP_POS_Z,
+    SAM_UP_NEG_Z,
+    SAM_UP_AXIS_COUNT
+} sam_up_axis;
+
+/* The up axis named by `text`: "+X", "-X", "+Y", "-Y", "+Z" or "-Z", either
+ * case, the sign optional ("z" is +Z). Returns 1 and fills *axis, or 0
+ * (text NULL or anything else; *axis untouched). */
+int sam_up_axis_parse(const char *text, sam_up_axis *axis);
+
+/* "+X" ... "-Z"; "unknown" outside the enum. */
+const char *sam_up_axis_name(sam_up_axis axis);
+
+/* Unit vectors for an object whose `axis` points up: up[3], and front[3],
+ * from the object towards the camera of its front view. +Y is seen from +Z
+ * (OBJ's and glTF's convention), +Z from -Y (scanners' and CAD's); the
+ * others from the front a half turn about X (-Y from -Z, -Z from +Y) or a
+ * quarter turn about Z (+X and -X from +Z) brings there. Outside the enum:
+ * +Y's. Returns the axis front[3] lies along. */
+sam_up_axis sam_scene_axes_for_up(sam_up_axis axis, float up[3], float front[3]);
+
+/* The up axis guessed for an object whose bounding box measures `extent`
+ * (model units) when no camera is given: +Z where the box is clearly
+ * tallest along Z (more than 1.1 times its Y and at least its X: scanners'
+ * and CAD's convention), else +Y; with its sam_scene_axes_for_up vectors
+ * into up[3] and front[3]. */
+sam_up_axis sam_scene_default_axes(const float extent[3], float up[3], float front[3]);
 
 /* Reads and parses the scene file at `path`. On success the caller owns
  * `scene` and frees it with sam_scene_destroy; on failure `scene` holds

@@ -10,6 +10,7 @@
 
 #include "sam/sam_mesh.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,12 +48,48 @@ const char *sam_sss_kernel_name(sam_sss_kernel kernel)
 /* ------------------------------------------------------------------------ */
 /* Scene lifetime                                                            */
 
-int sam_scene_default_axes(const float extent[3], float up[3], float front[3])
+static const char *const up_axis_names[] = {"+X", "-X", "+Y", "-Y", "+Z", "-Z"};
+
+const char *sam_up_axis_name(sam_up_axis axis)
 {
-    const int z_up = extent[2] > 1.1f * extent[1] && extent[2] >= extent[0];
-    up[0] = 0.0f, up[1] = z_up ? 0.0f : 1.0f, up[2] = z_up ? 1.0f : 0.0f;
-    front[0] = 0.0f, front[1] = z_up ? -1.0f : 0.0f, front[2] = z_up ? 0.0f : 1.0f;
-    return z_up;
+    return sam_scene_name_at(up_axis_names, COUNT_OF(up_axis_names), (int)axis);
+}
+
+int sam_up_axis_parse(const char *text, sam_up_axis *axis)
+{
+    if (!text)
+        return 0;
+    const int negative = text[0] == '-';
+    if (text[0] == '-' || text[0] == '+')
+        text++;
+    const char *const letters = "xyz";
+    const char c = (char)tolower((unsigned char)text[0]);
+    if (!c || text[1] || !strchr(letters, c))
+        return 0;
+    *axis = (sam_up_axis)(2 * (int)(strchr(letters, c) - letters) + negative);
+    return 1;
+}
+
+sam_up_axis sam_scene_axes_for_up(sam_up_axis axis, float up[3], float front[3])
+{
+    /* The front each up is seen from, as an axis code of the same kind. */
+    static const sam_up_axis fronts[SAM_UP_AXIS_COUNT] = {SAM_UP_POS_Z, SAM_UP_POS_Z, SAM_UP_POS_Z,
+                                                          SAM_UP_NEG_Z, SAM_UP_NEG_Y, SAM_UP_POS_Y};
+    if ((int)axis < 0 || axis >= SAM_UP_AXIS_COUNT)
+        axis = SAM_UP_POS_Y;
+    const sam_up_axis f = fronts[axis];
+    for (int c = 0; c < 3; ++c) {
+        up[c] = c == (int)axis / 2 ? ((int)axis % 2 ? -1.0f : 1.0f) : 0.0f;
+        front[c] = c == (int)f / 2 ? ((int)f % 2 ? -1.0f : 1.0f) : 0.0f;
+    }
+    return f;
+}
+
+sam_up_axis sam_scene_default_axes(const float extent[3], float up[3], float front[3])
+{
+    const sam_up_axis axis = extent[2] > 1.1f * extent[1] && extent[2] >= extent[0] ? SAM_UP_POS_Z : SAM_UP_POS_Y;
+    sam_scene_axes_for_up(axis, up, front);
+    return axis;
 }
 
 void sam_scene_init(sam_scene *scene)

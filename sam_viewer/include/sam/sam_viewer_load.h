@@ -9,6 +9,7 @@
 
 #include <stddef.h>
 
+#include "sam/sam_app_stage.h"
 #include "sam/sam_common.h"
 #include "sam/sam_profile.h"
 #include "sam/sam_scene.h"
@@ -26,17 +27,18 @@ typedef enum sam_viewer_input {
 } sam_viewer_input;
 
 /* The scene of `input`: a scene file (.json) is loaded; a mesh gets the
- * staged scene sam_render gives it (sam_app_stage.h: `size_mm` its
- * bounding-box diagonal, 0 to have one chosen; the assumptions printed on
- * stderr); a .sam gets a scene naming it and no lights. `material` may be
- * NULL (the .sam's own, or skin for a mesh), the lat-long `environment`
- * EXR too. `*kind` (may be NULL) says which it was. `scene` is the
- * caller's, freed with sam_scene_destroy whatever the result.
+ * staged scene sam_render gives it with the `stage` options (size, up axis;
+ * NULL: sam_app_stage_defaults'; the assumptions printed on stderr); a .sam
+ * gets a scene naming it and no lights. `material` may be NULL (the .sam's
+ * own, or skin for a mesh), the lat-long `environment` EXR too. `*kind`
+ * (may be NULL) says which it was. `scene` is the caller's, freed with
+ * sam_scene_destroy whatever the result.
  * Errors: SAM_ERR_INVALID_ARGUMENT (`material` or `environment` given with
- * a scene file), SAM_ERR_IO (no environment file), and those of
+ * a scene file, an up axis with a scene file or .sam), SAM_ERR_IO (no
+ * environment file), and those of
  * sam_scene_load, sam_scene_parse and sam_app_stage_scene. */
-sam_status sam_viewer_load_scene(const char *input, const char *material, float size_mm, const char *environment,
-                                 sam_scene *scene, sam_viewer_input *kind, sam_error *err);
+sam_status sam_viewer_load_scene(const char *input, const char *material, const sam_app_stage_options *stage,
+                                 const char *environment, sam_scene *scene, sam_viewer_input *kind, sam_error *err);
 
 /* Replaces the scene's lights (it must have none) with two point lights
  * about the object at `centre` of `radius`: one behind it as the camera
