@@ -25,6 +25,13 @@ MESHES=(
   "lion_head.off:data/meshes/lion-head.off"
   "homer.off:data/meshes/homer.off"
   "cow.off:data/meshes/cow.off"
+  "bull.off:data/meshes/bull.off"
+  "dino.off:data/meshes/dino.off"
+  "femur.off:data/meshes/femur.off"
+  "bear.off:data/meshes/bear.off"
+  "diplodocus.off:data/meshes/diplodocus.off"
+  "elk.off:data/meshes/elk.off"
+  "cactus.off:data/meshes/cactus.off"
 )
 # derived name : stable name above : Loop subdivision steps. The archive's
 # densest statue-like scan, man.off (a standing figure, 17,495 vertices,

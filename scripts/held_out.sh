@@ -3,17 +3,18 @@
 # no scene, default or test was made with (docs/comparison.md, "Meshes
 # without a bundled scene"): each is staged as a user would stage a bare
 # mesh (sam_render MESH --write-scene: framing, key light, back light,
-# exposure), compared with sam_compare, and some are compared again with
-# the back light turned into another kind of light (relight_scene.py).
+# exposure; the up axis given where the guess is wrong), compared with
+# sam_compare, and some are compared again with the back light turned into
+# another kind of light (relight_scene.py).
 # Writes OUT/NAME.json (the staged scene), OUT/NAME/ (sam_compare's files),
 # OUT/NAME_KIND/ for a relit one, and OUT/summary.md
-# (scripts/summarise_compare.py). On two cores, about 5 minutes.
+# (scripts/summarise_compare.py). On two cores, about 12 minutes.
 #   scripts/held_out.sh [OUT_DIR [NAME...]]   (default out/held_out, every case; needs a build in build/)
 # Set SAM_BUILD_DIR to use another build tree.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 case "${1:-}" in
-  -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
 esac
 out=${1:-$root/out/held_out}
 [ $# -gt 0 ] && shift
@@ -21,7 +22,8 @@ bin=${SAM_BUILD_DIR:-$root/build}/bin
 [ -x "$bin/sam_compare" ] || { echo "held_out.sh: no $bin/sam_compare; run scripts/build.sh first" >&2; exit 1; }
 scans=$root/meshes/scans
 # name, mesh in meshes/scans/, material, size in mm (the bounding box's
-# diagonal), and the kinds of light the back light also becomes ("-": none)
+# diagonal), the kinds of light the back light also becomes ("-": none),
+# and more staging options, commas for spaces (optional)
 cases=(
   "hand_skin hand.off skin 220 -"
   "hand_milk hand.off wholemilk 150 -"
@@ -30,6 +32,13 @@ cases=(
   "lion_jade lion_head.off $root/scenes/materials/jade_radius.json 80 environment"
   "homer_ketchup homer.off ketchup 60 directional"
   "cow_skin2 cow.off skin2 80 spot"
+  "bull_marble bull.off marble 150 environment"
+  "dino_skin dino.off skin 90 - --up,+Z,--angle,150"
+  "femur_cream femur.off cream 120 -"
+  "bear_milk bear.off wholemilk 80 -"
+  "diplodocus_apple diplodocus.off apple 120 spot"
+  "elk_skin2 elk.off skin2 60 area"
+  "cactus_potato cactus.off potato 50 -"
 )
 known=" "
 for c in "${cases[@]}"; do known+="${c%% *} "; done
@@ -44,10 +53,11 @@ compare() { # NAME SCENE
     || { tail -5 "$out/$1.log" >&2; exit 1; }
 }
 for c in "${cases[@]}"; do
-  read -r name mesh material size kinds <<<"$c"
+  read -r name mesh material size kinds staging <<<"$c"
+  IFS=, read -r -a staging <<<"${staging:-}"
   if [ $# -gt 0 ] && [[ " $* " != *" $name "* ]]; then continue; fi
   "$bin/sam_render" "$scans/$mesh" -o "$out/$name.png" --material "$material" --size-mm "$size" --size 400x400 \
-    --write-scene "$out/$name.json" --cache "$out/cache" --force 2> "$out/$name.stage.log" \
+    --write-scene "$out/$name.json" --cache "$out/cache" --force "${staging[@]}" 2> "$out/$name.stage.log" \
     || { tail -5 "$out/$name.stage.log" >&2; exit 1; }
   compare "$name" "$out/$name.json"
   if [ "$kinds" != - ]; then
