@@ -1180,8 +1180,9 @@ static void test_default_axes(void **state)
     } cases[] = {{{1, 1, 3}, 1}, {{1, 2, 1}, 0}, {{3, 1, 2}, 0}, {{1, 1, 1}, 0}, {{1, 1, 1.2f}, 1}, {{2, 1, 2}, 1}};
     for (size_t k = 0; k < sizeof cases / sizeof *cases; ++k) {
         float up[3], front[3];
-        assert_int_equal(sam_scene_default_axes(cases[k].extent, up, front),
-                         cases[k].z_up ? SAM_UP_POS_Z : SAM_UP_POS_Y);
+        const sam_up_axis want = cases[k].z_up ? SAM_UP_POS_Z : SAM_UP_POS_Y;
+        assert_int_equal(sam_scene_guess_up(cases[k].extent), want);
+        assert_int_equal(sam_scene_default_axes(cases[k].extent, up, front), want);
         const float want_up[3] = {0, cases[k].z_up ? 0.0f : 1.0f, cases[k].z_up ? 1.0f : 0.0f};
         const float want_front[3] = {0, cases[k].z_up ? -1.0f : 0.0f, cases[k].z_up ? 0.0f : 1.0f};
         for (int c = 0; c < 3; ++c) {

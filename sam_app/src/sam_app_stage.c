@@ -139,7 +139,7 @@ static sam_status place(const measure *ms, const sam_app_stage_options *o, sam_s
      * across (a plate, a leaf lying down) is seen from higher up. */
     const float *ext = ms->extent;
     float up_axis[3], front[3];
-    const sam_up_axis axis = o->up >= 0 ? (sam_up_axis)o->up : sam_scene_default_axes(ext, up_axis, front);
+    const sam_up_axis axis = o->up >= 0 ? (sam_up_axis)o->up : sam_scene_guess_up(ext);
     const sam_up_axis seen_from = sam_scene_axes_for_up(axis, up_axis, front);
     const int u = (int)axis / 2;
     float side[3];
@@ -185,9 +185,11 @@ static sam_status place(const measure *ms, const sam_app_stage_options *o, sam_s
     for (int c = 0; c < 3; ++c)
         back[c] = ms->centre[c] - back_dist * dir[c];
     point_light(&scene->lights[1], back, 4.0f * back_dist * back_dist);
-    note(notes, "camera: up %s (%s), from the front (%s) turned %.0f degrees about up and raised %.0f, %.0f degree "
-         "field of view, the whole object in view", sam_up_axis_name(axis), o->up >= 0 ? "given" : "guessed; --up to change",
-         sam_up_axis_name(seen_from), o->angle_deg, elevation, FOV_DEG);
+    note(notes,
+         "camera: up %s (%s), from the front (%s) turned %.0f degrees about up and raised %.0f, %.0f degree field "
+         "of view, the whole object in view",
+         sam_up_axis_name(axis), o->up >= 0 ? "given" : "guessed; --up to change", sam_up_axis_name(seen_from),
+         o->angle_deg, elevation, FOV_DEG);
     note(notes, "key light: a point light above-left of the camera, %.3g units from the centre", key_dist);
     return SAM_OK;
 }

@@ -234,8 +234,11 @@ sam_up_axis sam_scene_axes_for_up(sam_up_axis axis, float up[3], float front[3])
 /* The up axis guessed for an object whose bounding box measures `extent`
  * (model units) when no camera is given: +Z where the box is clearly
  * tallest along Z (more than 1.1 times its Y and at least its X: scanners'
- * and CAD's convention), else +Y; with its sam_scene_axes_for_up vectors
- * into up[3] and front[3]. */
+ * and CAD's convention), else +Y. */
+sam_up_axis sam_scene_guess_up(const float extent[3]);
+
+/* sam_scene_axes_for_up of sam_scene_guess_up(extent): the guessed axis,
+ * its vectors into up[3] and front[3]. */
 sam_up_axis sam_scene_default_axes(const float extent[3], float up[3], float front[3]);
 
 /* Reads and parses the scene file at `path`. On success the caller owns

@@ -85,9 +85,14 @@ sam_up_axis sam_scene_axes_for_up(sam_up_axis axis, float up[3], float front[3])
     return f;
 }
 
+sam_up_axis sam_scene_guess_up(const float extent[3])
+{
+    return extent[2] > 1.1f * extent[1] && extent[2] >= extent[0] ? SAM_UP_POS_Z : SAM_UP_POS_Y;
+}
+
 sam_up_axis sam_scene_default_axes(const float extent[3], float up[3], float front[3])
 {
-    const sam_up_axis axis = extent[2] > 1.1f * extent[1] && extent[2] >= extent[0] ? SAM_UP_POS_Z : SAM_UP_POS_Y;
+    const sam_up_axis axis = sam_scene_guess_up(extent);
     sam_scene_axes_for_up(axis, up, front);
     return axis;
 }
