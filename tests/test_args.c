@@ -14,6 +14,7 @@
 
 #include "sam/sam_app.h"
 #include "sam/sam_args.h"
+#include "sam/sam_scene.h"
 #include "sam/sam_version.h"
 #include "sam_test.h"
 
@@ -162,6 +163,20 @@ static void test_int_lists(void **state)
         assert_int_equal(sam_args_int_list(bad[i], 1, 64, v, 3, &n), 0);
 }
 
+/* --up: not given leaves the guess, an axis is stored, anything else is
+ * refused (its one line goes to stderr) and stores nothing. */
+static void test_up_axis_option(void **state)
+{
+    (void)state;
+    int up = -1;
+    assert_int_equal(sam_args_up("tool", NULL, &up), SAM_ARGS_OK);
+    assert_int_equal(up, -1);
+    assert_int_equal(sam_args_up("tool", "-z", &up), SAM_ARGS_OK);
+    assert_int_equal(up, SAM_UP_NEG_Z);
+    assert_int_equal(sam_args_up("tool", "sideways", &up), SAM_ARGS_BAD);
+    assert_int_equal(up, SAM_UP_NEG_Z);
+}
+
 /* The first SIGINT or SIGTERM reaches the handler (a clean cancel); the
  * next one would end the program, which a build that never reads the flag
  * (a long load) needs. */
@@ -188,6 +203,7 @@ int main(void)
         cmocka_unit_test(test_bad_input_is_named),
         cmocka_unit_test(test_help_and_version_exit),
         cmocka_unit_test(test_int_lists),
+        cmocka_unit_test(test_up_axis_option),
         cmocka_unit_test(test_interrupts_are_caught_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -6,6 +6,7 @@
 
 #include "sam/sam_args.h"
 #include "sam/sam_common.h"
+#include "sam/sam_scene.h"
 #include "sam/sam_version.h"
 
 int sam_args_fail(const char *tool, const char *fmt, ...)
@@ -179,5 +180,16 @@ int sam_args_parse(const sam_args_spec *spec, int argc, char **argv)
         if (spec->args[k].required && !seen[k])
             return sam_args_fail(tool, "missing %s %s (see --help)", spec->args[k].name,
                                  spec->args[k].value ? spec->args[k].value : "");
+    return SAM_ARGS_OK;
+}
+
+int sam_args_up(const char *tool, const char *text, int *up)
+{
+    sam_up_axis axis;
+    if (!text)
+        return SAM_ARGS_OK;
+    if (!sam_up_axis_parse(text, &axis))
+        return sam_args_fail(tool, "--up must be +X, -X, +Y, -Y, +Z or -Z, got \"%s\"", text);
+    *up = (int)axis;
     return SAM_ARGS_OK;
 }

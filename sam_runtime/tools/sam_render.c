@@ -132,11 +132,8 @@ int main(int argc, char **argv)
     if (size && !sam_args_size(size, &job.width, &job.height))
         return sam_args_fail("sam_render", "--size must be WxH with each in 1..%d, got \"%s\"",
                              SAM_SCENE_MAX_RESOLUTION, size);
-    sam_up_axis up_axis;
-    if (up && !sam_up_axis_parse(up, &up_axis))
-        return sam_args_fail("sam_render", "--up must be +X, -X, +Y, -Y, +Z or -Z, got \"%s\"", up);
-    if (up)
-        job.up = (int)up_axis;
+    if (sam_args_up("sam_render", up, &job.up) != SAM_ARGS_OK)
+        return SAM_ARGS_BAD;
     if (job.size_mm && job.mm_per_unit)
         return sam_args_fail("sam_render", "--size-mm and --mm-per-unit say the same thing: give one");
     if (job.cache_dir && job.no_cache)

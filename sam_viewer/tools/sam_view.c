@@ -111,12 +111,8 @@ static int parse_options(int argc, char **argv, options *o)
             return sam_args_fail("sam_view", "--size must be WxH with each in 16..16384, got \"%s\"", o->size);
         o->width = (int)w, o->height = (int)h;
     }
-    sam_up_axis up;
-    if (r == SAM_ARGS_OK && o->up) {
-        if (!sam_up_axis_parse(o->up, &up))
-            return sam_args_fail("sam_view", "--up must be +X, -X, +Y, -Y, +Z or -Z, got \"%s\"", o->up);
-        o->stage.up = (int)up;
-    }
+    if (r == SAM_ARGS_OK)
+        r = sam_args_up("sam_view", o->up, &o->stage.up);
     return r;
 }
 

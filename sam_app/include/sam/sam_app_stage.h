@@ -32,8 +32,8 @@
  *     objects people render translucent, from a grape to a torso).
  *   - Camera: up is the axis given, else +Z where the mesh is clearly
  *     tallest along Z, else +Y; seen from the front sam_scene_axes_for_up
- *     gives that axis (+Y from +Z, +Z from -Y); 30 degrees of vertical field of view,
- *     looking at the bounding box's centre from the front turned by
+ *     gives that axis (+Y from +Z, +Z from -Y); 30 degrees of vertical
+ *     field of view, looking at the bounding box's centre from the front turned by
  *     angle_deg about up and raised 10 degrees (50 for a part much flatter
  *     along up than across), far enough that the bounding sphere fits.
  *   - Key light: a point light above, left of and in front of the camera,

@@ -105,6 +105,12 @@ int sam_args_int_list(const char *text, long lo, long hi, long *out, int max, in
  * and `h`. Returns 0, writing nothing, on anything else. */
 int sam_args_size(const char *text, uint32_t *w, uint32_t *h);
 
+/* Stores the sam_up_axis that --up's `text` names (sam_up_axis_parse) in
+ * *up and returns SAM_ARGS_OK; `text` NULL (not given) leaves *up alone.
+ * Anything else prints one line naming the axes ("TOOL: --up must be ...")
+ * and returns SAM_ARGS_BAD. */
+int sam_args_up(const char *tool, const char *text, int *up);
+
 #ifdef __cplusplus
 }
 #endif

@@ -28,7 +28,7 @@ typedef enum sam_viewer_input {
 
 /* The scene of `input`: a scene file (.json) is loaded; a mesh gets the
  * staged scene sam_render gives it with the `stage` options (size, up axis;
- * NULL: sam_app_stage_defaults'; the assumptions printed on stderr); a .sam
+ * NULL: those of sam_app_stage_defaults; the assumptions printed on stderr); a .sam
  * gets a scene naming it and no lights. `material` may be NULL (the .sam's
  * own, or skin for a mesh), the lat-long `environment` EXR too. `*kind`
  * (may be NULL) says which it was. `scene` is the caller's, freed with
