@@ -16,6 +16,7 @@ uniform uint u_offset; // floats from the buffer's start to vertex 0
 uniform uint u_stride; // floats from one vertex to the next
 uniform bool u_identity;
 uniform bool u_normals;
+uniform vec3 u_frame; // the runtime's origin in model units: positions are kept relative to it
 
 void main()
 {
@@ -30,6 +31,6 @@ void main()
         float len = length(p);
         target[v] = vec4(len > 0.0 ? p / len : vec3(0.0, 0.0, 1.0), 0.0);
     } else {
-        target[v] = vec4(p, 1.0);
+        target[v] = vec4(p - u_frame, 1.0);
     }
 }

@@ -1,8 +1,9 @@
 /*
  * Artifacts a person sees at once and a PSNR against a truth that shares
  * them cannot: bands and copied outlines from the screen-space blur on
- * smooth surfaces, stair-stepped shadow terminators on coarse meshes, and
- * shadow edges stepped by the shadow map's texels. On llvmpipe.
+ * smooth surfaces, stair-stepped shadow terminators on coarse meshes,
+ * shadow edges stepped by the shadow map's texels, and speckled shadows
+ * far from the origin. On llvmpipe.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -315,10 +316,11 @@ static void test_coarse_terminator_is_smooth(void **state)
     check_coarse_against_fine("terminator", rt, d, dir, 0.15f, 60);
 }
 
-/* Two spheres of `resolution` in one mesh: a unit one at the origin and a
- * small one in front of it, up and to the left, that shadows it; as a flat
- * map on the GPU at half a metre across (no translucency to speak of). */
-static sam_runtime *shadowed_sphere(int resolution, samfile_data *d)
+/* Two spheres of `resolution` in one mesh: a unit one at `at` (NULL: the
+ * origin) and a small one in front of it, up and to the left, that shadows
+ * it; as a flat map on the GPU at half a metre across (no translucency to
+ * speak of). */
+static sam_runtime *shadowed_sphere_at(int resolution, const float *at_centre, samfile_data *d)
 {
     sam_mesh big, small;
     sam_test_shape_mesh("sphere", resolution, 1.0, 0, 0, &big);
@@ -337,6 +339,8 @@ static sam_runtime *shadowed_sphere(int resolution, samfile_data *d)
     memcpy(tri, big.triangles, (size_t)big.triangle_count * 3 * sizeof *tri);
     for (uint32_t t = 0; t < 3 * small.triangle_count; ++t)
         tri[3 * (size_t)big.triangle_count + t] = small.triangles[t] + big.vertex_count;
+    for (uint32_t i = 0; at_centre && i < 3 * nv; ++i)
+        pos[i] += at_centre[i % 3];
     sam_mesh_input in = {.name = "two spheres", .vertex_count = nv, .positions = pos, .triangle_count = nt,
                          .triangles = tri};
     sam_mesh mesh;
@@ -358,6 +362,11 @@ static sam_runtime *shadowed_sphere(int resolution, samfile_data *d)
     free(pos);
     free(tri);
     return rt;
+}
+
+static sam_runtime *shadowed_sphere(int resolution, samfile_data *d)
+{
+    return shadowed_sphere_at(resolution, NULL, d);
 }
 
 /* The small sphere's shadow on the big one: on a coarse mesh (a few
@@ -441,6 +450,130 @@ static void test_point_light_shadow_edge_is_smooth(void **state)
     samfile_free(&d);
 }
 
+/* The two spheres lit by a point, a spot and a directional light, all with
+ * shadows, seen from the front, with every position given as `at` plus
+ * the offset to it (the lights' and the camera's too). */
+static sam_image render_at(sam_runtime *rt, const float at[3])
+{
+    sam_light l[3];
+    memset(l, 0, sizeof l);
+    /* Offsets that floats hold exactly at 1e5: the far scene is the near one. */
+    const float point[3] = {-2.25f, 2.25f, 5.125f}, spot[3] = {3.0f, 1.0f, 4.0f}, dir[3] = {0.4f, -0.5f, -0.77f};
+    for (int i = 0; i < 3; ++i) {
+        l[i].color[0] = l[i].color[1] = l[i].color[2] = 1.0f;
+        l[i].shadow = 1;
+        for (int c = 0; c < 3; ++c) {
+            l[0].position[c] = at[c] + point[c];
+            l[1].position[c] = at[c] + spot[c];
+            l[1].direction[c] = -spot[c] / 5.0f;
+            l[2].direction[c] = dir[c];
+        }
+    }
+    l[0].type = SAM_LIGHT_POINT, l[0].intensity = 0.2f;
+    l[1].type = SAM_LIGHT_SPOT, l[1].intensity = 0.2f, l[1].inner_angle_deg = 20, l[1].outer_angle_deg = 30;
+    l[2].type = SAM_LIGHT_DIRECTIONAL, l[2].intensity = 1.0f;
+    sam_error err;
+    if (sam_runtime_set_lights(rt, l, 3, &err) != SAM_OK || sam_runtime_irradiance(rt, &err) != SAM_OK ||
+        sam_runtime_translucency(rt, 0, 1.0f / 60.0f, 1, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    sam_render_view view;
+    memset(&view, 0, sizeof view);
+    view.width = view.height = 384;
+    view.fov_deg = 30.0f;
+    memcpy(view.eye, at, sizeof view.eye);
+    view.eye[2] += 3.25f;
+    memcpy(view.target, at, sizeof view.target);
+    view.up[1] = 1.0f;
+    view.albedo[0] = view.albedo[1] = view.albedo[2] = 0.8f;
+    view.front = 1;
+    sam_image img;
+    if (sam_runtime_render(rt, &view, &img, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    return img;
+}
+
+/* The pixel of largest luminance difference between `a` and `b` over the
+ * mean luminance of `b`, over the interior of both. */
+static double max_difference(const sam_image *a, const sam_image *b)
+{
+    double worst = 0, ref = 0;
+    uint32_t n = 0;
+    for (uint32_t y = 0; y < a->height; ++y)
+        for (uint32_t x = 0; x < a->width; ++x)
+            if (inside(a, x, y, 4) && inside(b, x, y, 4)) {
+                worst = fmax(worst, fabsf(luminance(a, x, y) - luminance(b, x, y)));
+                ref += luminance(b, x, y);
+                n++;
+            }
+    return n && ref > 0 ? worst / (ref / n) : 0;
+}
+
+/* The same mesh, lights and camera 1e5 of its radii from the origin (a
+ * scan in georeferenced coordinates) render as they do about the origin,
+ * and the runtime answers in model units. Positions on the GPU at 1e5
+ * erred by a shadow texel or more in the rasteriser's interpolation and
+ * the shadow matrices' products, and every shadowed light speckled the
+ * lit spheres (no worse a precision than the vertices' own, which the
+ * builder's precision warning covers). The far mesh is the near one moved
+ * by a power of two, so that both hold the same triangles. */
+static void test_far_from_origin_renders_as_near(void **state)
+{
+    (void)state;
+    const float far[3] = {98304.0f, -65536.0f, 32768.0f}, near[3] = {0, 0, 0};
+    samfile_data d[2];
+    sam_runtime *rt[2] = {shadowed_sphere_at(160, far, &d[0]), NULL};
+    /* The near mesh from the far one's rounded vertices, exactly. */
+    samfile_data moved = d[0];
+    moved.positions = malloc((size_t)d[0].vertex_count * 3 * sizeof *moved.positions);
+    assert_non_null(moved.positions);
+    for (uint32_t i = 0; i < 3 * d[0].vertex_count; ++i)
+        moved.positions[i] = d[0].positions[i] - far[i % 3];
+    sam_profile profile;
+    assert_int_equal(sam_profile_preset("skin", &profile, NULL), SAM_OK);
+    sam_error err;
+    if (sam_runtime_create(&moved, &profile, 500.0f, &rt[1], &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    float centre[3], radius;
+    sam_runtime_bounds(rt[0], centre, &radius);
+    for (int c = 0; c < 3; ++c)
+        assert_true(fabsf(centre[c] - far[c]) < 1.0f);
+    float *pos = malloc((size_t)d[0].vertex_count * 3 * sizeof *pos);
+    assert_non_null(pos);
+    assert_int_equal(sam_runtime_read_positions(rt[0], pos, &err), SAM_OK);
+    assert_memory_equal(pos, d[0].positions, (size_t)d[0].vertex_count * 3 * sizeof *pos);
+    free(pos);
+    sam_image img[2] = {render_at(rt[0], far), render_at(rt[1], near)};
+    const double mean = mean_difference(&img[0], &img[1]), worst = max_difference(&img[0], &img[1]);
+    print_message("1e5 radii from the origin against at it: mean difference %.3f%%, largest %.2f%% of the mean\n",
+                  100 * mean, 100 * worst);
+    /* The far scene is the near one moved by floats' exact offsets, and so
+     * it is on the GPU: the pictures match (without the frame, 24% apart
+     * on average, the spheres covered in specks). */
+    assert_true(mean < 1e-4);
+    assert_true(worst < 0.01);
+    sam_render_view view;
+    memset(&view, 0, sizeof view);
+    view.width = view.height = 64;
+    view.fov_deg = 30.0f;
+    memcpy(view.eye, far, sizeof view.eye);
+    view.eye[2] += 3.2f;
+    memcpy(view.target, far, sizeof view.target);
+    view.up[1] = 1.0f;
+    sam_image gpos, gnrm;
+    assert_int_equal(sam_runtime_gbuffer(rt[0], &view, SAM_GBUFFER_SCREEN, &gpos, &gnrm, &err), SAM_OK);
+    const float *mid = gpos.pixels + 4 * (32 * 64 + 32);
+    assert_true(mid[3] > 0 && fabsf(mid[0] - far[0]) < 1.5f && fabsf(mid[1] - far[1]) < 1.5f &&
+                fabsf(mid[2] - far[2]) < 1.5f);
+    sam_image_destroy(&gpos);
+    sam_image_destroy(&gnrm);
+    for (int k = 0; k < 2; ++k) {
+        sam_image_destroy(&img[k]);
+        sam_runtime_destroy(rt[k]);
+    }
+    free(moved.positions);
+    samfile_free(&d[0]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -448,6 +581,7 @@ int main(void)
         cmocka_unit_test(test_coarse_terminator_is_smooth),
         cmocka_unit_test(test_coarse_cast_shadow_is_smooth),
         cmocka_unit_test(test_point_light_shadow_edge_is_smooth),
+        cmocka_unit_test(test_far_from_origin_renders_as_near),
     };
     return cmocka_run_group_tests(tests, sam_test_gl_setup, sam_test_gl_teardown);
 }

@@ -24,6 +24,13 @@ sam_mat4 sam_mat4_mul(sam_mat4 a, sam_mat4 b)
     return r;
 }
 
+sam_mat4 sam_mat4_translate(const float t[3])
+{
+    sam_mat4 r = sam_mat4_identity();
+    memcpy(r.m + 12, t, 3 * sizeof(float));
+    return r;
+}
+
 static void normalize(float v[3])
 {
     float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);

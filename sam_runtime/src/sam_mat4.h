@@ -8,6 +8,8 @@ typedef struct sam_mat4 {
 
 sam_mat4 sam_mat4_identity(void);
 sam_mat4 sam_mat4_mul(sam_mat4 a, sam_mat4 b);
+/* The translation by `t`. */
+sam_mat4 sam_mat4_translate(const float t[3]);
 /* Right-handed view matrix looking from `eye` at `target`. */
 sam_mat4 sam_mat4_look_at(const float eye[3], const float target[3], const float up[3]);
 /* OpenGL perspective (depth -1..1), vertical field of view in radians. */

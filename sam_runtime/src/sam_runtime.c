@@ -29,6 +29,8 @@ static sam_status upload_mesh(sam_runtime *rt, const samfile_data *sam, sam_erro
 {
     const size_t nv = sam->vertex_count, n = sam->samples_per_vertex;
     float *pos = sam_runtime_widen(sam->positions, sam->vertex_count, 1.0f);
+    for (size_t v = 0; pos && v < nv; ++v)
+        sam_runtime_to_frame(rt, pos + 4 * v, pos + 4 * v);
     float *nrm = sam_runtime_widen(sam->normals, sam->vertex_count, 0.0f);
     /* Samples pair the index with its packed K', slot-major
      * (shaders/sample.glsl): slot k of vertex v at k * nv + v. */
@@ -75,7 +77,7 @@ done:
     return st;
 }
 
-/* The rest pose's bounds and surface area. */
+/* The rest pose's frame, bounds and surface area. */
 static void measure(sam_runtime *rt, const samfile_data *sam)
 {
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -84,6 +86,9 @@ static void measure(sam_runtime *rt, const samfile_data *sam)
             lo[c] = fminf(lo[c], sam->positions[3 * v + c]);
             hi[c] = fmaxf(hi[c], sam->positions[3 * v + c]);
         }
+    sam_runtime_choose_frame(rt, lo, hi);
+    sam_runtime_to_frame(rt, lo, lo);
+    sam_runtime_to_frame(rt, hi, hi);
     memcpy(rt->rest_box_lo, lo, sizeof lo);
     memcpy(rt->rest_box_hi, hi, sizeof hi);
     sam_runtime_set_box(rt, lo, hi);
@@ -183,8 +188,8 @@ static sam_status create(const samfile_data *sam, const sam_profile *profile, fl
     sam_profile_total_reflectance(profile, rt->total_reflectance);
     glGenBuffers(SAM_B_COUNT, rt->buffer);
     glGenQueries(SAM_PASS_COUNT, rt->query);
+    measure(rt, sam);
     if ((st = upload_mesh(rt, sam, err)) == SAM_OK && (st = sam_profile_fit_gaussians(profile, &rt->fit, err)) == SAM_OK) {
-        measure(rt, sam);
         make_vertex_array(rt, sam->uvs != NULL);
         /* Each pass's own programs and state, in the header's step order. */
         if ((st = sam_runtime_lights_create(rt, err)) == SAM_OK && (st = sam_runtime_surface_create(rt, err)) == SAM_OK &&
@@ -288,7 +293,7 @@ int sam_runtime_fitted_note(const sam_runtime *rt, char *note, size_t size)
 
 void sam_runtime_bounds(const sam_runtime *rt, float centre[3], float *radius)
 {
-    memcpy(centre, rt->centre, 3 * sizeof(float));
+    sam_runtime_from_frame(rt, rt->centre, centre);
     *radius = rt->radius;
 }
 

@@ -117,7 +117,7 @@ sam_status sam_runtime_set_keyframes(sam_runtime *rt, const float *const *positi
     }
     for (size_t i = 0; i < count; ++i) {
         for (size_t v = 0; v < nv; ++v) {
-            memcpy(vec4s + (i * nv + v) * 4, positions[i] + 3 * v, 3 * sizeof(float));
+            sam_runtime_to_frame(rt, positions[i] + 3 * v, vec4s + (i * nv + v) * 4);
             vec4s[(i * nv + v) * 4 + 3] = 1.0f;
         }
     }
@@ -203,7 +203,7 @@ sam_status sam_runtime_deform(sam_runtime *rt, float time_s, sam_error *err)
             type[used] = (GLint)steps[i].type;
             memcpy(axis[used], steps[i].axis, sizeof axis[used]);
             memcpy(direction[used], steps[i].direction, sizeof direction[used]);
-            memcpy(center[used], steps[i].center, sizeof center[used]);
+            sam_runtime_to_frame(rt, steps[i].center, center[used]);
             memcpy(param[used], steps[i].param, sizeof param[used]);
             used++;
         }

@@ -150,6 +150,7 @@ static void gather(sam_runtime *rt, GLuint source, uint32_t offset, uint32_t str
     glUniform1ui(glGetUniformLocation(p, "u_stride"), stride / 4);
     glUniform1i(glGetUniformLocation(p, "u_identity"), e->identity);
     glUniform1i(glGetUniformLocation(p, "u_normals"), normals);
+    glUniform3fv(glGetUniformLocation(p, "u_frame"), 1, rt->frame);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_ENGINE_TARGET, rt->buffer[binding]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SAM_B_ENGINE_SOURCE, source);
     /* Without a map the shader never reads it; any buffer keeps the block bound. */

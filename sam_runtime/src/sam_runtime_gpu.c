@@ -125,6 +125,35 @@ void sam_runtime_set_profile_uniforms(GLuint program, const sam_profile *p)
     }
 }
 
+void sam_runtime_choose_frame(sam_runtime *rt, const float lo[3], const float hi[3])
+{
+    double r2 = 0;
+    for (int c = 0; c < 3; ++c)
+        r2 += 0.25 * ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+    /* A grid step 2^e >= the radius, and the multiple of it nearest the
+     * centre: 0 (no change at all) for a mesh about the origin; for one far
+     * from it, a float whose difference with a vertex's coordinate comes
+     * out exact (Sterbenz), and so does adding the frame back. */
+    int e;
+    frexp(sqrt(r2), &e);
+    for (int c = 0; c < 3; ++c) {
+        const double centre = 0.5 * ((double)lo[c] + hi[c]);
+        rt->frame[c] = r2 > 0 && isfinite(centre) ? (float)ldexp(nearbyint(ldexp(centre, -e)), e) : 0.0f;
+    }
+}
+
+void sam_runtime_to_frame(const sam_runtime *rt, const float p[3], float out[3])
+{
+    for (int c = 0; c < 3; ++c)
+        out[c] = p[c] - rt->frame[c];
+}
+
+void sam_runtime_from_frame(const sam_runtime *rt, const float p[3], float out[3])
+{
+    for (int c = 0; c < 3; ++c)
+        out[c] = p[c] + rt->frame[c];
+}
+
 void sam_runtime_set_box(sam_runtime *rt, const float lo[3], const float hi[3])
 {
     double r2 = 0;

@@ -48,8 +48,18 @@ void sam_runtime_delete_program(GLuint *program);
 /* Sets profile.glsl's uniforms of `program` (made current) to `p`. */
 void sam_runtime_set_profile_uniforms(GLuint program, const sam_profile *p);
 
+/* Chooses rt->frame for a rest pose within `lo`..`hi` (model units; see
+ * sam_runtime_internal.h). Call once, before anything reaches the GPU. */
+void sam_runtime_choose_frame(sam_runtime *rt, const float lo[3], const float hi[3]);
+
+/* Model position `p` into the frame (`out`), and back; `p` and `out` may be
+ * the same array. */
+void sam_runtime_to_frame(const sam_runtime *rt, const float p[3], float out[3]);
+void sam_runtime_from_frame(const sam_runtime *rt, const float p[3], float out[3]);
+
 /* Sets the bounds every range is taken from (shadow maps, automatic near and
- * far planes, depth-sized atlases): the box and the sphere around it. */
+ * far planes, depth-sized atlases): the box, in the frame, and the sphere
+ * around it. */
 void sam_runtime_set_box(sam_runtime *rt, const float lo[3], const float hi[3]);
 
 /* Sets the bound `target` texture's filters (min and mag) to `filter` and

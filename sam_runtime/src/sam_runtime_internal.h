@@ -232,8 +232,21 @@ struct sam_runtime {
     float total_reflectance[3];
     GLuint buffer[SAM_B_COUNT];
     GLuint vao;
-    /* The pose's bounds (sam_runtime_set_box): every range is taken from them. */
-    float centre[3], radius; /* bounding sphere, model units */
+    /* The GPU's origin, in model units: every position the GPU holds or is
+     * given (vertex buffers, lights, cameras, shadow maps, the bounds
+     * below) is the model position minus `frame`, so that a mesh far from
+     * its own origin keeps the float precision of its own size through the
+     * rasteriser's interpolation and the matrix products (far from the
+     * origin a shadow lookup erred by several texels). A multiple of a
+     * power of two at least the rest pose's radius, nearest its centre:
+     * 0 for a mesh about the origin (nothing changes), and for one far
+     * from it a vertex moves into the frame and back exactly
+     * (sam_runtime_choose_frame). The public API speaks
+     * model units; the conversions happen where it meets the GPU. */
+    float frame[3];
+    /* The pose's bounds (sam_runtime_set_box), in the frame: every range is
+     * taken from them. */
+    float centre[3], radius; /* bounding sphere */
     float box_lo[3], box_hi[3];
     float rest_box_lo[3], rest_box_hi[3]; /* the rest pose's, restored bit for bit with it */
     float surface_area;                   /* model units^2, of the rest pose */

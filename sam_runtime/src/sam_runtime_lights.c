@@ -96,6 +96,15 @@ sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size
         free(cube);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory");
     }
+    if (count)
+        memcpy(copy, lights, count * sizeof *copy);
+    for (size_t i = 0; i < count; ++i) {
+        sam_runtime_to_frame(rt, copy[i].position, copy[i].position);
+        for (uint32_t k = 0; k < copy[i].vertex_count && k < SAM_AREA_LIGHT_MAX_VERTICES; ++k)
+            sam_runtime_to_frame(rt, copy[i].vertices[k], copy[i].vertices[k]);
+    }
+    /* From here on the lights are the copy, in the GPU's frame. */
+    lights = copy;
     sam_status st = assign_maps(rt, lights, count, cube, err);
     if (st != SAM_OK) {
         free(g);
@@ -103,8 +112,6 @@ sam_status sam_runtime_set_lights(sam_runtime *rt, const sam_light *lights, size
         free(cube);
         return st;
     }
-    if (count)
-        memcpy(copy, lights, count * sizeof *copy);
     free(rt->lights.lights);
     free(rt->lights.cube);
     rt->lights.lights = copy;

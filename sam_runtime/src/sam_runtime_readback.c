@@ -27,7 +27,10 @@ static sam_status read_vec4(sam_runtime *rt, int binding, float *rgb, sam_error 
 
 sam_status sam_runtime_read_positions(sam_runtime *rt, float *xyz, sam_error *err)
 {
-    return read_vec4(rt, SAM_B_POSITIONS, xyz, err);
+    sam_status st = read_vec4(rt, SAM_B_POSITIONS, xyz, err);
+    for (size_t v = 0; st == SAM_OK && v < rt->vertex_count; ++v)
+        sam_runtime_from_frame(rt, xyz + 3 * v, xyz + 3 * v);
+    return st;
 }
 
 sam_status sam_runtime_read_normals(sam_runtime *rt, float *xyz, sam_error *err)

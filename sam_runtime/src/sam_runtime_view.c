@@ -127,7 +127,17 @@ static sam_status check_view(const sam_runtime *rt, const sam_render_view *view,
     return SAM_OK;
 }
 
-/* The camera of `view`: near and far from the object's bounds where 0. */
+/* `view` with its camera in the GPU's frame (sam_runtime_internal.h). */
+static sam_render_view in_frame(const sam_runtime *rt, const sam_render_view *view)
+{
+    sam_render_view framed = *view;
+    sam_runtime_to_frame(rt, view->eye, framed.eye);
+    sam_runtime_to_frame(rt, view->target, framed.target);
+    return framed;
+}
+
+/* The camera of `view` (in the frame): near and far from the object's
+ * bounds where 0. */
 static void view_matrices(const sam_runtime *rt, const sam_render_view *view, sam_mat4 *proj, sam_mat4 *view_proj)
 {
     float dist = sqrtf((view->eye[0] - rt->centre[0]) * (view->eye[0] - rt->centre[0]) +
@@ -210,9 +220,11 @@ static void draw_view(sam_runtime *rt, const sam_render_view *view, const sam_ma
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-sam_status sam_runtime_render_texture(sam_runtime *rt, const sam_render_view *view, GLuint *texture, sam_error *err)
+sam_status sam_runtime_render_texture(sam_runtime *rt, const sam_render_view *model_view, GLuint *texture,
+                                     sam_error *err)
 {
     *texture = 0;
+    const sam_render_view framed = in_frame(rt, model_view), *view = &framed;
     sam_status st = check_view(rt, view, err);
     if (st == SAM_OK && view->diffusion == 2)
         st = sam_runtime_ensure_preintegrated(rt, err);
@@ -273,13 +285,18 @@ sam_status sam_runtime_render(sam_runtime *rt, const sam_render_view *view, sam_
 void sam_runtime_view_projection(const sam_runtime *rt, const sam_render_view *view, float m[16])
 {
     sam_mat4 proj, vp;
-    view_matrices(rt, view, &proj, &vp);
+    const sam_render_view framed = in_frame(rt, view);
+    view_matrices(rt, &framed, &proj, &vp);
+    /* Model units in: the frame's offset comes first. */
+    const float back[3] = {-rt->frame[0], -rt->frame[1], -rt->frame[2]};
+    vp = sam_mat4_mul(vp, sam_mat4_translate(back));
     memcpy(m, vp.m, sizeof vp.m);
 }
 
-sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *view, sam_gbuffer_space space,
+sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *model_view, sam_gbuffer_space space,
                                sam_image *positions, sam_image *normals, sam_error *err)
 {
+    const sam_render_view framed = in_frame(rt, model_view), *view = &framed;
     memset(positions, 0, sizeof *positions);
     memset(normals, 0, sizeof *normals);
     if ((unsigned)space > SAM_GBUFFER_ATLAS)
@@ -334,6 +351,10 @@ sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *view, sam
     if (st == SAM_OK && (st = sam_runtime_read_texture(tex[0], w, h, w, h, flip, positions, err)) == SAM_OK &&
         (st = sam_runtime_read_texture(tex[1], w, h, w, h, flip, normals, err)) != SAM_OK)
         sam_image_destroy(positions);
+    /* Covered texels (w = 1) back to model units. */
+    for (size_t i = 0; st == SAM_OK && i < (size_t)w * h; ++i)
+        if (positions->pixels[4 * i + 3] != 0.0f)
+            sam_runtime_from_frame(rt, positions->pixels + 4 * i, positions->pixels + 4 * i);
     if (space == SAM_GBUFFER_ATLAS) {
         glDeleteFramebuffers(1, &fbo);
         glDeleteTextures(2, tex);

@@ -60,7 +60,11 @@
  * sam_runtime_create uploads a .sam (samfile_data) as shader-storage
  * buffers laid out for the GPU (std430), at the binding points that
  * shaders/sam_bindings.h gives both the C code and the shaders: positions
- * and normals (vec4 per vertex, model units), samples ({uint index; K'
+ * (vec4 per vertex, model units less the runtime's origin: a multiple of a
+ * power of two at least the mesh's radius nearest its centre, so 0 for a
+ * mesh about the model's origin; a mesh far from it keeps its own size's
+ * float precision on the GPU; every function here takes and returns model
+ * units), normals (vec4), samples ({uint index; K'
  * packed into 2 words} x N per vertex, each channel of K' within 2^-14 of
  * the .sam's: one 12-byte read; shaders/sample.glsl), fan areas (mm^2),
  * L_d and T (vec4 per vertex), the adjacency, the lights and the rho_dt
