@@ -450,6 +450,20 @@ static void test_point_light_shadow_edge_is_smooth(void **state)
     samfile_free(&d);
 }
 
+/* A front view of `size` pixels square, 3.25 units in front of `at`. */
+static sam_render_view view_of(const float at[3], uint32_t size)
+{
+    sam_render_view view;
+    memset(&view, 0, sizeof view);
+    view.width = view.height = size;
+    view.fov_deg = 30.0f;
+    memcpy(view.eye, at, sizeof view.eye);
+    view.eye[2] += 3.25f;
+    memcpy(view.target, at, sizeof view.target);
+    view.up[1] = 1.0f;
+    return view;
+}
+
 /* The two spheres lit by a point, a spot and a directional light, all with
  * shadows, seen from the front, with every position given as `at` plus
  * the offset to it (the lights' and the camera's too). */
@@ -476,14 +490,7 @@ static sam_image render_at(sam_runtime *rt, const float at[3])
     if (sam_runtime_set_lights(rt, l, 3, &err) != SAM_OK || sam_runtime_irradiance(rt, &err) != SAM_OK ||
         sam_runtime_translucency(rt, 0, 1.0f / 60.0f, 1, &err) != SAM_OK)
         fail_msg("%s", err.message);
-    sam_render_view view;
-    memset(&view, 0, sizeof view);
-    view.width = view.height = 384;
-    view.fov_deg = 30.0f;
-    memcpy(view.eye, at, sizeof view.eye);
-    view.eye[2] += 3.25f;
-    memcpy(view.target, at, sizeof view.target);
-    view.up[1] = 1.0f;
+    sam_render_view view = view_of(at, 384);
     view.albedo[0] = view.albedo[1] = view.albedo[2] = 0.8f;
     view.front = 1;
     sam_image img;
@@ -551,14 +558,7 @@ static void test_far_from_origin_renders_as_near(void **state)
      * on average, the spheres covered in specks). */
     assert_true(mean < 1e-4);
     assert_true(worst < 0.01);
-    sam_render_view view;
-    memset(&view, 0, sizeof view);
-    view.width = view.height = 64;
-    view.fov_deg = 30.0f;
-    memcpy(view.eye, far, sizeof view.eye);
-    view.eye[2] += 3.2f;
-    memcpy(view.target, far, sizeof view.target);
-    view.up[1] = 1.0f;
+    const sam_render_view view = view_of(far, 64);
     sam_image gpos, gnrm;
     assert_int_equal(sam_runtime_gbuffer(rt[0], &view, SAM_GBUFFER_SCREEN, &gpos, &gnrm, &err), SAM_OK);
     const float *mid = gpos.pixels + 4 * (32 * 64 + 32);
