@@ -125,20 +125,27 @@ void sam_runtime_set_profile_uniforms(GLuint program, const sam_profile *p)
     }
 }
 
-void sam_runtime_choose_frame(sam_runtime *rt, const float lo[3], const float hi[3])
+/* The radius of the sphere around the box lo..hi. */
+static double box_radius(const float lo[3], const float hi[3])
 {
     double r2 = 0;
     for (int c = 0; c < 3; ++c)
         r2 += 0.25 * ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+    return sqrt(r2);
+}
+
+void sam_runtime_choose_frame(sam_runtime *rt, const float lo[3], const float hi[3])
+{
+    const double radius = box_radius(lo, hi);
     /* A grid step 2^e >= the radius, and the multiple of it nearest the
      * centre: 0 (no change at all) for a mesh about the origin; for one far
      * from it, a float whose difference with a vertex's coordinate comes
      * out exact (Sterbenz), and so does adding the frame back. */
     int e;
-    frexp(sqrt(r2), &e);
+    frexp(radius, &e);
     for (int c = 0; c < 3; ++c) {
         const double centre = 0.5 * ((double)lo[c] + hi[c]);
-        rt->frame[c] = r2 > 0 && isfinite(centre) ? (float)ldexp(nearbyint(ldexp(centre, -e)), e) : 0.0f;
+        rt->frame[c] = radius > 0 && isfinite(centre) ? (float)ldexp(nearbyint(ldexp(centre, -e)), e) : 0.0f;
     }
 }
 
@@ -156,12 +163,9 @@ void sam_runtime_from_frame(const sam_runtime *rt, const float p[3], float out[3
 
 void sam_runtime_set_box(sam_runtime *rt, const float lo[3], const float hi[3])
 {
-    double r2 = 0;
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < 3; ++c)
         rt->centre[c] = 0.5f * (lo[c] + hi[c]);
-        r2 += 0.25 * ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
-    }
-    rt->radius = (float)sqrt(r2);
+    rt->radius = (float)box_radius(lo, hi);
     memcpy(rt->box_lo, lo, 3 * sizeof(float));
     memcpy(rt->box_hi, hi, 3 * sizeof(float));
 }
