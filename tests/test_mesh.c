@@ -11,6 +11,7 @@
 
 #include <cmocka.h>
 
+#include "sam/sam_image.h"
 #include "sam/sam_mesh.h"
 #include "sam_test.h"
 
@@ -1012,6 +1013,55 @@ static void test_far_from_the_origin_is_warned(void **state)
     sam_mesh_destroy(&m);
 }
 
+/* A map_Kd names its file after its options, and the name is the rest of
+ * the line: blanks in it are the file's, numbers after -s/-o/-t are
+ * options' up to three. */
+static void test_obj_texture_name_after_options(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *map; /* the map_Kd statement's argument */
+        const char *file;
+        uint32_t width;
+    } cases[] = {
+        {"albedo.png", "albedo.png", 3},
+        {"my albedo.png", "my albedo.png", 2},
+        {"-s 1 1 1 albedo.png", "albedo.png", 3},
+        {"-o 0.5 -s 2 2 -bm 0.2 my albedo.png", "my albedo.png", 2},
+        {"-mm 0 1 -clamp on -blendu off albedo.png", "albedo.png", 3},
+        {"-t 0.1 0.2 0.3 -imfchan r  my albedo.png  ", "my albedo.png", 2},
+    };
+    sam_error err;
+    char path[512], png[512];
+    for (uint32_t w = 2; w <= 3; ++w) {
+        sam_image image;
+        assert_int_equal(sam_image_create(&image, w, 1, 3, &err), SAM_OK);
+        for (uint32_t k = 0; k < 3 * w; ++k)
+            image.pixels[k] = 0.5f;
+        sam_test_tmp_path(png, sizeof png, w == 2 ? "my albedo.png" : "albedo.png");
+        assert_int_equal(sam_image_write_png(png, &image, SAM_PNG_SRGB, &err), SAM_OK);
+        sam_image_destroy(&image);
+    }
+    char obj[2048];
+    snprintf(obj, sizeof obj, "mtllib texture_names.mtl\nusemtl skin\n%s", cube_obj);
+    write_tmp(path, sizeof path, "texture_names.obj", obj);
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char mtl[512], text[512], note[1200];
+        snprintf(text, sizeof text, "newmtl other\nmap_Kd none.png\nnewmtl skin\nKd 1 1 1\nmap_Kd %s\n", cases[i].map);
+        write_tmp(mtl, sizeof mtl, "texture_names.mtl", text);
+        sam_image image;
+        assert_int_equal(sam_mesh_load_albedo(path, &image, note, sizeof note, &err), SAM_OK);
+        if (!image.pixels)
+            fail_msg("map_Kd %s: no texture (%s)", cases[i].map, note);
+        assert_int_equal(image.width, cases[i].width);
+        char want[600];
+        snprintf(want, sizeof want, "/%s (map_Kd of", cases[i].file);
+        if (!strstr(note, want))
+            fail_msg("map_Kd %s: the note '%s' does not name %s", cases[i].map, note, cases[i].file);
+        sam_image_destroy(&image);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1033,6 +1083,7 @@ int main(void)
         cmocka_unit_test(test_body_counts_are_checked),
         cmocka_unit_test(test_render_of_source),
         cmocka_unit_test(test_far_from_the_origin_is_warned),
+        cmocka_unit_test(test_obj_texture_name_after_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

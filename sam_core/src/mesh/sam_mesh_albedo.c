@@ -10,9 +10,8 @@
 
 /* Copies the line's argument after `keyword` (with its leading blanks and
  * trailing blanks and line end removed) into out; 0 when the line is not
- * that keyword. map_Kd's options (-s 1 1 1 ...) come before the file name,
- * which is the last word. */
-static int keyword_value(const char *line, const char *keyword, int last_word, char *out, size_t n)
+ * that keyword. */
+static int keyword_value(const char *line, const char *keyword, char *out, size_t n)
 {
     const size_t k = strlen(keyword);
     while (*line == ' ' || *line == '\t')
@@ -25,18 +24,52 @@ static int keyword_value(const char *line, const char *keyword, int last_word, c
     size_t len = strcspn(v, "\r\n");
     while (len && isspace((unsigned char)v[len - 1]))
         --len;
-    if (last_word)
-        for (size_t i = len; i-- > 0;)
-            if (v[i] == ' ' || v[i] == '\t') {
-                v += i + 1;
-                len -= i + 1;
-                break;
-            }
     if (!len || len >= n)
         return 0;
     memcpy(out, v, len);
     out[len] = '\0';
     return 1;
+}
+
+/* Steps past one blank-separated word of s and the blanks after it. */
+static const char *next_word(const char *s)
+{
+    s += strcspn(s, " \t");
+    return s + strspn(s, " \t");
+}
+
+/* Whether the word at s is a number (an option's argument, not a file). */
+static int is_number_word(const char *s)
+{
+    char *end;
+    (void)strtod(s, &end);
+    return end != s && (*end == '\0' || *end == ' ' || *end == '\t');
+}
+
+/* The file name in a map statement's argument: what follows its options
+ * (MTL spec: -s 1 1 1, -bm 0.2, -mm base gain...). The name is the rest of
+ * the line, so a file name with blanks in it survives. */
+static const char *map_file_name(const char *value)
+{
+    static const struct {
+        const char *name;
+        int min, max; /* arguments */
+    } options[] = {{"-blendu", 1, 1}, {"-blendv", 1, 1}, {"-boost", 1, 1},  {"-mm", 2, 2},    {"-o", 1, 3},
+                   {"-s", 1, 3},      {"-t", 1, 3},      {"-texres", 1, 1}, {"-clamp", 1, 1}, {"-bm", 1, 1},
+                   {"-imfchan", 1, 1}, {"-type", 1, 1},  {"-cc", 1, 1}};
+    for (;;) {
+        size_t i = 0, word = strcspn(value, " \t");
+        while (i < sizeof options / sizeof options[0] &&
+               (strlen(options[i].name) != word || strncmp(value, options[i].name, word) != 0))
+            ++i;
+        if (i == sizeof options / sizeof options[0] || !value[word])
+            return value;
+        value = next_word(value);
+        /* Optional numeric arguments stop at the first word that is not a
+         * number: that one is the next option or the file. */
+        for (int a = 0; a < options[i].max && *value && (a < options[i].min || is_number_word(value)); ++a)
+            value = next_word(value);
+    }
 }
 
 /* `name` relative to the folder of `beside`, into out. */
@@ -62,9 +95,9 @@ static sam_status obj_texture(const char *path, char *texture, size_t n, char *n
         return st;
     char mtllib[512] = "", material[512] = "", line_value[512];
     for (const char *line = (const char *)text; line && line < (const char *)text + size;) {
-        if (!mtllib[0] && keyword_value(line, "mtllib", 0, line_value, sizeof line_value))
+        if (!mtllib[0] && keyword_value(line, "mtllib", line_value, sizeof line_value))
             snprintf(mtllib, sizeof mtllib, "%s", line_value);
-        if (!material[0] && keyword_value(line, "usemtl", 0, line_value, sizeof line_value))
+        if (!material[0] && keyword_value(line, "usemtl", line_value, sizeof line_value))
             snprintf(material, sizeof material, "%s", line_value);
         const char *next = memchr(line, '\n', (size_t)((const char *)text + size - line));
         line = next ? next + 1 : NULL;
@@ -83,10 +116,10 @@ static sam_status obj_texture(const char *path, char *texture, size_t n, char *n
     int inside = !material[0];
     char map[512] = "";
     for (const char *line = (const char *)text; line && line < (const char *)text + size && !map[0];) {
-        if (keyword_value(line, "newmtl", 0, line_value, sizeof line_value))
+        if (keyword_value(line, "newmtl", line_value, sizeof line_value))
             inside = !material[0] || strcmp(line_value, material) == 0;
-        else if (inside && keyword_value(line, "map_Kd", 1, line_value, sizeof line_value))
-            snprintf(map, sizeof map, "%s", line_value);
+        else if (inside && keyword_value(line, "map_Kd", line_value, sizeof line_value))
+            snprintf(map, sizeof map, "%s", map_file_name(line_value));
         const char *next = memchr(line, '\n', (size_t)((const char *)text + size - line));
         line = next ? next + 1 : NULL;
     }
