@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
@@ -44,6 +45,17 @@ sam_status sam_app_check_output(const char *what, const char *path, const char *
     if (access(dir, W_OK | X_OK) != 0)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s %s: cannot write in %s (%s)", what, path, dir,
                         strerror(errno));
+    /* access() answers for the permission bits only: root passes it on
+     * folders that still refuse a new file (sysfs, proc, some network and
+     * read-only-remounted disks). Creating one is the question asked. */
+    char probe[4200];
+    snprintf(probe, sizeof probe, "%s/.sam_write_probe_XXXXXX", dir);
+    int fd = mkstemp(probe);
+    if (fd < 0)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s %s: cannot write in %s (%s)", what, path, dir,
+                        strerror(errno));
+    close(fd);
+    unlink(probe);
     if (extensions) {
         int known = 0;
         char list[128] = "";

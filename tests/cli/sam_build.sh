@@ -74,6 +74,12 @@ grep -q "must end in .sam" "$tmp/err.txt" || fail "not a .sam name: $(cat "$tmp/
 [ -e "$tmp/bad.png" ] && fail "not a .sam name: wrote $tmp/bad.png"
 expect_error 1 "missing folder" "$tmp/ear.obj" -o "$tmp/nodir/bad.sam" --material skin --mm-per-unit 1
 grep -q "the folder .*nodir does not exist" "$tmp/err.txt" || fail "missing folder: $(cat "$tmp/err.txt")"
+# A folder whose permission bits say yes but that takes no new file (/proc refuses even root, which
+# access() lets through) is refused before the build, not at its end.
+if ! touch /proc/sam_probe 2> /dev/null; then
+  expect_error 1 "a folder that takes no file" "$tmp/ear.obj" -o /proc/bad.sam --material skin --mm-per-unit 1
+  grep -q "cannot write in /proc" "$tmp/err.txt" || fail "a folder that takes no file: $(cat "$tmp/err.txt")"
+fi
 expect_error 2 "unknown option" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --bogus
 "$bin/sam_build" "$tmp/ear.obj" -o "$tmp/ear.sam" --material skin --mm-per-unit 60 --force --quiet 2>/dev/null \
   || fail "--force"

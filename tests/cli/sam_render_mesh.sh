@@ -107,6 +107,10 @@ expect_error "a folder" "$tmp/ear.obj" -o "$tmp/folder"
 grep -q "is a folder" "$tmp/err.txt" || fail "folder message: $(cat "$tmp/err.txt")"
 expect_error "a missing folder" "$tmp/ear.obj" -o "$tmp/nowhere/x.png"
 grep -q "does not exist" "$tmp/err.txt" || fail "missing folder message: $(cat "$tmp/err.txt")"
+if ! touch /proc/sam_probe 2> /dev/null; then # permission bits say yes (to root), the folder says no
+  expect_error "a folder that takes no file" "$tmp/ear.obj" -o /proc/x.png
+  grep -q "cannot write in /proc" "$tmp/err.txt" || fail "a folder that takes no file: $(cat "$tmp/err.txt")"
+fi
 expect_error "an unknown format" "$tmp/ear.obj" -o "$tmp/x.jpg"
 grep -q "must end in .png or .exr" "$tmp/err.txt" || fail "format message: $(cat "$tmp/err.txt")"
 expect_error "--size-mm with a scene" "$tmp/ear.json" -o "$tmp/x.png" --size-mm 50

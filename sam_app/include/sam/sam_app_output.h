@@ -16,7 +16,10 @@ extern "C" {
  * no existing file unless `force` (the tools' --force). When
  * `extensions` is not NULL (a NULL-terminated list such as {".png", ".exr",
  * NULL}) the name must end in one of them (case-insensitive). `what` names
- * the output in messages (e.g. "-o"). Writes nothing.
+ * the output in messages (e.g. "-o"). Whether the folder takes a new file
+ * is asked by creating (and at once removing) a hidden probe file there,
+ * since permission bits do not tell (root, sysfs, read-only mounts); it
+ * leaves nothing behind.
  * Errors: SAM_ERR_INVALID_ARGUMENT naming `what`, the path and the reason. */
 sam_status sam_app_check_output(const char *what, const char *path, const char *const *extensions, int force,
                                 sam_error *err);
