@@ -661,6 +661,7 @@ static void test_bad_inputs_give_one_clear_error(void **state)
     }
     expect_error("range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", SAM_ERR_FORMAT, "indices below 3");
     expect_error("no_faces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", SAM_ERR_EMPTY, "no faces");
+    expect_error("prose.obj", "hello world\nthis is no mesh\n", SAM_ERR_EMPTY, "no vertices and no faces in it");
     expect_error("all_degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", SAM_ERR_EMPTY,
                  "no usable triangle");
     expect_error("mesh.xyz", "1 2 3\n", SAM_ERR_UNSUPPORTED, "unsupported");

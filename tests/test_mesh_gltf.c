@@ -252,12 +252,42 @@ static void test_glb_and_truncation(void **state)
     free(text);
 }
 
+/* A .gltf cut inside its embedded buffer: the JSON parser quotes what it
+ * last read (the base64 so far); the message keeps a short head of it. */
+static void test_truncated_buffer_message_is_short(void **state)
+{
+    (void)state;
+    char path[512];
+    write_gltf(path, sizeof path, "cut_in_base64", "{\"mesh\": 0}", k_triangles, "", k_scene);
+    uint8_t *text;
+    size_t size;
+    sam_error err;
+    assert_int_equal(sam_read_file(path, &text, &size, &err), SAM_OK);
+    const char *data = strstr((const char *)text, "base64,");
+    assert_non_null(data);
+    sam_test_write_file(path, text, (size_t)(data - (const char *)text) + 7 + 100);
+    free(text);
+    sam_mesh m;
+    assert_int_equal(sam_mesh_load(path, &m, NULL, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "cut_in_base64.gltf: not a readable glTF file"));
+    if (!strstr(err.message, "..."))
+        fail_msg("no shortened word in \"%s\"", err.message);
+    size_t word = 0, longest = 0;
+    for (const char *c = err.message; *c; ++c) {
+        word = *c == ' ' ? 0 : word + 1;
+        longest = word > longest ? word : longest;
+    }
+    if (longest > 64)
+        fail_msg("a %zu-character word in \"%s\"", longest, err.message);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_node_transforms),
         cmocka_unit_test(test_strips_and_fans),
         cmocka_unit_test(test_bad_references),
+        cmocka_unit_test(test_truncated_buffer_message_is_short),
         cmocka_unit_test(test_glb_and_truncation),
         cmocka_unit_test(test_buffer_naming_a_directory),
     };

@@ -56,8 +56,12 @@ sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *repo
                           "%s: all %llu faces repeat a vertex and have fewer than 3 distinct corners (the first on "
                           "line %d): no face is left",
                           path, (unsigned long long)expect.file_faces, expect.first_repeated_line);
-        else
+        else if (soup.vertex_count)
             st = sam_fail(err, SAM_ERR_EMPTY, "%s: the file has %u vertices but no faces", path, soup.vertex_count);
+        else
+            /* Lines an OBJ does not know are skipped, so a text file that is
+             * no mesh reads as an empty one: say so rather than "0 of". */
+            st = sam_fail(err, SAM_ERR_EMPTY, "%s: no vertices and no faces in it: is it a mesh?", path);
     }
     if (st == SAM_OK)
         st = sam_mesh_expect_corner_normals(&expect, &soup, &soup.corner_normals, err);

@@ -323,6 +323,22 @@ bool read_whole_file(std::vector<unsigned char> *out, std::string *err, const st
     return true;
 }
 
+// The JSON parser's message quotes what it last read, which in a .gltf cut
+// inside an embedded buffer is a kilobyte of base64: its first 40
+// characters and "..." say as much.
+std::string short_last_read(std::string message)
+{
+    const std::string mark = "last read: '";
+    const size_t from = message.find(mark);
+    if (from == std::string::npos)
+        return message;
+    const size_t start = from + mark.size(), end = message.find('\'', start);
+    const size_t length = (end == std::string::npos ? message.size() : end) - start;
+    if (length > 48)
+        message.replace(start + 40, length - 40, "...");
+    return message;
+}
+
 // Parses the file; with `images` its pictures are decoded too (for the
 // base colour).
 bool load(const char *path, bool images, tinygltf::Model &model, std::string &message)
@@ -336,7 +352,7 @@ bool load(const char *path, bool images, tinygltf::Model &model, std::string &me
     const bool binary = sam_path_has_extension(path, ".glb");
     const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                            : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    message = sam_mesh_one_line(err.empty() ? warn : err);
+    message = short_last_read(sam_mesh_one_line(err.empty() ? warn : err));
     return ok;
 }
 
