@@ -57,6 +57,7 @@ expect_error 2 "two scales" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --s
 expect_error 2 "no scale" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin
 expect_error 2 "samples 0" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 0
 expect_error 2 "samples 65" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 65
+grep -q -- "--samples must be a whole number in 1..64" "$tmp/err.txt" || fail "samples 65: $(cat "$tmp/err.txt")"
 expect_error 2 "cut budget under N" "$tmp/ear.obj" -o "$tmp/bad.sam" --material skin --mm-per-unit 1 --samples 16 \
   --cut-budget 8
 grep -q "cut budget must be 0 (the larger of the samples per vertex and 32) or in 16..64" "$tmp/err.txt" \
