@@ -107,7 +107,7 @@ static void map_translucency(const sam_scene *scene, const sam_mesh *mesh, sam_b
     int has_environment;
     sam_error err;
     fprintf(stderr, "%s: building the %s map, N = %ld\n", PROGRAM, sam_build_map_name(map), n);
-    if (sam_app_scene_object(scene, &settings, NULL, NULL, &sam, profile, mm_per_unit, NULL, &err) != SAM_OK)
+    if (sam_app_scene_object(scene, PROGRAM, &settings, NULL, NULL, &sam, profile, mm_per_unit, NULL, &err) != SAM_OK)
         die(scene->mesh_path, &err);
     if (sam.vertex_count != mesh->vertex_count ||
         memcmp(sam.positions, mesh->positions, 3 * sizeof(float) * mesh->vertex_count)) {
@@ -325,7 +325,8 @@ int main(int argc, char **argv)
     sam_scene built = scene;
     if (scene.sam_path) {
         samfile_data prebuilt;
-        if (sam_app_scene_object(&scene, NULL, NULL, NULL, &prebuilt, &profile, &mm_per_unit, NULL, &err) != SAM_OK)
+        if (sam_app_scene_object(&scene, PROGRAM, NULL, NULL, NULL, &prebuilt, &profile, &mm_per_unit, NULL, &err) !=
+            SAM_OK)
             die("scene", &err);
         samfile_free(&prebuilt);
         sam_app_scene_from_mesh(&scene, &profile, mm_per_unit, &built);

@@ -149,7 +149,7 @@ static inline sam_runtime *bench_scene_runtime(const char *program, const char *
     sam_error err;
     sam_runtime *rt;
     if (sam_scene_load(path, scene, &err) != SAM_OK ||
-        sam_app_scene_object(scene, NULL, NULL, NULL, sam, profile, mm_per_unit, NULL, &err) != SAM_OK ||
+        sam_app_scene_object(scene, program, NULL, NULL, NULL, sam, profile, mm_per_unit, NULL, &err) != SAM_OK ||
         sam_runtime_create(sam, profile, *mm_per_unit, &rt, &err) != SAM_OK ||
         sam_runtime_scene_setup(rt, scene, sh, has_environment, NULL, 0, &err) != SAM_OK)
         bench_die(program, path, &err);

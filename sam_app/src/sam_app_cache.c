@@ -102,7 +102,7 @@ static int read_cached(sam_scene *s, const char *cached, const char *tool, samfi
         return -1;
     }
     sam_error cache_err;
-    if (sam_app_scene_object(s, NULL, NULL, NULL, sam, profile, mm_per_unit, NULL, &cache_err) == SAM_OK) {
+    if (sam_app_scene_object(s, tool, NULL, NULL, NULL, sam, profile, mm_per_unit, NULL, &cache_err) == SAM_OK) {
         fprintf(stderr, "%s: using the cached map %s\n", tool, cached);
         samfile_info info;
         if (built_seconds && samfile_info_read(sam, cached, &info, &cache_err) == SAM_OK)
@@ -155,7 +155,7 @@ sam_status sam_app_cache_object(sam_scene *s, const sam_build_settings *settings
         fprintf(stderr, "%s: building the map of %s\n", tool, s->mesh_path);
     sam_app_catch_interrupts(on_signal);
     sam_status st =
-        sam_app_scene_object(s, set, sam_app_progress_update, &bar, sam, profile, mm_per_unit, &seconds, err);
+        sam_app_scene_object(s, tool, set, sam_app_progress_update, &bar, sam, profile, mm_per_unit, &seconds, err);
     sam_app_catch_interrupts(NULL);
     if (bar.open_line)
         fputc('\n', stderr);

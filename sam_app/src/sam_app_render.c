@@ -289,6 +289,17 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, in
         (job->dump && (st = dump_vertices(rt, chosen, job->dump, sam->vertex_count, err)) != SAM_OK))
         goto done;
     long frames = job->animate ? job->animate : job->turntable ? job->turntable : job->frames;
+    /* Numbered pictures are what was written, not the -o that named them. */
+    char written[2 * 4096 + 8];
+    if (job->animate || job->turntable) {
+        char first[4096], last[4096];
+        if ((st = numbered(job->out, 0, first, sizeof first, err)) != SAM_OK ||
+            (st = numbered(job->out, frames - 1, last, sizeof last, err)) != SAM_OK)
+            goto done;
+        snprintf(written, sizeof written, "%s%s%s", first, frames > 1 ? " .. " : "", frames > 1 ? last : "");
+    } else {
+        snprintf(written, sizeof written, "%s", job->out);
+    }
     /* n/a where the driver gave no time (a pass that did not run, or a
      * timer that cannot be right). */
     const sam_pass timed[4] = {SAM_PASS_IRRADIANCE, SAM_PASS_TRANSLUCENCY, SAM_PASS_SHADE, SAM_PASS_DIFFUSION};
@@ -308,7 +319,7 @@ static sam_status render_map(const sam_app_render_job *job, const char *tool, in
      * queries time its compute passes' dispatch, not their work. */
     fprintf(stderr, "%s: %s: %ux%u, %u vertices, %ld frame%s; GPU ms%s: irradiance %s, translucency %s, shade %s, "
                     "diffusion %s (%s%s)\n",
-            tool, job->out, view.width, view.height, sam->vertex_count, frames, frames == 1 ? "" : "s",
+            tool, written, view.width, view.height, sam->vertex_count, frames, frames == 1 ? "" : "s",
             frames == 1 ? " of the only frame, shader compilation included (--passes N times the last of N)"
                         : ", last frame",
             ms[0], ms[1], ms[2], ms[3], sam_gl_context_info(gl)->renderer,

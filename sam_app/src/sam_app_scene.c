@@ -8,8 +8,8 @@
 
 /* A prebuilt .sam: its material and scale unless the scene overrides them,
  * and proof that it is the map of the scene's mesh when one is named. */
-static sam_status read_prebuilt(const sam_scene *scene, samfile_data *sam, sam_profile *profile, float *mm_per_unit,
-                                sam_error *err)
+static sam_status read_prebuilt(const sam_scene *scene, const char *tool, samfile_data *sam, sam_profile *profile,
+                                float *mm_per_unit, sam_error *err)
 {
     sam_status st = samfile_read(scene->sam_path, sam, err);
     if (st != SAM_OK)
@@ -49,18 +49,19 @@ static sam_status read_prebuilt(const sam_scene *scene, samfile_data *sam, sam_p
     /* The map's cuts and candidates were chosen for its own material and
      * scale: rendered with others, it is not the map the scene would get. */
     if (st == SAM_OK && scene->material && info.has_material && strcmp(scene->profile.name, info.profile.name))
-        fprintf(stderr, "warning: %s was built for %s; the scene renders it as %s (a map built for %s would "
-                "look otherwise)\n", scene->sam_path, info.profile.name, scene->profile.name, scene->profile.name);
+        fprintf(stderr, "%s%swarning: %s was built for %s; the scene renders it as %s (a map built for %s would "
+                "look otherwise)\n", tool ? tool : "", tool ? ": " : "", scene->sam_path, info.profile.name,
+                scene->profile.name, scene->profile.name);
     if (st == SAM_OK && info.mm_per_unit > 0 && fabsf(*mm_per_unit / info.mm_per_unit - 1.0f) > 0.01f)
-        fprintf(stderr, "warning: %s was built at %g mm per unit; the scene renders it at %g (a map built at %g "
-                "would look otherwise)\n", scene->sam_path, (double)info.mm_per_unit, (double)*mm_per_unit,
-                (double)*mm_per_unit);
+        fprintf(stderr, "%s%swarning: %s was built at %g mm per unit; the scene renders it at %g (a map built at %g "
+                "would look otherwise)\n", tool ? tool : "", tool ? ": " : "", scene->sam_path,
+                (double)info.mm_per_unit, (double)*mm_per_unit, (double)*mm_per_unit);
     if (st != SAM_OK)
         samfile_free(sam);
     return st;
 }
 
-sam_status sam_app_scene_object(const sam_scene *scene, const sam_build_settings *settings,
+sam_status sam_app_scene_object(const sam_scene *scene, const char *tool, const sam_build_settings *settings,
                                 sam_build_progress_fn progress, void *user, samfile_data *sam, sam_profile *profile,
                                 float *mm_per_unit, double *built_seconds, sam_error *err)
 {
@@ -73,14 +74,14 @@ sam_status sam_app_scene_object(const sam_scene *scene, const sam_build_settings
     if (!scene->sam_path && !scene->mesh_path)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "scene object: the scene names neither a mesh nor a .sam");
     if (scene->sam_path)
-        return read_prebuilt(scene, sam, profile, mm_per_unit, err);
+        return read_prebuilt(scene, tool, sam, profile, mm_per_unit, err);
     sam_mesh mesh;
     sam_status st = sam_mesh_load(scene->mesh_path, &mesh, NULL, err);
     if (st != SAM_OK)
         return st;
     if (sam_mesh_orient_outward(&mesh))
-        fprintf(stderr, "warning: %s is closed and faces inward (negative volume): turned outside out\n",
-                scene->mesh_path);
+        fprintf(stderr, "%s%swarning: %s is closed and faces inward (negative volume): turned outside out\n",
+                tool ? tool : "", tool ? ": " : "", scene->mesh_path);
     *profile = scene->profile;
     *mm_per_unit = scene->scale_kind == SAM_SCALE_SIZE_MM ? (float)(scene->scale_value / sam_mesh_diagonal(&mesh))
                                                           : scene->scale_value;

@@ -172,7 +172,8 @@ static int info_scene(const char *path)
     float map_mm = 0;
     if (scene.sam_path) {
         samfile_data sam;
-        if (sam_app_scene_object(&scene, NULL, NULL, NULL, &sam, &map_profile, &map_mm, NULL, &err) != SAM_OK) {
+        if (sam_app_scene_object(&scene, "sam_info", NULL, NULL, NULL, &sam, &map_profile, &map_mm, NULL, &err) !=
+            SAM_OK) {
             sam_scene_destroy(&scene);
             fprintf(stderr, "sam_info: %s: %s\n", path, err.message);
             return 1;

@@ -277,7 +277,7 @@ static sam_status score_map(const compare_state *s, const sam_truth_report_refer
      * at every N and kind of a sweep. */
     sam_scene from_mesh;
     sam_app_scene_from_mesh(s->scene, &s->profile, s->mm_per_unit, &from_mesh);
-    sam_status st = sam_app_scene_object(&from_mesh, &settings, build_progress, &ps, &sam, &profile, &mm,
+    sam_status st = sam_app_scene_object(&from_mesh, s->set->tool, &settings, build_progress, &ps, &sam, &profile, &mm,
                                          build_seconds, err);
     if (st != SAM_OK)
         return st;

@@ -66,6 +66,14 @@ echo "$glow of $obj object pixels at least 20 levels brighter with sam than with
 "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/turn.png" --turntable 3 --size-mm 70 --size 48x36 "${cache[@]}" \
   2> "$tmp/turn.txt" || fail "--turntable: $(cat "$tmp/turn.txt")"
 for k in 0000 0001 0002; do [ -s "$tmp/turn_$k.png" ] || fail "--turntable wrote no picture $k"; done
+grep -q "^sam_render: .*turn_0000.png .. .*turn_0002.png: 48x36, .*3 frames" "$tmp/turn.txt" \
+  || fail "the turntable's last line does not name the pictures written: $(tail -1 "$tmp/turn.txt")"
+# A mesh wound inside out is turned, and the tool says so in its own name.
+awk '/^f / { print $1, $2, $4, $3; next } { print }' "$src/meshes/sphere.obj" > "$tmp/inward.obj"
+"$bin/sam_render" "$tmp/inward.obj" -o "$tmp/inward.png" --size-mm 40 --size 48x36 "${cache[@]}" \
+  2> "$tmp/inward.txt" || fail "an inward mesh: $(cat "$tmp/inward.txt")"
+grep -q "^sam_render: warning: .*inward.obj is closed and faces inward" "$tmp/inward.txt" \
+  || fail "the inward warning: $(cat "$tmp/inward.txt")"
 [ "$(png differ "$tmp/turn_0000.png" "$tmp/turn_0001.png")" = 0 ] && fail "turntable pictures 0 and 1 are the same"
 # The up axis: guessed and said so, or given (either case, the sign optional); the camera and the saved
 # scene follow it, and the picture is another one.

@@ -29,8 +29,9 @@ extern "C" {
  * message names both files and their hashes). A prebuilt map given another
  * material or a scale more than 1% off its own by the scene gets a warning
  * on stderr: it was built for its own, and renders otherwise than a map
- * built for the scene's. */
-sam_status sam_app_scene_object(const sam_scene *scene, const sam_build_settings *settings,
+ * built for the scene's; so does a mesh wound inside out, which is turned
+ * outside out. `tool` (may be NULL) prefixes those warnings. */
+sam_status sam_app_scene_object(const sam_scene *scene, const char *tool, const sam_build_settings *settings,
                                 sam_build_progress_fn progress, void *user, samfile_data *sam, sam_profile *profile,
                                 float *mm_per_unit, double *built_seconds, sam_error *err);
 
