@@ -23,9 +23,9 @@ static void usage(FILE *out)
             "               extent, so the light shines through it towards the camera\n"
             "  --force      replace OUT.png if it exists\n"
             "\n"
-            "examples:\n"
+            "examples (ear.sam and knot32.sam as sam_build --help makes them):\n"
             "  sam_preview ear.sam -o ear_preview.png\n"
-            "  sam_preview head.sam -o head_side.png --view -x --size 1024\n");
+            "  sam_preview knot32.sam -o knot_side.png --view -x --size 1024\n");
 }
 
 int main(int argc, char **argv)

@@ -62,10 +62,10 @@ static void usage(FILE *out)
             "  --quiet             no progress bar\n"
             "  -h, --help          this help;  --version  the version\n"
             "\n"
-            "examples:\n"
+            "examples (from the repository root; meshes/ is bundled):\n"
             "  sam_build meshes/ear.obj -o ear.sam --material skin --mm-per-unit 60\n"
-            "  sam_build head.ply -o head32.sam --material skin --size-mm 250 --samples 32\n"
-            "  sam_build head.ply -o head_flat.sam --material skin --size-mm 250 --flat\n",
+            "  sam_build meshes/knot.obj -o knot32.sam --material marble --size-mm 50 --samples 32\n"
+            "  sam_build meshes/knot.obj -o knot_flat.sam --material marble --size-mm 50 --flat\n",
             SAM_BUILD_CUT_DEFAULT_SAMPLES, SAM_BUILD_FLAT_DEFAULT_SAMPLES, d.cut_tolerance, SAM_BUILD_CUT_DEFAULT_BUDGET, d.mc_samples, d.radius_tolerance, (unsigned long long)d.seed);
 }
 

@@ -37,7 +37,7 @@ static void usage(FILE *out)
             "  --force             overwrite OUT (and its .mtl and texture) if they exist\n"
             "  -h, --help          this help;  --version  the version\n"
             "\n"
-            "examples:\n"
+            "examples (leaf.obj: an open sheet of your own, such as a scanned leaf):\n"
             "  sam_solidify leaf.obj -o leaf_solid.obj --thickness-mm 0.3 --size-mm 80\n"
             "  sam_render leaf_solid.obj --material apple --mm-per-unit 12.5 -o leaf.png --beside none\n");
 }

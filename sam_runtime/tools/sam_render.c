@@ -74,11 +74,13 @@ static void usage(FILE *out)
             "  --force                replace existing outputs (without it they are refused before any work)\n"
             "Per-pass GPU times are printed to stderr.\n"
             "\n"
-            "examples:\n"
-            "  sam_render head.ply --material skin --size-mm 250 -o head.png --beside none\n"
-            "  sam_render bunny.obj --material marble --turntable 8 -o turn.png --write-scene bunny.json\n"
-            "  sam_render lizard.off --material skin --size-mm 90 --up -Z --angle 90 -o lizard.png\n"
-            "  sam_render scenes/ear_backlit.json -o ear.exr --png ear.png\n");
+            "examples (from the repository root; meshes/ and scenes/ are bundled):\n"
+            "  sam_render meshes/ear.obj --material skin --size-mm 60 -o ear.png --beside none\n"
+            "  sam_render meshes/knot.obj --material marble --size-mm 50 --turntable 8 -o turn.png \\\n"
+            "      --write-scene knot.json\n"
+            "  sam_render meshes/blobs.obj --material wholemilk --size-mm 40 --up -Z --angle 90 -o blobs.png\n"
+            "  sam_render scenes/ear_backlit.json -o ear.exr --png ear.png\n"
+            "  sam_render your_scan.ply --material skin --size-mm 250 -o scan.png   (a mesh of your own)\n");
 }
 
 int main(int argc, char **argv)
