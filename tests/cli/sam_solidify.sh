@@ -142,5 +142,5 @@ for args in "$tmp/none.obj -o $tmp/x.obj" "$tmp/leaf.obj -o $tmp/x.stl" "$tmp/le
   [ ! -e "$tmp/x.obj" ] && [ ! -e "$tmp/x.stl" ] || fail "'$args': output written"
 done
 
-"$bin/sam_solidify" --help | grep -q "examples:" || fail "--help"
+"$bin/sam_solidify" --help | grep -q "^examples" || fail "--help"
 echo "sam_solidify cli: ok"
