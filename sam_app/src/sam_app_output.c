@@ -42,12 +42,10 @@ sam_status sam_app_check_output(const char *what, const char *path, const char *
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s %s: the folder %s does not exist", what, path, dir);
     if (!S_ISDIR(st.st_mode))
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s %s: %s is not a folder", what, path, dir);
-    if (access(dir, W_OK | X_OK) != 0)
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s %s: cannot write in %s (%s)", what, path, dir,
-                        strerror(errno));
-    /* access() answers for the permission bits only: root passes it on
-     * folders that still refuse a new file (sysfs, proc, some network and
-     * read-only-remounted disks). Creating one is the question asked. */
+    /* Not access(): it answers for the permission bits only, and root
+     * passes it on folders that still refuse a new file (sysfs, proc, some
+     * network and read-only-remounted disks). Creating one is the question
+     * asked, and its errno says why not as access() did. */
     char probe[4200];
     snprintf(probe, sizeof probe, "%s/.sam_write_probe_XXXXXX", dir);
     int fd = mkstemp(probe);

@@ -1,10 +1,27 @@
 /* sam_app_scene_object: a scene's object as a map, read or built. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "sam/sam_app_scene.h"
 #include "sam/sam_sha256.h"
+
+/* A warning line on stderr, prefixed with `tool` where there is one. */
+static void warn(const char *tool, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+static void warn(const char *tool, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "%s%swarning: ", tool ? tool : "", tool ? ": " : "");
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
 
 /* A prebuilt .sam: its material and scale unless the scene overrides them,
  * and proof that it is the map of the scene's mesh when one is named. */
@@ -49,13 +66,11 @@ static sam_status read_prebuilt(const sam_scene *scene, const char *tool, samfil
     /* The map's cuts and candidates were chosen for its own material and
      * scale: rendered with others, it is not the map the scene would get. */
     if (st == SAM_OK && scene->material && info.has_material && strcmp(scene->profile.name, info.profile.name))
-        fprintf(stderr, "%s%swarning: %s was built for %s; the scene renders it as %s (a map built for %s would "
-                "look otherwise)\n", tool ? tool : "", tool ? ": " : "", scene->sam_path, info.profile.name,
-                scene->profile.name, scene->profile.name);
+        warn(tool, "%s was built for %s; the scene renders it as %s (a map built for %s would look otherwise)",
+             scene->sam_path, info.profile.name, scene->profile.name, scene->profile.name);
     if (st == SAM_OK && info.mm_per_unit > 0 && fabsf(*mm_per_unit / info.mm_per_unit - 1.0f) > 0.01f)
-        fprintf(stderr, "%s%swarning: %s was built at %g mm per unit; the scene renders it at %g (a map built at %g "
-                "would look otherwise)\n", tool ? tool : "", tool ? ": " : "", scene->sam_path,
-                (double)info.mm_per_unit, (double)*mm_per_unit, (double)*mm_per_unit);
+        warn(tool, "%s was built at %g mm per unit; the scene renders it at %g (a map built at %g would look "
+             "otherwise)", scene->sam_path, (double)info.mm_per_unit, (double)*mm_per_unit, (double)*mm_per_unit);
     if (st != SAM_OK)
         samfile_free(sam);
     return st;
@@ -80,8 +95,7 @@ sam_status sam_app_scene_object(const sam_scene *scene, const char *tool, const 
     if (st != SAM_OK)
         return st;
     if (sam_mesh_orient_outward(&mesh))
-        fprintf(stderr, "%s%swarning: %s is closed and faces inward (negative volume): turned outside out\n",
-                tool ? tool : "", tool ? ": " : "", scene->mesh_path);
+        warn(tool, "%s is closed and faces inward (negative volume): turned outside out", scene->mesh_path);
     *profile = scene->profile;
     *mm_per_unit = scene->scale_kind == SAM_SCALE_SIZE_MM ? (float)(scene->scale_value / sam_mesh_diagonal(&mesh))
                                                           : scene->scale_value;
