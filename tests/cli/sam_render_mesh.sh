@@ -33,6 +33,15 @@ grep -q "^sam_render: warning: 100% of the vertices .*single sheet" "$tmp/sheet.
   || fail "the saved scene: $(cat "$tmp/again.txt")"
 grep -q "building the map" "$tmp/again.txt" && fail "the saved scene built the map again"
 [ "$(png differ "$tmp/ear.png" "$tmp/again.png")" = 0 ] || fail "the saved scene renders another picture"
+# The saved scene's map given another material and scale: rendered, with a warning for each in the tool's name.
+sed 's/"material":[[:space:]]*"skin"/"material": "marble"/' "$tmp/ear.json" > "$tmp/marble.json"
+python3 -c "import json; s = json.load(open('$tmp/marble.json')); s['scale'] = {'size_mm': 500}; json.dump(s, open('$tmp/marble.json', 'w'))"
+"$bin/sam_render" "$tmp/marble.json" -o "$tmp/marble.png" --size 48x36 "${cache[@]}" 2> "$tmp/marble.txt" \
+  || fail "another material: $(cat "$tmp/marble.txt")"
+grep -q "^sam_render: warning: .* was built for skin; the scene renders it as marble" "$tmp/marble.txt" \
+  || fail "no material warning: $(cat "$tmp/marble.txt")"
+grep -q "^sam_render: warning: .* mm per unit; the scene renders it at" "$tmp/marble.txt" \
+  || fail "no scale warning: $(cat "$tmp/marble.txt")"
 # A given size is used as given, and the cached map of the first run is not (another scale).
 "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/given.exr" --size-mm 70 --material marble --size 48x36 "${cache[@]}" \
   2> "$tmp/given.txt" || fail "--size-mm: $(cat "$tmp/given.txt")"
