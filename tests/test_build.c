@@ -235,6 +235,53 @@ static void test_near_form_factor_against_quadrature(void **state)
     sam_mesh_destroy(&mesh);
 }
 
+/* The pairs' Kronecker sequence on the steep pair above (skin's blue falls
+ * about 6-fold across the two fans): over 48 seeds of 64 pairs each, K's
+ * mean is the quadrature's in every channel (unbiased), and the mean-RGB
+ * K's spread from seed to seed is well under the standard error that 64
+ * independent pairs have (which the form factor reports, from its pairs'
+ * variance): independent pairs would put the ratio near 1. */
+static void test_lattice_pairs_unbiased_and_less_noisy(void **state)
+{
+    (void)state;
+    sam_mesh mesh;
+    two_fans(0.3f, 0.2f, &mesh);
+    sam_profile skin;
+    sam_build_context *ctx = flat_context(&mesh, "skin", &skin);
+    const uint32_t o = mesh.topo_of[0], i = mesh.topo_of[7];
+    double quad[3], area_o;
+    quadrature_k(&mesh, &skin, o, i, -INFINITY, quad, &area_o);
+    const double quad_mean = (quad[0] + quad[1] + quad[2]) / 3;
+    enum { SEEDS = 48 };
+    double mean[3] = {0, 0, 0}, square[3] = {0, 0, 0}, square_mean = 0, independent = 0;
+    for (uint64_t seed = 1; seed <= SEEDS; ++seed) {
+        float k[3], e;
+        sam_build_form_factor(ctx, o, i, 64, seed, k, &e);
+        for (int c = 0; c < 3; ++c) {
+            mean[c] += k[c] / SEEDS;
+            square[c] += (k[c] - quad[c]) * (k[c] - quad[c]) / SEEDS;
+        }
+        const double off = (k[0] + k[1] + k[2]) / 3 - quad_mean;
+        square_mean += off * off / SEEDS;
+        independent += (double)e / SEEDS;
+    }
+    for (int c = 0; c < 3; ++c) {
+        const double rms = sqrt(square[c]);
+        print_message("channel %d: K %.5g over %d seeds (quadrature %.5g), seed-to-seed RMS %.2f%%\n", c, mean[c],
+                      SEEDS, quad[c], 100 * rms / quad[c]);
+        if (fabs(mean[c] - quad[c]) > 3 * rms / sqrt(SEEDS) + 0.01 * quad[c])
+            fail_msg("channel %d: mean K %g over %d seeds, quadrature %g", c, mean[c], SEEDS, quad[c]);
+    }
+    const double ratio = sqrt(square_mean) / independent;
+    print_message("mean RGB: seed-to-seed RMS %.2f%%, independent pairs' standard error %.2f%% (ratio %.2f)\n",
+                  100 * sqrt(square_mean) / quad_mean, 100 * independent / quad_mean, ratio);
+    if (!(ratio < 0.7))
+        fail_msg("seed-to-seed RMS %g is %.2f of 64 independent pairs' standard error %g", sqrt(square_mean), ratio,
+                 independent);
+    sam_build_context_destroy(ctx);
+    sam_mesh_destroy(&mesh);
+}
+
 /* A fold, as on a scan's rim: a flat fan facing -z at z = 0 and, 0.15 mm
  * to its side, a fan tilted 70 degrees whose centre is 0.02 mm behind the
  * first's tangent plane. The two centres pass eq. 13-14, but half of the
@@ -935,6 +982,7 @@ int main(void)
         cmocka_unit_test(test_far_small_fans),
         cmocka_unit_test(test_constant_profile),
         cmocka_unit_test(test_near_form_factor_against_quadrature),
+        cmocka_unit_test(test_lattice_pairs_unbiased_and_less_noisy),
         cmocka_unit_test(test_fold_form_factor_against_quadrature),
         cmocka_unit_test(test_pointwise_form_factor),
         cmocka_unit_test(test_fan_back_side),

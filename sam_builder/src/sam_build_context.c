@@ -253,11 +253,11 @@ int sam_build_fan_back_side(const sam_build_context *ctx, uint32_t o, uint32_t i
     return o == i ? 0 : (int)sam_build_fan_side(ctx, o, i);
 }
 
-void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3], float normal[3])
+void sam_build_fan_point(const sam_build_context *ctx, uint32_t t, const float uv[3], float out[3], float normal[3])
 {
     const sam_mesh *m = ctx->mesh;
     uint32_t begin = m->ring_offsets[t], end = m->ring_offsets[t + 1];
-    float target = sam_rng_float(rng) * ctx->fan_area[t];
+    float target = uv[0] * ctx->fan_area[t];
     uint32_t k = begin + 1;
     while (k + 1 < end && ctx->pair_cdf[k] <= target)
         k++;
@@ -270,7 +270,7 @@ void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng
      * picks the half without another random number. */
     float lo = k > begin + 1 ? ctx->pair_cdf[k - 1] : 0.0f, span = ctx->pair_cdf[k] - lo;
     int second = span > 0 && (target - lo) > 0.5f * span;
-    float u = sam_rng_float(rng), w = sam_rng_float(rng);
+    float u = uv[1], w = uv[2];
     if (u + w > 1.0f)
         u = 1.0f - u, w = 1.0f - w;
     /* v + u (mid - v) + w (centroid - v), as weights of v, a and b. */
@@ -286,6 +286,26 @@ void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng
     }
 }
 
+void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3], float normal[3])
+{
+    float u[3];
+    for (int d = 0; d < 3; ++d)
+        u[d] = sam_rng_float(rng);
+    sam_build_fan_point(ctx, t, u, out, normal);
+}
+
+/* R_6's steps, frac(phi^-j) for j = 1..6 with phi the positive root of
+ * x^7 = x + 1 (1.11277568...), in 24-bit fixed point. */
+static const uint32_t lattice_steps[6] = {15076907u, 13548919u, 12175786u, 10941815u, 9832903u, 8836375u};
+
+void sam_build_lattice_start(sam_build_lattice *lattice, int sender, sam_rng *rng)
+{
+    for (int d = 0; d < 3; ++d) {
+        lattice->shift[d] = (uint32_t)(sam_rng_float(rng) * (float)(1u << SAM_BUILD_LATTICE_BITS));
+        lattice->step[d] = lattice_steps[3 * (sender != 0) + d];
+    }
+}
+
 /* The stream index of vertex o's own points: no candidate index is this. */
 #define RECEIVER_STREAM UINT64_MAX
 
@@ -294,9 +314,12 @@ void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_
 {
     sam_rng rng;
     sam_rng_seed(&rng, seed, o, RECEIVER_STREAM);
+    sam_build_lattice lattice;
+    sam_build_lattice_start(&lattice, 0, &rng);
     for (uint32_t s = 0; s < samples; ++s) {
-        float *point = points + SAM_BUILD_POINT_FLOATS * (size_t)s;
-        sam_build_sample_fan(ctx, o, &rng, point, point + 3);
+        float *point = points + SAM_BUILD_POINT_FLOATS * (size_t)s, u[3];
+        sam_build_lattice_at(&lattice, s, u);
+        sam_build_fan_point(ctx, o, u, point, point + 3);
     }
 }
 
@@ -305,11 +328,14 @@ void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const 
 {
     sam_rng rng;
     sam_rng_seed(&rng, seed, o, i);
+    sam_build_lattice lattice;
+    sam_build_lattice_start(&lattice, 1, &rng);
     double sum[3] = {0, 0, 0}, sum_mean = 0, sum_sq = 0;
     for (uint32_t s = 0; s < samples; ++s) {
-        float xi[3], ni[3], rd[4];
+        float xi[3], ni[3], rd[4], u[3];
         const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)s;
-        sam_build_sample_fan(ctx, i, &rng, xi, pointwise ? ni : NULL);
+        sam_build_lattice_at(&lattice, s, u);
+        sam_build_fan_point(ctx, i, u, xi, pointwise ? ni : NULL);
         if (pointwise && !sam_build_point_faces_away(xo + 3, ni))
             continue;
         /* The part of F'_i in front of this point's tangent plane sends it

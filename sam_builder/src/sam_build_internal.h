@@ -137,10 +137,42 @@ static inline sam_build_fan sam_build_fan_side(const sam_build_context *ctx, uin
  * `threshold`; table_radius when none is. */
 float sam_build_bound_radius(const sam_build_context *ctx, float threshold);
 
-/* A uniform point on the reduced fan of topo vertex t, from `rng`, and in
- * `normal` (may be NULL) the vertex normals interpolated there, not of unit
- * length (only its direction is asked). */
+/* The point of the reduced fan of topo vertex t at the uniforms u[0..2] in
+ * [0, 1): u[0] picks the place by area, u[1] and u[2] the point in it, so
+ * uniform u give a point uniform in area. In `normal` (may be NULL) the
+ * vertex normals interpolated there, not of unit length (only its
+ * direction is asked). */
+void sam_build_fan_point(const sam_build_context *ctx, uint32_t t, const float u[3], float out[3], float normal[3]);
+
+/* sam_build_fan_point at three numbers drawn from `rng`. */
 void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng, float out[3], float normal[3]);
+
+/* The point pairs of a form factor come from a randomly shifted
+ * six-dimensional Kronecker sequence (Roberts' R_6): pair s is
+ * frac(shift + s alpha), the receiver's point from its first three
+ * coordinates and the sender's from the last three. Each pair is still
+ * uniform on the two fans (the shift is), so K stays unbiased, but the
+ * pairs cover the six dimensions evenly instead of clumping: where R_d
+ * falls steeply across the fans (thin sheets in skin) independent pairs
+ * left the per-vertex T noisy (docs/builder.md). Coordinates are 24-bit
+ * fixed point, as sam_rng_float's numbers are. */
+#define SAM_BUILD_LATTICE_BITS 24
+typedef struct sam_build_lattice {
+    uint32_t shift[3];
+    uint32_t step[3];
+} sam_build_lattice;
+
+/* The receiver's (sender = 0) or the sender's (sender = 1) half of the
+ * sequence, shifted by three numbers drawn from `rng`. */
+void sam_build_lattice_start(sam_build_lattice *lattice, int sender, sam_rng *rng);
+
+/* The uniforms of pair s. */
+static inline void sam_build_lattice_at(const sam_build_lattice *lattice, uint32_t s, float u[3])
+{
+    const uint32_t mask = (1u << SAM_BUILD_LATTICE_BITS) - 1u;
+    for (int d = 0; d < 3; ++d)
+        u[d] = (float)((lattice->shift[d] + s * lattice->step[d]) & mask) * (1.0f / (float)(1u << SAM_BUILD_LATTICE_BITS));
+}
 
 /* Whether the point x_i is behind the tangent plane of the point x_o with
  * normal n_o (of any length): eq. 13 between two points of two fans.
@@ -159,14 +191,16 @@ static inline int sam_build_point_faces_away(const float no[3], const float ni[3
 
 /* The `samples` points on vertex o's reduced fan that every form factor of
  * o shares, SAM_BUILD_POINT_FLOATS floats each: the position, then the
- * interpolated normal (sam_build_sample_fan). Drawn from the stream (seed,
- * o), so each K_oi is the same whichever caller computes it, and
- * candidates of one vertex are ranked with common random numbers. */
+ * interpolated normal (sam_build_fan_point). The receiver's half of the
+ * pairs' sequence, shifted from the stream (seed, o), so each K_oi is the
+ * same whichever caller computes it, and candidates of one vertex are
+ * ranked with common random numbers. */
 #define SAM_BUILD_POINT_FLOATS 6
 void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_t samples, uint64_t seed,
                                float *points);
 
-/* K_oi from o's shared points and a stream (seed, o, i) for points on F'_i:
+/* K_oi from o's shared points and the sender's half of the pairs' sequence,
+ * shifted from the stream (seed, o, i), for points on F'_i:
  * eq. 11 over the pairs of points of which the one on F'_i is behind the
  * tangent plane of the one on o's fan (sam_build_point_behind), and with
  * `pointwise`, whose interpolated normals face apart too (eq. 14 per pair:

@@ -72,10 +72,12 @@ extern "C" {
  * merging siblings and folding the rest into the nearest kept; 1.11: the
  * fold goes to the nearest kept in place and facing; 1.12: a cut node
  * partly behind its receiver hands its K to a node no larger than its
- * light's spread needs, not to the largest wholly behind), and the
+ * light's spread needs, not to the largest wholly behind; 1.13: the
+ * fans' point pairs come from a shifted Kronecker sequence, not
+ * independent streams), and the
  * tools' map cache keys on it, so that no cached map outlives the builder
  * that made it. */
-#define SAM_BUILD_VERSION "1.12"
+#define SAM_BUILD_VERSION "1.13"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
@@ -176,13 +178,16 @@ sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *pro
 void sam_build_context_destroy(sam_build_context *ctx);
 
 /* Monte Carlo estimate of K_oi (eq. 11) between topo vertices o and i with
- * `samples` point pairs: points on F'_o from a stream seeded by (seed, o)
- * (shared by all of o's candidates), points on F'_i from one seeded by
- * (seed, o, i); a pair counts only where its point on F'_i is behind the
- * tangent plane of its point on F'_o (eq. 13, the vertex normals
- * interpolated there), so a fan against itself or beside o gives 0. K in
- * RGB, and the standard error of its mean-RGB value (NaN when out of
- * memory). The builders compute exactly these values. Thread-safe. */
+ * `samples` point pairs from a randomly shifted six-dimensional Kronecker
+ * sequence: points on F'_o from its first three coordinates, shifted by a
+ * stream seeded by (seed, o) (shared by all of o's candidates), points on
+ * F'_i from its last three, shifted by one seeded by (seed, o, i); a pair
+ * counts only where its point on F'_i is behind the tangent plane of its
+ * point on F'_o (eq. 13, the vertex normals interpolated there), so a fan
+ * against itself or beside o gives 0. K in RGB, and the standard error its
+ * mean-RGB value would have from as many independent pairs (the lattice's
+ * own error is smaller; NaN when out of memory). The builders compute
+ * exactly these values. Thread-safe. */
 void sam_build_form_factor(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples,
                            uint64_t seed, float k[3], float *k_error);
 
