@@ -323,6 +323,19 @@ void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_
     }
 }
 
+uint32_t sam_build_pair_count(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples)
+{
+    const float d = sam_build_distance(ctx->pos + 3 * (size_t)o, ctx->pos + 3 * (size_t)i);
+    const float reach = ctx->fan_reach[2 * (size_t)o] + ctx->fan_reach[2 * (size_t)i];
+    float near[4], far[4];
+    sam_build_rd(ctx, fmaxf(d - reach, 0.0f), near);
+    sam_build_rd(ctx, d + reach, far);
+    for (int c = 0; c < 3; ++c)
+        if (near[c] > SAM_BUILD_STEEP_FALL * far[c] && near[c] > SAM_BUILD_STEEP_NEAR * ctx->table[0][c])
+            return samples * SAM_BUILD_STEEP_PAIRS;
+    return samples;
+}
+
 void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const float *points, uint32_t i,
                                 uint32_t samples, uint64_t seed, int pointwise, float k[3], float *k_error)
 {
@@ -330,10 +343,12 @@ void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const 
     sam_rng_seed(&rng, seed, o, i);
     sam_build_lattice lattice;
     sam_build_lattice_start(&lattice, 1, &rng);
+    const uint32_t pairs = sam_build_pair_count(ctx, o, i, samples);
     double sum[3] = {0, 0, 0}, sum_mean = 0, sum_sq = 0;
-    for (uint32_t s = 0; s < samples; ++s) {
+    for (uint32_t s = 0; s < pairs; ++s) {
         float xi[3], ni[3], rd[4], u[3];
-        const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)s;
+        /* A steep pair's further senders go round o's points again. */
+        const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)(s % samples);
         sam_build_lattice_at(&lattice, s, u);
         sam_build_fan_point(ctx, i, u, xi, pointwise ? ni : NULL);
         if (pointwise && !sam_build_point_faces_away(xo + 3, ni))
@@ -357,13 +372,13 @@ void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const 
         sum_sq += (double)rd[3] * rd[3];
     }
     /* K = F'_i E[R_d(|x_i - x_o|)] with x_o, x_i uniform on the two fans. */
-    double area = ctx->fan_area[i], inv = 1.0 / samples;
+    double area = ctx->fan_area[i], inv = 1.0 / pairs;
     for (int c = 0; c < 3; ++c)
         k[c] = (float)(area * sum[c] * inv);
     double mean = sum_mean * inv, var = sum_sq * inv - mean * mean;
     if (var < 0)
         var = 0;
-    *k_error = (float)(area * sqrt(var / (samples > 1 ? samples - 1 : 1)));
+    *k_error = (float)(area * sqrt(var / (pairs > 1 ? pairs - 1 : 1)));
 }
 
 /* One K_oi with o's points of its own (the public entry points). */

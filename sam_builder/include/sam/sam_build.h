@@ -74,10 +74,11 @@ extern "C" {
  * partly behind its receiver hands its K to a node no larger than its
  * light's spread needs, not to the largest wholly behind; 1.13: the
  * fans' point pairs come from a shifted Kronecker sequence, not
- * independent streams), and the
+ * independent streams; 1.14: a pair of fans across which R_d falls
+ * steeply while it carries much light gets four times the pairs), and the
  * tools' map cache keys on it, so that no cached map outlives the builder
  * that made it. */
-#define SAM_BUILD_VERSION "1.13"
+#define SAM_BUILD_VERSION "1.14"
 #define SAM_BUILD_NO_SAMPLE UINT32_MAX
 
 /* Which map the builder makes. */
@@ -178,10 +179,13 @@ sam_status sam_build_context_create(const sam_mesh *mesh, const sam_profile *pro
 void sam_build_context_destroy(sam_build_context *ctx);
 
 /* Monte Carlo estimate of K_oi (eq. 11) between topo vertices o and i with
- * `samples` point pairs from a randomly shifted six-dimensional Kronecker
- * sequence: points on F'_o from its first three coordinates, shifted by a
- * stream seeded by (seed, o) (shared by all of o's candidates), points on
- * F'_i from its last three, shifted by one seeded by (seed, o, i); a pair
+ * `samples` point pairs (four times as many, the same `samples` points on
+ * F'_o each with four on F'_i, where R_d falls more than 8-fold across the
+ * two fans while above a tenth of R_d(0) at their nearest) from a randomly
+ * shifted six-dimensional Kronecker sequence: points on F'_o from its first
+ * three coordinates, shifted by a stream seeded by (seed, o) (shared by all
+ * of o's candidates), points on F'_i from its last three, shifted by one
+ * seeded by (seed, o, i); a pair
  * counts only where its point on F'_i is behind the tangent plane of its
  * point on F'_o (eq. 13, the vertex normals interpolated there), so a fan
  * against itself or beside o gives 0. K in RGB, and the standard error its
