@@ -328,8 +328,9 @@ uint32_t sam_build_pair_count(const sam_build_context *ctx, uint32_t o, uint32_t
     const float d = sam_build_distance(ctx->pos + 3 * (size_t)o, ctx->pos + 3 * (size_t)i);
     const float reach = ctx->fan_reach[2 * (size_t)o] + ctx->fan_reach[2 * (size_t)i];
     float near[4], far[4];
-    sam_build_rd(ctx, fmaxf(d - reach, 0.0f), near);
-    sam_build_rd(ctx, d + reach, far);
+    if (samples > UINT32_MAX / SAM_BUILD_STEEP_PAIRS)
+        return samples;
+    sam_build_rd_span(ctx, d, reach, near, far);
     for (int c = 0; c < 3; ++c)
         if (near[c] > SAM_BUILD_STEEP_FALL * far[c] && near[c] > SAM_BUILD_STEEP_NEAR * ctx->table[0][c])
             return samples * SAM_BUILD_STEEP_PAIRS;
@@ -345,10 +346,10 @@ void sam_build_form_factor_from(const sam_build_context *ctx, uint32_t o, const 
     sam_build_lattice_start(&lattice, 1, &rng);
     const uint32_t pairs = sam_build_pair_count(ctx, o, i, samples);
     double sum[3] = {0, 0, 0}, sum_mean = 0, sum_sq = 0;
-    for (uint32_t s = 0; s < pairs; ++s) {
+    /* A steep pair's further senders go round o's points again. */
+    for (uint32_t s = 0, r = 0; s < pairs; ++s, r = r + 1 == samples ? 0 : r + 1) {
         float xi[3], ni[3], rd[4], u[3];
-        /* A steep pair's further senders go round o's points again. */
-        const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)(s % samples);
+        const float *xo = points + SAM_BUILD_POINT_FLOATS * (size_t)r;
         sam_build_lattice_at(&lattice, s, u);
         sam_build_fan_point(ctx, i, u, xi, pointwise ? ni : NULL);
         if (pointwise && !sam_build_point_faces_away(xo + 3, ni))

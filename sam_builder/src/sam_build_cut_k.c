@@ -172,7 +172,8 @@ typedef struct cut_k {
     sam_rng rng;
     sam_build_cut_k_scratch *s;
     uint32_t pending;
-    uint32_t few; /* pairs of a member's cheaper Monte Carlo: STRADDLE_SAMPLES, at most the receiver's points */
+    uint32_t few; /* pairs of a member's cheaper Monte Carlo: STRADDLE_SAMPLES, at most the receiver's points
+                   * (a steep pair takes four times as many, sam_build_pair_count) */
 } cut_k;
 
 /* Takes `id` into entry `entry`'s sum: adds it at once where it is flat,
@@ -191,8 +192,7 @@ static void part_take(cut_k *c, uint32_t entry, uint32_t id)
         /* A member's fan, its radius taken as sqrt(F'). */
         const float *q = ctx->pos + 3 * (size_t)id, area = ctx->fan_area[id], r = sqrtf(area);
         const float d = sam_build_distance(p, q);
-        sam_build_rd(ctx, fmaxf(d - r, 0.0f), r_near);
-        sam_build_rd(ctx, d + r, r_far);
+        sam_build_rd_span(ctx, d, r, r_near, r_far);
         if (!part_flat(&c->flat, r_near, r_far)) {
             heap_push(c->s->heap, &c->pending, (part){id, entry, area * (r_near[3] - r_far[3])});
             return;

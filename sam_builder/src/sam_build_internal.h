@@ -52,6 +52,15 @@ static inline void sam_build_rd(const sam_build_context *ctx, float r, float out
         out[c] = a[c] + f * (b[c] - a[c]);
 }
 
+/* R_d (RGB and mean) at the nearest and farthest points of a part that
+ * lies within `reach` mm of a point `d` mm away: how much it may change
+ * across the part. */
+static inline void sam_build_rd_span(const sam_build_context *ctx, float d, float reach, float near[4], float far[4])
+{
+    sam_build_rd(ctx, fmaxf(d - reach, 0.0f), near);
+    sam_build_rd(ctx, d + reach, far);
+}
+
 /* Mean R_d at r: the cheap estimate's profile term. */
 static inline float sam_build_rd_mean(const sam_build_context *ctx, float r)
 {
@@ -78,7 +87,7 @@ static inline int sam_build_behind(const sam_build_context *ctx, uint32_t o, uin
 
 /* How much of vertex i's reduced fan is behind receiver o (eq. 13-14 asked
  * of the fan's points, each with the vertex normals interpolated there, as
- * sam_build_sample_fan draws them; sam_build_fan_back_side). */
+ * sam_build_fan_point places them; sam_build_fan_back_side). */
 typedef enum sam_build_fan {
     SAM_BUILD_FAN_NONE, /* no point of it */
     SAM_BUILD_FAN_PART, /* some points may be */
@@ -150,13 +159,16 @@ void sam_build_sample_fan(const sam_build_context *ctx, uint32_t t, sam_rng *rng
 /* The point pairs of a form factor come from a randomly shifted
  * six-dimensional Kronecker sequence (Roberts' R_6): pair s is
  * frac(shift + s alpha), the receiver's point from its first three
- * coordinates and the sender's from the last three. Each pair is still
+ * coordinates and the sender's from the last three (a steep pair's pairs
+ * past the receiver's points take them again, sam_build_pair_count).
+ * Each pair is still
  * uniform on the two fans (the shift is), so K stays unbiased, but the
  * pairs cover the six dimensions evenly instead of clumping: where R_d
  * falls steeply across the fans (thin sheets in skin) independent pairs
  * left the per-vertex T noisy (docs/builder.md). Coordinates are 24-bit
  * fixed point, as sam_rng_float's numbers are. */
 #define SAM_BUILD_LATTICE_BITS 24
+_Static_assert(SAM_BUILD_LATTICE_BITS < 32, "the lattice's steps wrap modulo 2^32, a multiple of 2^bits");
 typedef struct sam_build_lattice {
     uint32_t shift[3];
     uint32_t step[3];
@@ -166,7 +178,8 @@ typedef struct sam_build_lattice {
  * sequence, shifted by three numbers drawn from `rng`. */
 void sam_build_lattice_start(sam_build_lattice *lattice, int sender, sam_rng *rng);
 
-/* The uniforms of pair s. */
+/* The uniforms of pair s. s * step may wrap modulo 2^32; as 2^bits
+ * divides 2^32, the bits kept are exact. */
 static inline void sam_build_lattice_at(const sam_build_lattice *lattice, uint32_t s, float u[3])
 {
     const uint32_t mask = (1u << SAM_BUILD_LATTICE_BITS) - 1u;
@@ -214,7 +227,7 @@ void sam_build_receiver_points(const sam_build_context *ctx, uint32_t o, uint32_
 #define SAM_BUILD_STEEP_PAIRS 4u
 
 /* The number of point pairs K_oi takes: `samples`, or SAM_BUILD_STEEP_PAIRS
- * times it for a steep pair. */
+ * times it for a steep pair (`samples` where that would pass UINT32_MAX). */
 uint32_t sam_build_pair_count(const sam_build_context *ctx, uint32_t o, uint32_t i, uint32_t samples);
 
 /* K_oi from o's shared points and the sender's half of the pairs' sequence,

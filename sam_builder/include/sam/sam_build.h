@@ -123,8 +123,8 @@ typedef struct sam_build_result {
     uint32_t *sample;    /* topo_count * N: topo vertex, topo_count + node, or SAM_BUILD_NO_SAMPLE */
     float *k;            /* flat maps: topo_count * N * 3: Monte Carlo K (RGB), 0 for no sample; NULL in a
                           * cut map, whose samples' K lives only in kprime (memory: see k_total) */
-    float *k_error;      /* flat maps: topo_count * N: standard error of the mean-RGB K estimate; NULL in a
-                          * cut map */
+    float *k_error;      /* flat maps: topo_count * N: standard error of the mean-RGB K estimate as from
+                          * as many independent pairs (the pairs' lattice errs less); NULL in a cut map */
     float *k_total;      /* cut maps: topo_count * 3: K (RGB) summed over the vertex's cut, its whole
                           * back-side transport; NULL in a flat map */
     float *kprime;       /* topo_count * N * 3: K' of eq. 15 */
