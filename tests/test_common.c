@@ -31,6 +31,29 @@ static void test_fail_formats_and_truncates(void **state)
     assert_string_equal(err.message, "");
 }
 
+/* A text grows past its first allocation, keeps bytes after a NUL, stays
+ * NUL-terminated, and takes appends of 0 bytes. */
+static void test_text_grows_and_stays_terminated(void **state)
+{
+    (void)state;
+    sam_text t = {0};
+    sam_text_append(&t, "", 0);
+    assert_non_null(t.p);
+    assert_int_equal(t.len, 0);
+    assert_string_equal(t.p, "");
+    char piece[1000];
+    memset(piece, 'x', sizeof piece);
+    for (int i = 0; i < 10; ++i)
+        sam_text_append(&t, piece, sizeof piece);
+    sam_text_append(&t, "a\0b", 3);
+    assert_false(t.oom);
+    assert_int_equal(t.len, 10003);
+    assert_true(t.cap > t.len);
+    assert_int_equal(t.p[9999], 'x');
+    assert_memory_equal(t.p + 10000, "a\0b", 4);
+    free(t.p);
+}
+
 static void test_atomic_commit_replaces_target(void **state)
 {
     (void)state;
@@ -156,6 +179,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fail_formats_and_truncates),
+        cmocka_unit_test(test_text_grows_and_stays_terminated),
         cmocka_unit_test(test_atomic_commit_replaces_target),
         cmocka_unit_test(test_atomic_abort_keeps_target_and_removes_temp),
         cmocka_unit_test(test_atomic_open_in_missing_dir_fails_clearly),

@@ -27,38 +27,11 @@ static int find_file(const char *name, size_t len)
 }
 
 /* A growing string. */
-typedef struct text {
-    char *p;
-    size_t len, cap;
-    int oom;
-} text;
-
-static void append(text *t, const char *s, size_t n)
-{
-    if (t->oom)
-        return;
-    if (t->len + n + 1 > t->cap) {
-        size_t cap = t->cap ? t->cap * 2 : 4096;
-        while (cap < t->len + n + 1)
-            cap *= 2;
-        char *p = realloc(t->p, cap);
-        if (!p) {
-            t->oom = 1;
-            return;
-        }
-        t->p = p;
-        t->cap = cap;
-    }
-    memcpy(t->p + t->len, s, n);
-    t->len += n;
-    t->p[t->len] = 0;
-}
-
-static void appendf(text *t, const char *fmt, int a, int b)
+static void appendf(sam_text *t, const char *fmt, int a, int b)
 {
     char buf[64];
     int n = snprintf(buf, sizeof buf, fmt, a, b);
-    append(t, buf, (size_t)n);
+    sam_text_append(t, buf, (size_t)n);
 }
 
 /* Source-string numbers in #line directives are file index + 1, so 0
@@ -68,7 +41,7 @@ static void appendf(text *t, const char *fmt, int a, int b)
 /* Appends file `index` (its #version line skipped when `skip_version`),
  * expanding includes. `included` marks files already in the program. */
 static sam_status expand(int index, const char *file_name, const char *body, int skip_version, unsigned char *included,
-                         int depth, text *out, sam_error *err)
+                         int depth, sam_text *out, sam_error *err)
 {
     if (depth > 16)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: includes nested more than 16 deep (a cycle?)", file_name);
@@ -101,11 +74,11 @@ static sam_status expand(int index, const char *file_name, const char *body, int
                     return st;
                 appendf(out, "#line %d %d\n", line + 1, index >= 0 ? SOURCE_ID(index) : 0);
             } else {
-                append(out, "\n", 1);
+                sam_text_append(out, "\n", 1);
             }
         } else {
-            append(out, p, n);
-            append(out, "\n", 1);
+            sam_text_append(out, p, n);
+            sam_text_append(out, "\n", 1);
         }
         ++line;
         p = eol ? eol + 1 : p + n;
@@ -125,12 +98,12 @@ static sam_status build_source(int index, const char *name, const char *body, co
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", name);
     if (index >= 0)
         included[index] = 1;
-    text out = {0};
+    sam_text out = {0};
     const char *eol = strchr(body, '\n');
-    append(&out, body, eol ? (size_t)(eol - body + 1) : strlen(body));
+    sam_text_append(&out, body, eol ? (size_t)(eol - body + 1) : strlen(body));
     if (defines) {
-        append(&out, defines, strlen(defines));
-        append(&out, "\n", 1);
+        sam_text_append(&out, defines, strlen(defines));
+        sam_text_append(&out, "\n", 1);
     }
     appendf(&out, "#line 2 %d\n", index >= 0 ? SOURCE_ID(index) : 0, 0);
     sam_status st = expand(index, name, body, 1, included, 0, &out, err);

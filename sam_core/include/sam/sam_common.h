@@ -99,6 +99,19 @@ sam_status sam_check_regular_file(const char *path, sam_error *err);
 /* malloc'd copy of a NUL-terminated string (caller frees), NULL when out of memory. */
 char *sam_strdup(const char *s);
 
+/* A text that grows as it is written: start from {0}, append, then the
+ * caller frees p. p stays NUL-terminated (NULL until the first append).
+ * `oom` is set when an append ran out of memory; later appends then do
+ * nothing, so a writer checks it once at the end. */
+typedef struct sam_text {
+    char *p;
+    size_t len, cap; /* bytes written (without the NUL), bytes held */
+    int oom;
+} sam_text;
+
+/* Appends the n bytes at s (s may hold NULs; n may be 0). */
+void sam_text_append(sam_text *text, const char *s, size_t n);
+
 /* 1 when all of `text` (non-empty) is a finite number strtod reads without
  * a range error, stored in `*out`; 0 otherwise (`*out` untouched). For the
  * tools' numeric options; the range and the message are the caller's. */
