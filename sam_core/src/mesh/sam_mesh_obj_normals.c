@@ -39,8 +39,12 @@ static void drop(sam_mesh_expect *e, sam_mesh_obj_gather *g)
 void sam_mesh_expect_free(sam_mesh_expect *expect)
 {
     sam_mesh_obj_gather unused;
-    if (expect)
-        drop(expect, &unused);
+    if (!expect)
+        return;
+    drop(expect, &unused);
+    free(expect->off_text);
+    expect->off_text = NULL;
+    expect->off_text_size = 0;
 }
 
 int sam_mesh_obj_gather_normal(sam_mesh_expect *e, sam_mesh_obj_gather *g, uint64_t index, const float v[3])

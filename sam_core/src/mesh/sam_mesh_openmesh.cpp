@@ -195,7 +195,7 @@ private:
     bool log_was_enabled_, out_was_enabled_;
 };
 
-sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
+sam_status read_soup(const char *path, const char *text, size_t text_size, sam_mesh_soup *soup, sam_error *err)
 {
     static const char *const extensions[] = {".obj", ".ply", ".off", ".stl"};
     bool known = false;
@@ -221,7 +221,12 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
     std::string diagnostics;
     {
         DiagnosticCapture capture;
-        ok = IO::IOManager().read(path, importer, options);
+        if (text) {
+            std::istringstream in(std::string(text, text_size));
+            ok = IO::IOManager().read(in, ".off", importer, options);
+        } else {
+            ok = IO::IOManager().read(path, importer, options);
+        }
         diagnostics = capture.text();
     }
     if (!ok)
@@ -259,12 +264,13 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
 
 } // namespace
 
-extern "C" sam_status sam_mesh_soup_read(const char *path, sam_mesh_soup *soup, sam_error *err)
+extern "C" sam_status sam_mesh_soup_read(const char *path, const char *text, size_t text_size, sam_mesh_soup *soup,
+                                         sam_error *err)
 {
     if (!path || !soup)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "mesh read: NULL argument");
     std::memset(soup, 0, sizeof *soup);
-    sam_status st = sam_mesh_guarded(path, "OpenMesh", err, [&] { return read_soup(path, soup, err); });
+    sam_status st = sam_mesh_guarded(path, "OpenMesh", err, [&] { return read_soup(path, text, text_size, soup, err); });
     if (st != SAM_OK)
         sam_mesh_soup_free(soup);
     return st;

@@ -473,16 +473,25 @@ done:
 
 /* ---- OFF (ASCII) */
 
-/* Next line with a token; its token count (storing at most `max`), -1 at
- * the end of the file, -2 for a comment line. OpenMesh takes the first line
- * for the keyword and reads the rest with stream extraction, which would
- * take a '#' for a number, so OFF comments are refused. */
-static int next_content_line(text_cursor *c, const char **line, const char **eol, const char **tok, int *len, int max)
+/* OpenMesh's OFF reader takes the first line for the keyword alone, the
+ * next for exactly three counts, and every later value by stream
+ * extraction: a '#' comment, counts on the keyword's line (ModelNet's
+ * "OFF490 518 0" too), a missing edge count or a face colour would shift
+ * every number after it. Files in the wild have all of them (Geomview's
+ * comments, MeshLab's face colours), so such a file is written again as
+ * OpenMesh reads it (sam_mesh_expect.off_text) rather than refused. */
+
+/* Next line with a token, cut at a '#' (the rest of the line is a
+ * comment, *commented set); its token count (storing at most `max`), -1 at
+ * the end of the file. *eol is where its content ends. */
+static int next_content_line(text_cursor *c, const char **line, const char **eol, const char **tok, int *len, int max,
+                             int *commented)
 {
     while (next_line(c, line, eol)) {
+        const char *hash = memchr(*line, '#', (size_t)(*eol - *line));
+        if (hash)
+            *eol = hash, *commented = 1;
         int count = tokenize(*line, *eol, tok, len, max);
-        if (count > 0 && tok[0][0] == '#')
-            return -2;
         if (count > 0)
             return count;
     }
@@ -491,22 +500,17 @@ static int next_content_line(text_cursor *c, const char **line, const char **eol
 
 #define OFF_MAX_TOKENS 16
 
-/* The line layout is checked exactly, because OpenMesh reads vertices by
- * the keyword's layout and faces token by token: a line with extra or
- * missing values would shift everything after it. */
-static sam_status preflight_off(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
-                                sam_error *err)
+/* Walks an OFF file, checking every line's layout exactly; with `out`,
+ * writes it again as OpenMesh reads it. *rewrite (may be NULL) is set
+ * when the file needs that. */
+static sam_status walk_off(const char *path, const char *data, size_t size, sam_mesh_expect *expect, sam_text *out,
+                           int *rewrite, sam_error *err)
 {
-    sam_status st = check_text(path, "OFF", data, size, err);
-    if (st != SAM_OK)
-        return st;
     text_cursor c = {data, data + size, 0};
     const char *line = data, *eol = data;
     const char *tok[OFF_MAX_TOKENS];
-    int len[OFF_MAX_TOKENS];
-    int count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
-    if (count == -2)
-        goto comment;
+    int len[OFF_MAX_TOKENS], commented = 0, reshaped = 0;
+    int count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS, &commented);
     if (count < 0)
         return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file has no header", path);
     /* [ST][C][N]OFF: texture coordinates, colours, normals per vertex. */
@@ -518,31 +522,41 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
         colour = 1, i++;
     if (i < kw_len && kw[i] == 'N')
         normal = 1, i++;
-    if (kw_len - i != 3 || strncmp(kw + i, "OFF", 3))
+    if (kw_len - i < 3 || strncmp(kw + i, "OFF", 3) ||
+        (kw_len - i > 3 && token_count(kw + i + 3, kw_len - i - 3, &(unsigned long long){0}) != 1))
         return sam_fail(err, SAM_ERR_FORMAT,
                         "%s: not an OFF file (first line \"%.*s\"; expected OFF, COFF, NOFF, STOFF or a combination)",
                         path, shown(line, eol), line);
     if (count == 2 && token_is(tok[1], len[1], "BINARY"))
         return sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: binary OFF is not supported; use ASCII OFF or PLY", path);
-    /* OpenMesh reads the counts from the line after the keyword only. */
-    if (count != 1)
-        return sam_fail(err, SAM_ERR_FORMAT,
-                        "%s: OFF line %d: the keyword must stand alone, counts on the next line: \"%.*s\"", path,
-                        c.line_no, shown(line, eol), line);
-    count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
-    if (count == -2)
-        goto comment;
+    /* The counts: on the keyword's line after it (the first may be glued
+     * to it), or alone on the next. */
+    const char *count_tok[4];
+    int count_len[4], counts = 0;
+    if (kw_len - i > 3)
+        count_tok[counts] = kw + i + 3, count_len[counts++] = kw_len - i - 3;
+    for (int k = 1; k < count && k < OFF_MAX_TOKENS && counts < 4; ++k)
+        count_tok[counts] = tok[k], count_len[counts++] = len[k];
+    if (counts || count > 1)
+        reshaped = 1;
+    else {
+        count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS, &commented);
+        for (int k = 0; k < count && k < OFF_MAX_TOKENS && counts < 4; ++k)
+            count_tok[counts] = tok[k], count_len[counts++] = len[k];
+    }
     unsigned long long value[3] = {0, 0, 0};
-    int numbers = count;
-    for (int k = 0; k < numbers && k < 3; ++k)
-        if (token_count(tok[k], len[k], &value[k]) != 1)
+    int numbers = counts == 2 || counts == 3 ? counts : -1;
+    for (int k = 0; k < numbers; ++k)
+        if (token_count(count_tok[k], count_len[k], &value[k]) != 1)
             numbers = -1;
-    /* All three: OpenMesh reads the edge count whether or not it is there,
-     * and would take the first coordinate for it. */
-    if (numbers != 3)
+    if (numbers < 0)
         return sam_fail(err, SAM_ERR_FORMAT,
-                        "%s: OFF header line %d: expected vertex, face and edge counts, found \"%.*s\"", path,
-                        c.line_no, shown(line, eol), line);
+                        "%s: OFF header line %d: expected vertex and face counts (and an edge count), found \"%.*s\"",
+                        path, c.line_no, shown(line, eol), line);
+    /* OpenMesh reads the edge count whether or not it is there, and would
+     * take the first coordinate for it. */
+    if (numbers == 2)
+        reshaped = 1;
     if (value[0] > size || value[1] > size)
         return sam_fail(err, SAM_ERR_FORMAT,
                         "%s: OFF header declares %llu vertices and %llu faces but the file has only %zu bytes", path,
@@ -550,11 +564,14 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
     if (value[0] == 0 || value[1] == 0)
         return sam_fail(err, SAM_ERR_EMPTY, "%s: OFF header declares %llu vertices and %llu faces", path, value[0],
                         value[1]);
+    if (out) {
+        char head[96];
+        const int n = snprintf(head, sizeof head, "%.*s\n%llu %llu %llu\n", i + 3, kw, value[0], value[1], value[2]);
+        sam_text_append(out, head, (size_t)n);
+    }
     int base = 3 + 3 * normal + 2 * st_uv;
     for (unsigned long long v = 0; v < value[0]; ++v) {
-        count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
-        if (count == -2)
-            goto comment;
+        count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS, &commented);
         if (count < 0)
             return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file is truncated: it ends before vertex %llu of %llu", path,
                             v, value[0]);
@@ -568,20 +585,24 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
             return sam_fail(err, SAM_ERR_FORMAT,
                             "%s: OFF line %d: vertex %llu must be %d finite numbers%s: \"%.*s\"", path, c.line_no, v,
                             base, colour ? " plus 3 or 4 colour values" : "", shown(line, eol), line);
+        if (out) {
+            sam_text_append(out, tok[0], (size_t)(tok[count - 1] + len[count - 1] - tok[0]));
+            sam_text_append(out, "\n", 1);
+        }
     }
     for (unsigned long long f = 0; f < value[1]; ++f) {
-        count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS);
-        if (count == -2)
-            goto comment;
+        count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS, &commented);
         if (count < 0)
             return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF file is truncated: it ends before face %llu of %llu", path,
                             f, value[1]);
-        /* k >= 3 corner indices and nothing else (no face colours): the
-         * whole line is checked, whatever its length. */
+        /* k >= 3 corner indices, then a colour (an index into a colour map,
+         * or 3 or 4 values) that OpenMesh is not given: the whole line is
+         * checked, whatever its length. */
         unsigned long long corners;
-        int ok = token_count(tok[0], len[0], &corners) == 1 && corners >= 3 &&
-                 corners + 1 == (unsigned long long)count;
-        const char *p = line;
+        int ok = token_count(tok[0], len[0], &corners) == 1 && corners >= 3 && corners + 1 <= (unsigned long long)count;
+        const unsigned long long extra = ok ? (unsigned long long)count - corners - 1 : 0;
+        ok = ok && (extra == 0 || extra == 1 || extra == 3 || extra == 4);
+        const char *p = line, *corners_end = line;
         for (int k = 0; ok && k < count; ++k) {
             const char *t[1] = {p};
             int l[1] = {0};
@@ -589,23 +610,55 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
                 p++;
             tokenize(p, eol, t, l, 1);
             unsigned long long index;
-            ok = token_count(t[0], l[0], &index) == 1 && (k == 0 || index < value[0]);
+            if ((unsigned long long)k <= corners) {
+                ok = token_count(t[0], l[0], &index) == 1 && (k == 0 || index < value[0]);
+                corners_end = t[0] + l[0];
+            } else {
+                ok = token_number(t[0], l[0]) == 1;
+            }
             p = t[0] + l[0];
         }
         if (!ok)
             return sam_fail(err, SAM_ERR_FORMAT,
-                            "%s: OFF line %d: face %llu must be a corner count k >= 3 and k vertex indices below "
-                            "%llu (face colours are not supported): \"%.*s\"",
+                            "%s: OFF line %d: face %llu must be a corner count k >= 3, k vertex indices below %llu "
+                            "and at most a colour (1, 3 or 4 numbers): \"%.*s\"",
                             path, c.line_no, f, value[0], shown(line, eol), line);
+        if (extra)
+            reshaped = 1;
+        if (out) {
+            sam_text_append(out, tok[0], (size_t)(corners_end - tok[0]));
+            sam_text_append(out, "\n", 1);
+        }
     }
     expect->known = 1;
     expect->vertices = value[0];
     expect->faces = expect->file_faces = value[1];
+    if (rewrite)
+        *rewrite = reshaped || commented;
     return SAM_OK;
-comment:
-    return sam_fail(err, SAM_ERR_FORMAT,
-                    "%s: OFF line %d: comments are not supported in OFF files (OpenMesh cannot skip them)",
-                    path, c.line_no);
+}
+
+static sam_status preflight_off(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
+                                sam_error *err)
+{
+    sam_status st = check_text(path, "OFF", data, size, err);
+    int rewrite = 0;
+    if (st == SAM_OK)
+        st = walk_off(path, data, size, expect, NULL, &rewrite, err);
+    if (st != SAM_OK || !rewrite)
+        return st;
+    sam_text out = {0};
+    st = walk_off(path, data, size, expect, &out, NULL, err);
+    if (st == SAM_OK && out.oom)
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory writing the OFF file again (%zu bytes)", path,
+                      size);
+    if (st != SAM_OK) {
+        free(out.p);
+        return st;
+    }
+    expect->off_text = out.p;
+    expect->off_text_size = out.len;
+    return SAM_OK;
 }
 
 /* ---- OBJ */

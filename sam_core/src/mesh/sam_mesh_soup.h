@@ -29,11 +29,15 @@ typedef struct sam_mesh_soup {
 
 /* Reads OBJ, PLY (ASCII/binary), OFF or STL through OpenMesh's readers into
  * a soup. Every exception is caught. Indices are checked against the vertex
- * count here; coordinates are validated by the caller.
+ * count here; coordinates are validated by the caller. `text` (may be
+ * NULL: the file is read) is an OFF file written again for the reader,
+ * text_size bytes (sam_mesh_expect.off_text), read as OFF in the file's
+ * place; `path` still names the file in the messages.
  * Errors: SAM_ERR_IO (missing/unreadable), SAM_ERR_UNSUPPORTED (extension),
  * SAM_ERR_FORMAT (OpenMesh rejected the file; its diagnostics are quoted),
  * SAM_ERR_OUT_OF_MEMORY. */
-sam_status sam_mesh_soup_read(const char *path, sam_mesh_soup *soup, sam_error *err);
+sam_status sam_mesh_soup_read(const char *path, const char *text, size_t text_size, sam_mesh_soup *soup,
+                              sam_error *err);
 
 void sam_mesh_soup_free(sam_mesh_soup *soup);
 
@@ -75,6 +79,12 @@ typedef struct sam_mesh_expect {
     uint32_t *obj_face_offsets;        /* faces + 1: each kept face's corners in the two arrays below */
     uint32_t *obj_corner_vertex;       /* 0-based position, in file order, repeated corners included */
     uint32_t *obj_corner_normal;       /* 0-based vn */
+    /* An OFF file with comments, counts on the keyword's line, no edge
+     * count or face colours, written again as OpenMesh reads it (the same
+     * vertices and faces): what the reader reads instead of the file.
+     * Owned; NULL when the file goes as it is (sam_mesh_expect_free). */
+    char *off_text;
+    size_t off_text_size;              /* bytes, without the terminating NUL */
 } sam_mesh_expect;
 
 void sam_mesh_expect_free(sam_mesh_expect *expect);
