@@ -231,7 +231,7 @@ static void test_off_as_other_tools_write_it(void **state)
                              "1 0 1 1 0 0\n1 1 1 1 0 0\n0 1 1 1 0 0 1\n4 0 3 2 1 255 0 0\n4 4 5 6 7 0.5 0.5 0.5 1\n"
                              "4 0 1 5 4 3\n4 3 7 6 2 1 1 1\n4 0 4 7 3 0 0 0 0\n4 1 2 6 5\n"},
     };
-    sam_mesh plain;
+    sam_mesh plain = {0};
     for (size_t v = 0; v < sizeof variants / sizeof *variants; ++v) {
         char path[512];
         write_tmp(path, sizeof path, variants[v][0], variants[v][1]);
@@ -249,6 +249,63 @@ static void test_off_as_other_tools_write_it(void **state)
         assert_memory_equal(m.triangles, plain.triangles, 3 * 12 * sizeof *m.triangles);
         sam_mesh_destroy(&m);
     }
+    sam_mesh_destroy(&plain);
+}
+
+/* Loads `text` as `name`; fails the test with the loader's message. */
+static void load_text(const char *name, const char *text, sam_mesh *m)
+{
+    char path[512];
+    sam_error err;
+    write_tmp(path, sizeof path, name, text);
+    if (sam_mesh_load(path, m, NULL, &err) != SAM_OK)
+        fail_msg("%s: %s", name, err.message);
+}
+
+/* An OFF written again keeps its own layout, whatever OFF was read before
+ * it: OpenMesh's OFF reader keeps the layout of the last file it opened,
+ * and read from memory a commented OFF after a NOFF took six values a
+ * vertex. A commented NOFF keeps its normals, a commented STOFF its UVs. */
+static void test_rewritten_off_keeps_its_layout(void **state)
+{
+    (void)state;
+    static const char *const faces = "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 3 7 6 2\n4 0 4 7 3\n4 1 2 6 5\n";
+    static const float corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                       {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    char noff[1024], stoff[1024], noff_c[1100], stoff_c[1100];
+    int n = snprintf(noff, sizeof noff, "NOFF\n8 6 0\n"), t = snprintf(stoff, sizeof stoff, "STOFF\n8 6 0\n");
+    for (int v = 0; v < 8; ++v) {
+        const float *c = corner[v];
+        n += snprintf(noff + n, sizeof noff - (size_t)n, "%g %g %g %g %g %g\n", c[0], c[1], c[2], 2 * c[0] - 1,
+                      2 * c[1] - 1, 2 * c[2] - 1);
+        t += snprintf(stoff + t, sizeof stoff - (size_t)t, "%g %g %g %g %g\n", c[0], c[1], c[2], 0.1 + 0.1 * v,
+                      0.9 - 0.1 * v);
+    }
+    snprintf(noff + n, sizeof noff - (size_t)n, "%s", faces);
+    snprintf(stoff + t, sizeof stoff - (size_t)t, "%s", faces);
+    snprintf(noff_c, sizeof noff_c, "# normals\n%s", noff);
+    snprintf(stoff_c, sizeof stoff_c, "# texture coordinates\n%s", stoff);
+    sam_mesh plain, m;
+    load_text("layout_noff.off", noff, &plain);
+    load_text("layout_comment.off", "# a plain cube after a NOFF\nOFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n"
+                                    "1 0 1\n1 1 1\n0 1 1\n4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 3 7 6 2\n4 0 4 7 3\n"
+                                    "4 1 2 6 5\n",
+              &m);
+    assert_int_equal(m.vertex_count, 8);
+    assert_memory_equal(m.positions, plain.positions, 3 * 8 * sizeof *m.positions);
+    sam_mesh_destroy(&m);
+    load_text("layout_noff_comment.off", noff_c, &m);
+    assert_non_null(m.normals);
+    assert_memory_equal(m.normals, plain.normals, 3 * (size_t)m.vertex_count * sizeof *m.normals);
+    sam_mesh_destroy(&m);
+    sam_mesh_destroy(&plain);
+    load_text("layout_stoff.off", stoff, &plain);
+    load_text("layout_stoff_comment.off", stoff_c, &m);
+    assert_non_null(plain.uvs);
+    assert_non_null(m.uvs);
+    assert_int_equal(m.vertex_count, plain.vertex_count);
+    assert_memory_equal(m.uvs, plain.uvs, 2 * (size_t)m.vertex_count * sizeof *m.uvs);
+    sam_mesh_destroy(&m);
     sam_mesh_destroy(&plain);
 }
 
@@ -735,6 +792,10 @@ static void test_bad_inputs_give_one_clear_error(void **state)
                  "line 6: face 0");
     expect_error("comment_in_face.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 # 2\n", SAM_ERR_FORMAT,
                  "line 6: face 0");
+    /* 2^64 - 1 corners: k + 1 wrapped to 0 and passed, and OpenMesh then
+     * took 4 billion corners. */
+    expect_error("corner_overflow.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n18446744073709551615 0 1\n",
+                 SAM_ERR_FORMAT, "line 6: face 0");
     expect_error("zero.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n", SAM_ERR_EMPTY, "3 vertices and 0 faces");
     expect_error("lone_cr.ply",
                  "ply\nformat ascii 1.0\nelement vev\r\rx 3\nproperty float x\nend_header\n0\n0\n0\n",
@@ -1115,6 +1176,7 @@ int main(void)
         cmocka_unit_test(test_cube_obj_with_uv_seams),
         cmocka_unit_test(test_same_cube_in_every_format),
         cmocka_unit_test(test_off_as_other_tools_write_it),
+        cmocka_unit_test(test_rewritten_off_keeps_its_layout),
         cmocka_unit_test(test_open_sheet_rings_and_fan_areas),
         cmocka_unit_test(test_sphere_curvature),
         cmocka_unit_test(test_repairs_are_reported),

@@ -60,6 +60,10 @@ void sam_text_append(sam_text *t, const char *s, size_t n)
 {
     if (t->oom)
         return;
+    if (n > SIZE_MAX / 2 - 1 - t->len) {
+        t->oom = 1;
+        return;
+    }
     if (t->len + n + 1 > t->cap) {
         size_t cap = t->cap ? t->cap * 2 : 4096;
         while (cap < t->len + n + 1)
@@ -72,7 +76,8 @@ void sam_text_append(sam_text *t, const char *s, size_t n)
         t->p = p;
         t->cap = cap;
     }
-    memcpy(t->p + t->len, s, n);
+    if (n)
+        memcpy(t->p + t->len, s, n);
     t->len += n;
     t->p[t->len] = '\0';
 }

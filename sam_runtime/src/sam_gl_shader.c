@@ -26,7 +26,7 @@ static int find_file(const char *name, size_t len)
     return -1;
 }
 
-/* A growing string. */
+/* Appends fmt with two ints (at most 63 characters). */
 static void appendf(sam_text *t, const char *fmt, int a, int b)
 {
     char buf[64];

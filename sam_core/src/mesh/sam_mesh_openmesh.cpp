@@ -8,6 +8,8 @@
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <iostream>
 #include <cstdio>
@@ -195,6 +197,51 @@ private:
     bool log_was_enabled_, out_was_enabled_;
 };
 
+// An OFF file written again by the preflight, held in a private temporary
+// file for as long as OpenMesh reads it. Not a stream: OpenMesh's OFF reader
+// learns a file's layout (normals, colours, texture coordinates) only when
+// it opens it by name, and read from a stream it kept the layout of the OFF
+// file read before.
+class TemporaryOff {
+public:
+    ~TemporaryOff()
+    {
+        if (!path_.empty())
+            std::remove(path_.c_str());
+    }
+
+    // Writes `text`; SAM_OK with path() naming the file.
+    sam_status write(const char *source, const char *text, size_t size, sam_error *err)
+    {
+        const char *dir = std::getenv("TMPDIR");
+        std::string name = std::string(dir && *dir ? dir : "/tmp") + "/sam_off_XXXXXX.off";
+        std::vector<char> buf(name.begin(), name.end());
+        buf.push_back('\0');
+        int fd = mkstemps(buf.data(), 4);
+        if (fd < 0)
+            return sam_fail(err, SAM_ERR_IO, "%s: cannot create a temporary file in %s to read it from: %s", source,
+                            dir && *dir ? dir : "/tmp", std::strerror(errno));
+        path_ = buf.data();
+        FILE *fp = fdopen(fd, "wb");
+        if (!fp) {
+            close(fd);
+            return sam_fail(err, SAM_ERR_IO, "%s: cannot write the temporary file %s: %s", source, path_.c_str(),
+                            std::strerror(errno));
+        }
+        bool ok = std::fwrite(text, 1, size, fp) == size;
+        ok = std::fclose(fp) == 0 && ok;
+        if (!ok)
+            return sam_fail(err, SAM_ERR_IO, "%s: cannot write the temporary file %s (%zu bytes): %s", source,
+                            path_.c_str(), size, std::strerror(errno));
+        return SAM_OK;
+    }
+
+    const std::string &path() const { return path_; }
+
+private:
+    std::string path_;
+};
+
 sam_status read_soup(const char *path, const char *text, size_t text_size, sam_mesh_soup *soup, sam_error *err)
 {
     static const char *const extensions[] = {".obj", ".ply", ".off", ".stl"};
@@ -212,6 +259,12 @@ sam_status read_soup(const char *path, const char *text, size_t text_size, sam_m
     if (first == EOF)
         return sam_fail(err, SAM_ERR_EMPTY, "%s: file is empty", path);
 
+    TemporaryOff rewritten;
+    if (text) {
+        sam_status st = rewritten.write(path, text, text_size, err);
+        if (st != SAM_OK)
+            return st;
+    }
     SoupImporter importer;
     IO::Options options;
     options += IO::Options::VertexNormal;
@@ -221,12 +274,7 @@ sam_status read_soup(const char *path, const char *text, size_t text_size, sam_m
     std::string diagnostics;
     {
         DiagnosticCapture capture;
-        if (text) {
-            std::istringstream in(std::string(text, text_size));
-            ok = IO::IOManager().read(in, ".off", importer, options);
-        } else {
-            ok = IO::IOManager().read(path, importer, options);
-        }
+        ok = IO::IOManager().read(text ? rewritten.path() : std::string(path), importer, options);
         diagnostics = capture.text();
     }
     if (!ok)

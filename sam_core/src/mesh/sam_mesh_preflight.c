@@ -30,6 +30,7 @@
 typedef struct text_cursor {
     const char *p, *end;
     int line_no;
+    const char *eol; /* where the last line read ends, for messages that quote it whole */
 } text_cursor;
 
 /* Next line [*line, *eol) without its newline (and CR); 0 at the end. */
@@ -45,6 +46,7 @@ static int next_line(text_cursor *c, const char **line, const char **eol)
         c->p++;
     if (*eol > *line && (*eol)[-1] == '\r')
         (*eol)--;
+    c->eol = *eol;
     c->line_no++;
     return 1;
 }
@@ -318,7 +320,7 @@ static sam_status ply_body_ascii(const char *path, const ply_element *el, int el
 static sam_status preflight_ply(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
                                 sam_error *err)
 {
-    text_cursor c = {data, data + size, 0};
+    text_cursor c = {data, data + size, 0, data};
     const char *line, *eol;
     ply_element *el = calloc(PLY_MAX_ELEMENTS, sizeof *el);
     if (!el)
@@ -506,7 +508,7 @@ static int next_content_line(text_cursor *c, const char **line, const char **eol
 static sam_status walk_off(const char *path, const char *data, size_t size, sam_mesh_expect *expect, sam_text *out,
                            int *rewrite, sam_error *err)
 {
-    text_cursor c = {data, data + size, 0};
+    text_cursor c = {data, data + size, 0, data};
     const char *line = data, *eol = data;
     const char *tok[OFF_MAX_TOKENS];
     int len[OFF_MAX_TOKENS], commented = 0, reshaped = 0;
@@ -523,10 +525,10 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
     if (i < kw_len && kw[i] == 'N')
         normal = 1, i++;
     if (kw_len - i < 3 || strncmp(kw + i, "OFF", 3) ||
-        (kw_len - i > 3 && token_count(kw + i + 3, kw_len - i - 3, &(unsigned long long){0}) != 1))
+        (kw_len - i > 3 && token_count(kw + i + 3, kw_len - i - 3, &(unsigned long long){0}) == 0))
         return sam_fail(err, SAM_ERR_FORMAT,
                         "%s: not an OFF file (first line \"%.*s\"; expected OFF, COFF, NOFF, STOFF or a combination)",
-                        path, shown(line, eol), line);
+                        path, shown(line, c.eol), line);
     if (count == 2 && token_is(tok[1], len[1], "BINARY"))
         return sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: binary OFF is not supported; use ASCII OFF or PLY", path);
     /* The counts: on the keyword's line after it (the first may be glued
@@ -552,7 +554,7 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
     if (numbers < 0)
         return sam_fail(err, SAM_ERR_FORMAT,
                         "%s: OFF header line %d: expected vertex and face counts (and an edge count), found \"%.*s\"",
-                        path, c.line_no, shown(line, eol), line);
+                        path, c.line_no, shown(line, c.eol), line);
     /* OpenMesh reads the edge count whether or not it is there, and would
      * take the first coordinate for it. */
     if (numbers == 2)
@@ -584,8 +586,9 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
         if (!ok || kind != 1)
             return sam_fail(err, SAM_ERR_FORMAT,
                             "%s: OFF line %d: vertex %llu must be %d finite numbers%s: \"%.*s\"", path, c.line_no, v,
-                            base, colour ? " plus 3 or 4 colour values" : "", shown(line, eol), line);
+                            base, colour ? " plus 3 or 4 colour values" : "", shown(line, c.eol), line);
         if (out) {
+            /* count <= base + 4 <= 12 here: every token is stored. */
             sam_text_append(out, tok[0], (size_t)(tok[count - 1] + len[count - 1] - tok[0]));
             sam_text_append(out, "\n", 1);
         }
@@ -599,7 +602,7 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
          * or 3 or 4 values) that OpenMesh is not given: the whole line is
          * checked, whatever its length. */
         unsigned long long corners;
-        int ok = token_count(tok[0], len[0], &corners) == 1 && corners >= 3 && corners + 1 <= (unsigned long long)count;
+        int ok = token_count(tok[0], len[0], &corners) == 1 && corners >= 3 && corners < (unsigned long long)count;
         const unsigned long long extra = ok ? (unsigned long long)count - corners - 1 : 0;
         ok = ok && (extra == 0 || extra == 1 || extra == 3 || extra == 4);
         const char *p = line, *corners_end = line;
@@ -622,7 +625,7 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
             return sam_fail(err, SAM_ERR_FORMAT,
                             "%s: OFF line %d: face %llu must be a corner count k >= 3, k vertex indices below %llu "
                             "and at most a colour (1, 3 or 4 numbers): \"%.*s\"",
-                            path, c.line_no, f, value[0], shown(line, eol), line);
+                            path, c.line_no, f, value[0], shown(line, c.eol), line);
         if (extra)
             reshaped = 1;
         if (out) {
@@ -702,7 +705,7 @@ static sam_status preflight_obj(const char *path, const char *data, size_t size,
     sam_status st = check_text(path, "OBJ", data, size, err);
     if (st != SAM_OK)
         return st;
-    text_cursor c = {data, data + size, 0};
+    text_cursor c = {data, data + size, 0, data};
     const char *line, *eol;
     unsigned long long nv = 0, nt = 0, nn = 0;
     sam_mesh_obj_gather g = {1, 0, 0, 0, 0, 0, 0};
@@ -805,7 +808,7 @@ static sam_status preflight_stl(const char *path, const char *data, size_t size,
                             : 0;
     /* Binary files may begin with "solid" too; their size tells them apart. */
     if (size >= 5 && !memcmp(data, "solid", 5) && !(size >= 84 && 84ull + 50ull * n == size)) {
-        text_cursor c = {data, data + size, 0};
+        text_cursor c = {data, data + size, 0, data};
         const char *line, *eol;
         while (next_line(&c, &line, &eol)) {
             const char *tok[5];

@@ -32,8 +32,10 @@ typedef struct sam_mesh_soup {
  * count here; coordinates are validated by the caller. `text` (may be
  * NULL: the file is read) is an OFF file written again for the reader,
  * text_size bytes (sam_mesh_expect.off_text), read as OFF in the file's
- * place; `path` still names the file in the messages.
- * Errors: SAM_ERR_IO (missing/unreadable), SAM_ERR_UNSUPPORTED (extension),
+ * place from a private temporary file in $TMPDIR (else /tmp), removed
+ * after; `path` still names the file in the messages.
+ * Errors: SAM_ERR_IO (missing/unreadable, or no temporary file to be had),
+ * SAM_ERR_UNSUPPORTED (extension),
  * SAM_ERR_FORMAT (OpenMesh rejected the file; its diagnostics are quoted),
  * SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_mesh_soup_read(const char *path, const char *text, size_t text_size, sam_mesh_soup *soup,
