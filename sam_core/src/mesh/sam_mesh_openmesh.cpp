@@ -214,13 +214,15 @@ public:
     sam_status write(const char *source, const char *text, size_t size, sam_error *err)
     {
         const char *dir = std::getenv("TMPDIR");
-        std::string name = std::string(dir && *dir ? dir : "/tmp") + "/sam_off_XXXXXX.off";
+        if (!dir || !*dir)
+            dir = "/tmp";
+        std::string name = std::string(dir) + "/sam_off_XXXXXX.off";
         std::vector<char> buf(name.begin(), name.end());
         buf.push_back('\0');
         int fd = mkstemps(buf.data(), 4);
         if (fd < 0)
             return sam_fail(err, SAM_ERR_IO, "%s: cannot create a temporary file in %s to read it from: %s", source,
-                            dir && *dir ? dir : "/tmp", std::strerror(errno));
+                            dir, std::strerror(errno));
         path_ = buf.data();
         FILE *fp = fdopen(fd, "wb");
         if (!fp) {

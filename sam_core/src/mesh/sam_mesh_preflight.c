@@ -539,7 +539,7 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
         count_tok[counts] = kw + i + 3, count_len[counts++] = kw_len - i - 3;
     for (int k = 1; k < count && k < OFF_MAX_TOKENS && counts < 4; ++k)
         count_tok[counts] = tok[k], count_len[counts++] = len[k];
-    if (counts || count > 1)
+    if (counts)
         reshaped = 1;
     else {
         count = next_content_line(&c, &line, &eol, tok, len, OFF_MAX_TOKENS, &commented);
