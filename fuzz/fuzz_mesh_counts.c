@@ -26,7 +26,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     sam_mesh_soup soup;
     sam_error err;
     if (sam_mesh_preflight(path, &expect, &err) == SAM_OK && expect.known &&
-        sam_mesh_soup_read(path, expect.off_text, expect.off_text_size, &soup, &err) == SAM_OK) {
+        sam_mesh_soup_read(path, expect.rewritten, expect.rewritten_size, expect.rewritten_extension, &soup, &err) ==
+            SAM_OK) {
         if (soup.vertex_count != expect.vertices || soup.face_count != expect.faces) {
             fprintf(stderr, "fuzz_mesh_counts: the pre-check counts %llu vertices and %llu faces, OpenMesh read %u "
                             "and %u\n",

@@ -252,6 +252,219 @@ static void test_off_as_other_tools_write_it(void **state)
     sam_mesh_destroy(&plain);
 }
 
+/* A PLY file as it is written, value by value: ASCII, or binary in either
+ * byte order (format 0 ASCII, 1 little-endian, 2 big-endian). */
+typedef struct ply_out {
+    unsigned char buf[8192];
+    size_t n;
+    int format;
+} ply_out;
+
+static void ply_text(ply_out *o, const char *s)
+{
+    size_t len = strlen(s);
+    assert_true(o->n + len <= sizeof o->buf);
+    memcpy(o->buf + o->n, s, len);
+    o->n += len;
+}
+
+/* One value of the PLY type `type`; in ASCII followed by a blank. */
+static void ply_value(ply_out *o, const char *type, double v)
+{
+    if (o->format == 0) {
+        char s[64];
+        snprintf(s, sizeof s, "%.9g ", v);
+        ply_text(o, s);
+        return;
+    }
+    unsigned char le[8];
+    int size;
+    if (!strcmp(type, "float") || !strcmp(type, "float32")) {
+        float f = (float)v;
+        memcpy(le, &f, size = 4);
+    } else if (!strcmp(type, "double") || !strcmp(type, "float64")) {
+        memcpy(le, &v, size = 8);
+    } else {
+        size = strstr(type, "char") || strstr(type, "8") ? 1 : strstr(type, "short") || strstr(type, "16") ? 2 : 4;
+        const int64_t i = (int64_t)v;
+        for (int b = 0; b < size; ++b)
+            le[b] = (unsigned char)((uint64_t)i >> (8 * b));
+    }
+    assert_true(o->n + (size_t)size <= sizeof o->buf);
+    for (int b = 0; b < size; ++b)
+        o->buf[o->n++] = le[o->format == 2 ? size - 1 - b : b];
+}
+
+typedef struct ply_variant {
+    const char *name;
+    const char *count_type, *index_type, *coord_type; /* the corners' list and the positions */
+    int vertex_list;  /* a list property after each vertex's position */
+    int texcoords;    /* MeshLab's per-corner texcoord list and texnumber after the corners */
+    int normals;      /* short nx, ny, nz: integer normals */
+    const char *before_end; /* a header line before end_header */
+    const char *line_end;   /* after each header line */
+} ply_variant;
+
+/* The cube of cube_tris as `v` lays it out. Corner c of face f has the
+ * texture coordinate (0.05 f, 0.05 cube_tris[f][c]). */
+static size_t ply_cube(const ply_variant *v, int format, unsigned char *buf, size_t cap)
+{
+    static const char *const formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+    ply_out *o = calloc(1, sizeof *o);
+    assert_non_null(o);
+    o->format = format;
+    const char *eol = v->line_end ? v->line_end : "\n";
+    char line[160];
+#define PLY_LINE(...) (snprintf(line, sizeof line, __VA_ARGS__), ply_text(o, line), ply_text(o, eol))
+    PLY_LINE("ply");
+    PLY_LINE("format %s 1.0", formats[format]);
+    PLY_LINE("element vertex 8");
+    for (int a = 0; a < 3; ++a)
+        PLY_LINE("property %s %c", v->coord_type, "xyz"[a]);
+    if (v->normals)
+        PLY_LINE("property short nx"), PLY_LINE("property short ny"), PLY_LINE("property short nz");
+    if (v->vertex_list)
+        PLY_LINE("property list uchar int neighbours");
+    PLY_LINE("property uchar red");
+    PLY_LINE("element face 12");
+    PLY_LINE("property list %s %s vertex_indices", v->count_type, v->index_type);
+    if (v->texcoords)
+        PLY_LINE("property list uchar float texcoord"), PLY_LINE("property int texnumber");
+    if (v->before_end)
+        ply_text(o, v->before_end);
+    PLY_LINE("end_header");
+#undef PLY_LINE
+    for (int i = 0; i < 8; ++i) {
+        for (int a = 0; a < 3; ++a)
+            ply_value(o, v->coord_type, cube_verts[i][a]);
+        for (int a = 0; a < 3 * v->normals; ++a)
+            ply_value(o, "short", 2 * cube_verts[i][a] - 1);
+        if (v->vertex_list) {
+            ply_value(o, "uchar", 2);
+            ply_value(o, "int", (i + 1) % 8);
+            ply_value(o, "int", (i + 7) % 8);
+        }
+        ply_value(o, "uchar", 200);
+        if (format == 0)
+            ply_text(o, "\n");
+    }
+    for (int f = 0; f < 12; ++f) {
+        ply_value(o, v->count_type, 3);
+        for (int c = 0; c < 3; ++c)
+            ply_value(o, v->index_type, cube_tris[f][c]);
+        if (v->texcoords) {
+            ply_value(o, "uchar", 6);
+            for (int c = 0; c < 3; ++c)
+                ply_value(o, "float", 0.05 * f), ply_value(o, "float", 0.05 * cube_tris[f][c]);
+            ply_value(o, "int", 0);
+        }
+        if (format == 0)
+            ply_text(o, "\n");
+    }
+    const size_t n = o->n;
+    assert_true(n <= cap);
+    memcpy(buf, o->buf, n);
+    free(o);
+    return n;
+}
+
+/* The source vertex of the cube at `p`. */
+static int cube_vertex_at(const float *p)
+{
+    for (int i = 0; i < 8; ++i)
+        if (p[0] == cube_verts[i][0] && p[1] == cube_verts[i][1] && p[2] == cube_verts[i][2])
+            return i;
+    fail_msg("(%g, %g, %g) is no vertex of the cube", (double)p[0], (double)p[1], (double)p[2]);
+    return -1;
+}
+
+/* PLY files as other tools write them, which OpenMesh's reader alone
+ * refuses or misreads without a word (sam_mesh_ply.h): list counts typed
+ * uint, int32, ushort, short or char; integer positions and normals; corner indices typed
+ * as floats; a list on the vertices; MeshLab's and Metashape's per-corner
+ * texcoord lists; a comment, a blank line or a trailing blank at the end of
+ * a binary header. Each loads as the plain cube, vertex for vertex, in
+ * ASCII and in both byte orders, and the texcoord lists give every
+ * corner its own texture coordinate. */
+static void test_ply_as_other_tools_write_it(void **state)
+{
+    (void)state;
+    static const ply_variant variants[] = {
+        {"plain", "uchar", "int", "float", 0, 0, 0, NULL, NULL},
+        {"count_uint", "uint", "uint", "float", 0, 0, 0, NULL, NULL},
+        {"count_int32", "int32", "int32", "float", 0, 0, 0, NULL, NULL},
+        {"count_uint32", "uint32", "int", "float", 0, 0, 0, NULL, NULL},
+        {"count_ushort", "ushort", "int", "float", 0, 0, 0, NULL, NULL},
+        {"count_short", "short", "ushort", "float", 0, 0, 0, NULL, NULL},
+        {"count_char", "char", "int", "float", 0, 0, 0, NULL, NULL},
+        {"count_int8", "int8", "uint8", "float", 0, 0, 0, NULL, NULL},
+        {"float_indices", "uchar", "float", "float", 0, 0, 0, NULL, NULL},
+        {"short_positions", "uchar", "int", "short", 0, 0, 0, NULL, NULL},
+        {"int_positions", "uchar", "int", "int", 0, 0, 0, NULL, NULL},
+        {"double_positions", "uchar", "int", "double", 0, 0, 0, NULL, NULL},
+        {"vertex_list", "uchar", "int", "float", 1, 0, 0, NULL, NULL},
+        {"meshlab_texcoord", "uchar", "int", "float", 0, 1, 0, NULL, NULL},
+        {"short_normals", "uchar", "int", "float", 0, 0, 1, NULL, NULL},
+        {"comment_last", "uchar", "int", "float", 0, 0, 0, "comment written last\n", NULL},
+        {"obj_info_comment_last", "uchar", "int", "float", 0, 0, 0, "obj_info units comment mm\n", NULL},
+        {"blank_last", "uchar", "int", "float", 0, 0, 0, "\n", NULL},
+        {"trailing_blanks", "uchar", "int", "float", 0, 0, 0, NULL, " \n"},
+        {"crlf", "uchar", "int", "float", 0, 0, 0, NULL, "\r\n"},
+    };
+    for (size_t k = 0; k < sizeof variants / sizeof *variants; ++k) {
+        const ply_variant *v = &variants[k];
+        for (int format = 0; format < 3; ++format) {
+            unsigned char buf[8192];
+            char name[96], path[512];
+            snprintf(name, sizeof name, "ply_%s_%d.ply", v->name, format);
+            const size_t n = ply_cube(v, format, buf, sizeof buf);
+            sam_test_write_file(sam_test_tmp_path(path, sizeof path, name), buf, n);
+            sam_mesh m;
+            sam_error err;
+            if (sam_mesh_load(path, &m, NULL, &err) != SAM_OK)
+                fail_msg("%s: %s", name, err.message);
+            assert_int_equal(m.topo_count, 8);
+            assert_int_equal(m.triangle_count, 12);
+            for (uint32_t t = 0; t < 12; ++t) {
+                int corner[3];
+                for (int c = 0; c < 3; ++c)
+                    corner[c] = cube_vertex_at(&m.positions[3 * (size_t)m.triangles[3 * t + c]]);
+                /* Which of the file's faces this triangle is, in any rotation. */
+                int face = -1;
+                for (int f = 0; f < 12 && face < 0; ++f)
+                    for (int r = 0; r < 3; ++r)
+                        if (cube_tris[f][r] == corner[0] && cube_tris[f][(r + 1) % 3] == corner[1] &&
+                            cube_tris[f][(r + 2) % 3] == corner[2])
+                            face = f;
+                if (face < 0)
+                    fail_msg("%s: triangle %u (%d %d %d) is none of the file's faces", name, t, corner[0], corner[1],
+                             corner[2]);
+                if (!v->texcoords)
+                    continue;
+                assert_non_null(m.uvs);
+                for (int c = 0; c < 3; ++c) {
+                    const float *uv = &m.uvs[2 * (size_t)m.triangles[3 * t + c]];
+                    assert_float_equal(uv[0], 0.05f * (float)face, 1e-6);
+                    assert_float_equal(uv[1], 0.05f * (float)corner[c], 1e-6);
+                }
+            }
+            if (v->texcoords)
+                assert_int_equal(m.vertex_count, 36);
+            else
+                assert_null(m.uvs);
+            if (v->normals) {
+                assert_non_null(m.normals);
+                for (uint32_t i = 0; i < m.vertex_count; ++i) {
+                    const int s = cube_vertex_at(&m.positions[3 * (size_t)i]);
+                    for (int a = 0; a < 3; ++a)
+                        assert_float_equal(m.normals[3 * i + a], (2 * cube_verts[s][a] - 1) / sqrtf(3.0f), 1e-5);
+                }
+            }
+            sam_mesh_destroy(&m);
+        }
+    }
+}
+
 /* Loads `text` as `name`; fails the test with the loader's message. */
 static void load_text(const char *name, const char *text, sam_mesh *m)
 {
@@ -782,6 +995,19 @@ static void test_bad_inputs_give_one_clear_error(void **state)
     expect_error("property_first.ply",
                  "ply\nformat ascii 1.0\nproperty float x\nelement vertex 3\nend_header\n0\n0\n0\n",
                  SAM_ERR_FORMAT, "line 3 is not valid");
+    /* Found by fuzz_mesh: a float count was walked as an integer of its
+     * size and written again as a float's value. */
+    expect_error("float_count.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 1\nproperty list float int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+                 "3 0 1 2\n",
+                 SAM_ERR_FORMAT, "line 8: a list's count must have an integer type");
+    /* A PLY written again for OpenMesh still checks every corner index. */
+    expect_error("fractional_index.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 1\nproperty list uchar float vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+                 "3 0 1 1.5\n",
+                 SAM_ERR_FORMAT, "face 0: corner 2 is 1.5, which is no vertex index");
     expect_error("negative.off", "OFF\n2 -4 0\n0 0 0\n1 0 0\n", SAM_ERR_FORMAT, "expected vertex and face counts");
     expect_error("binary.off", "OFF BINARY\n", SAM_ERR_UNSUPPORTED, "binary OFF");
     expect_error("inline_counts.off", "OFF 0 00  ", SAM_ERR_EMPTY, "0 vertices and 0 faces");
@@ -1177,6 +1403,7 @@ int main(void)
         cmocka_unit_test(test_same_cube_in_every_format),
         cmocka_unit_test(test_off_as_other_tools_write_it),
         cmocka_unit_test(test_rewritten_off_keeps_its_layout),
+        cmocka_unit_test(test_ply_as_other_tools_write_it),
         cmocka_unit_test(test_open_sheet_rings_and_fan_areas),
         cmocka_unit_test(test_sphere_curvature),
         cmocka_unit_test(test_repairs_are_reported),

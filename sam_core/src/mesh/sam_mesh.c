@@ -42,7 +42,13 @@ sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *repo
     if (st == SAM_OK)
         st = gltf ? sam_mesh_gltf_read(path, &soup, err) : sam_mesh_preflight(path, &expect, err);
     if (st == SAM_OK && !gltf)
-        st = sam_mesh_soup_read(path, expect.off_text, expect.off_text_size, &soup, err);
+        st = sam_mesh_soup_read(path, expect.rewritten, expect.rewritten_size, expect.rewritten_extension, &soup,
+                                err);
+    /* Corner UVs a rewritten PLY carried past the reader, corner by corner. */
+    if (st == SAM_OK && expect.corner_uvs && !soup.corner_uvs && expect.corner_uv_count == soup.corner_count) {
+        soup.corner_uvs = expect.corner_uvs;
+        expect.corner_uvs = NULL;
+    }
     /* The reader and the pre-check must agree on what the file holds. */
     if (st == SAM_OK && expect.known && (soup.vertex_count != expect.vertices || soup.face_count != expect.faces))
         st = sam_fail(err, SAM_ERR_FORMAT,

@@ -42,9 +42,12 @@ void sam_mesh_expect_free(sam_mesh_expect *expect)
     if (!expect)
         return;
     drop(expect, &unused);
-    free(expect->off_text);
-    expect->off_text = NULL;
-    expect->off_text_size = 0;
+    free(expect->rewritten);
+    free(expect->corner_uvs);
+    expect->rewritten = NULL;
+    expect->rewritten_size = 0;
+    expect->corner_uvs = NULL;
+    expect->corner_uv_count = 0;
 }
 
 int sam_mesh_obj_gather_normal(sam_mesh_expect *e, sam_mesh_obj_gather *g, uint64_t index, const float v[3])

@@ -197,26 +197,27 @@ private:
     bool log_was_enabled_, out_was_enabled_;
 };
 
-// An OFF file written again by the preflight, held in a private temporary
-// file for as long as OpenMesh reads it. Not a stream: OpenMesh's OFF reader
+// A file written again by the preflight, held in a private temporary file
+// for as long as OpenMesh reads it. Not a stream: OpenMesh's OFF reader
 // learns a file's layout (normals, colours, texture coordinates) only when
 // it opens it by name, and read from a stream it kept the layout of the OFF
 // file read before.
-class TemporaryOff {
+class TemporaryMesh {
 public:
-    ~TemporaryOff()
+    ~TemporaryMesh()
     {
         if (!path_.empty())
             std::remove(path_.c_str());
     }
 
-    // Writes `text`; SAM_OK with path() naming the file.
-    sam_status write(const char *source, const char *text, size_t size, sam_error *err)
+    // Writes `text` to a file named with `extension` (4 characters, ".off");
+    // SAM_OK with path() naming the file.
+    sam_status write(const char *source, const char *text, size_t size, const char *extension, sam_error *err)
     {
         const char *dir = std::getenv("TMPDIR");
         if (!dir || !*dir)
             dir = "/tmp";
-        std::string name = std::string(dir) + "/sam_off_XXXXXX.off";
+        std::string name = std::string(dir) + "/sam_mesh_XXXXXX" + extension;
         std::vector<char> buf(name.begin(), name.end());
         buf.push_back('\0');
         int fd = mkstemps(buf.data(), 4);
@@ -244,7 +245,8 @@ private:
     std::string path_;
 };
 
-sam_status read_soup(const char *path, const char *text, size_t text_size, sam_mesh_soup *soup, sam_error *err)
+sam_status read_soup(const char *path, const char *text, size_t text_size, const char *extension, sam_mesh_soup *soup,
+                     sam_error *err)
 {
     static const char *const extensions[] = {".obj", ".ply", ".off", ".stl"};
     bool known = false;
@@ -261,9 +263,11 @@ sam_status read_soup(const char *path, const char *text, size_t text_size, sam_m
     if (first == EOF)
         return sam_fail(err, SAM_ERR_EMPTY, "%s: file is empty", path);
 
-    TemporaryOff rewritten;
+    TemporaryMesh rewritten;
     if (text) {
-        sam_status st = rewritten.write(path, text, text_size, err);
+        if (!extension || std::strlen(extension) != 4)
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "%s: a rewritten mesh needs its extension", path);
+        sam_status st = rewritten.write(path, text, text_size, extension, err);
         if (st != SAM_OK)
             return st;
     }
@@ -314,13 +318,13 @@ sam_status read_soup(const char *path, const char *text, size_t text_size, sam_m
 
 } // namespace
 
-extern "C" sam_status sam_mesh_soup_read(const char *path, const char *text, size_t text_size, sam_mesh_soup *soup,
-                                         sam_error *err)
+extern "C" sam_status sam_mesh_soup_read(const char *path, const char *text, size_t text_size, const char *extension,
+                                         sam_mesh_soup *soup, sam_error *err)
 {
     if (!path || !soup)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "mesh read: NULL argument");
     std::memset(soup, 0, sizeof *soup);
-    sam_status st = sam_mesh_guarded(path, "OpenMesh", err, [&] { return read_soup(path, text, text_size, soup, err); });
+    sam_status st = sam_mesh_guarded(path, "OpenMesh", err, [&] { return read_soup(path, text, text_size, extension, soup, err); });
     if (st != SAM_OK)
         sam_mesh_soup_free(soup);
     return st;

@@ -25,6 +25,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "sam_mesh_ply.h"
 #include "sam_mesh_soup.h"
 
 typedef struct text_cursor {
@@ -198,40 +199,11 @@ static sam_status check_text(const char *path, const char *kind, const char *dat
 
 /* ---- PLY */
 
-#define PLY_MAX_ELEMENTS 16
-#define PLY_MAX_PROPERTIES 64
-
-typedef struct ply_property {
-    char name[32];
-    int is_list;
-    int count_size, count_signed; /* list: the count's type */
-    int value_size;               /* scalar, or list entries */
-} ply_property;
-
-typedef struct ply_element {
-    char name[32];
-    unsigned long long count;
-    int property_count;
-    ply_property property[PLY_MAX_PROPERTIES];
-} ply_element;
-
-/* Byte size and signedness of a PLY scalar type name; 0 when unknown. */
-static int ply_type(const char *tok, int len, int *is_signed)
+/* OpenMesh's reader takes a list count typed by these names only. */
+static int count_name_read(const char *tok, int len)
 {
-    static const struct {
-        const char *name;
-        int size, is_signed;
-    } types[] = {{"char", 1, 1},    {"uchar", 1, 0},   {"short", 2, 1},   {"ushort", 2, 0},
-                 {"int", 4, 1},     {"uint", 4, 0},    {"float", 4, 1},   {"double", 8, 1},
-                 {"int8", 1, 1},    {"uint8", 1, 0},   {"int16", 2, 1},   {"uint16", 2, 0},
-                 {"int32", 4, 1},   {"uint32", 4, 0},  {"float32", 4, 1}, {"float64", 8, 1}};
-    for (size_t i = 0; i < sizeof types / sizeof types[0]; ++i)
-        if (token_is(tok, len, types[i].name)) {
-            if (is_signed)
-                *is_signed = types[i].is_signed;
-            return types[i].size;
-        }
-    return 0;
+    return token_is(tok, len, "uchar") || token_is(tok, len, "uint8") || token_is(tok, len, "uint16") ||
+           token_is(tok, len, "int");
 }
 
 /* Reads a list count of `size` bytes at `p`; -1 when negative. */
@@ -245,24 +217,32 @@ static long long read_count(const unsigned char *p, int size, int is_signed, int
     return (long long)v;
 }
 
-static sam_status ply_body_binary(const char *path, const ply_element *el, int elements, const unsigned char *body,
+static int is_signed(sam_mesh_ply_type t)
+{
+    return t == SAM_MESH_PLY_INT8 || t == SAM_MESH_PLY_INT16 || t == SAM_MESH_PLY_INT32;
+}
+
+static sam_status ply_body_binary(const char *path, const sam_mesh_ply_element *el, int elements,
+                                  const unsigned char *body,
                                   size_t size, int big_endian, sam_error *err)
 {
     size_t off = 0;
     for (int e = 0; e < elements; ++e) {
         for (unsigned long long i = 0; i < el[e].count; ++i) {
             for (int k = 0; k < el[e].property_count; ++k) {
-                const ply_property *pr = &el[e].property[k];
-                unsigned long long need = (unsigned long long)(pr->is_list ? pr->count_size : pr->value_size);
+                const sam_mesh_ply_property *pr = &el[e].property[k];
+                const int count_size = sam_mesh_ply_type_size(pr->count_type);
+                const int value_size = sam_mesh_ply_type_size(pr->value_type);
+                unsigned long long need = (unsigned long long)(pr->is_list ? count_size : value_size);
                 if (need > size - off)
                     goto truncated;
                 if (pr->is_list) {
-                    long long n = read_count(body + off, pr->count_size, pr->count_signed, big_endian);
-                    off += (size_t)pr->count_size;
+                    long long n = read_count(body + off, count_size, is_signed(pr->count_type), big_endian);
+                    off += (size_t)count_size;
                     if (n < 0)
                         return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY %s %llu has a negative list count", path,
                                         el[e].name, i);
-                    need = (unsigned long long)n * (unsigned long long)pr->value_size;
+                    need = (unsigned long long)n * (unsigned long long)value_size;
                     if (need > size - off)
                         goto truncated;
                 }
@@ -279,7 +259,7 @@ static sam_status ply_body_binary(const char *path, const ply_element *el, int e
 }
 
 /* ASCII bodies are read as a stream of tokens, as OpenMesh does. */
-static sam_status ply_body_ascii(const char *path, const ply_element *el, int elements, const char *body,
+static sam_status ply_body_ascii(const char *path, const sam_mesh_ply_element *el, int elements, const char *body,
                                  size_t size, sam_error *err)
 {
     token_stream ts = {body, body + size};
@@ -317,21 +297,68 @@ static sam_status ply_body_ascii(const char *path, const ply_element *el, int el
     return SAM_OK;
 }
 
+/* Where OpenMesh's header parse stops after the line [line, eol): past its
+ * last word, or at the start of the next line (`next`) where it reads the
+ * rest of the line as a comment: after the word comment opening a line, or
+ * anywhere in an obj_info line, which it reads word by word. */
+static const char *reader_stop_after(const char *line, const char *eol, const char *next)
+{
+    token_stream words = {line, eol};
+    const char *word, *stop = line;
+    int n, first = 1, obj_info = 0;
+    while (next_token(&words, &word, &n)) {
+        if (token_is(word, n, "comment") && (first || obj_info))
+            return next;
+        obj_info |= first && token_is(word, n, "obj_info");
+        first = 0;
+        stop = word + n;
+    }
+    return stop;
+}
+
+/* A PLY that OpenMesh would misread, written again as it reads one right
+ * (sam_mesh_ply.h) into expect->rewritten. */
+static sam_status rewrite_ply(const char *path, const char *data, size_t size, const sam_mesh_ply_header *h,
+                              sam_mesh_expect *expect, sam_error *err)
+{
+    sam_text out = {0};
+    sam_status st = sam_mesh_ply_rewrite(path, data, size, h, &out, &expect->corner_uvs, &expect->corner_uv_count, err);
+    if (st == SAM_OK && out.oom)
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory writing the PLY file again (%zu bytes)", path,
+                      size);
+    if (st != SAM_OK) {
+        free(out.p);
+        return st;
+    }
+    expect->rewritten = out.p;
+    expect->rewritten_size = out.len;
+    expect->rewritten_extension = ".ply";
+    return SAM_OK;
+}
+
 static sam_status preflight_ply(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
                                 sam_error *err)
 {
     text_cursor c = {data, data + size, 0, data};
     const char *line, *eol;
-    ply_element *el = calloc(PLY_MAX_ELEMENTS, sizeof *el);
-    if (!el)
+    sam_mesh_ply_header *h = calloc(1, sizeof *h);
+    if (!h)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    sam_mesh_ply_element *el = h->element;
     int elements = 0, format = -1; /* 0 ascii, 1 little, 2 big endian */
     sam_status st = SAM_OK;
+    /* OpenMesh's binary reader finds the body 12 bytes (14 after a CR)
+     * past where its header parse stopped: the end of the last word before
+     * end_header, or the start of the line after a comment. */
+    const char *reader_stop = data;
     while (next_line(&c, &line, &eol)) {
         const char *tok[6];
         int len[6];
         int count = tokenize(line, eol, tok, len, 6);
         int s = shown(line, eol);
+        const int ends_header = count == 1 && token_is(tok[0], len[0], "end_header");
+        if (count > 0 && !ends_header)
+            reader_stop = reader_stop_after(line, eol, c.p);
         if (c.line_no == 1) {
             if (count != 1 || !token_is(tok[0], len[0], "ply")) {
                 st = sam_fail(err, SAM_ERR_FORMAT, "%s: not a PLY file (first line \"%.*s\", expected \"ply\")", path,
@@ -372,7 +399,7 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                         goto done;
                     }
             continue;
-        } else if (count == 1 && token_is(tok[0], len[0], "end_header")) {
+        } else if (ends_header) {
             if (!elements) {
                 st = sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header declares no elements", path);
                 goto done;
@@ -390,7 +417,7 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
              * a property before it garbled them. */
             int face_at = -1;
             for (int e = 0; st == SAM_OK && e < elements; ++e) {
-                const ply_property *first = el[e].property;
+                const sam_mesh_ply_property *first = el[e].property;
                 if (!strcmp(el[e].name, "vertex")) {
                     expect->vertices = el[e].count;
                     /* After a face element, even one of 0 faces, OpenMesh
@@ -412,15 +439,24 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                                       el[e].property_count ? first->name : "");
                 }
             }
+            if (st == SAM_OK) {
+                h->format = format;
+                h->body = body;
+                h->element_count = elements;
+                const size_t stop = (size_t)(reader_stop - data);
+                h->reader_body = stop + (stop + 1 < size && data[stop] == '\r' && data[stop + 1] == '\n' ? 14 : 12);
+                if (sam_mesh_ply_misread(h))
+                    st = rewrite_ply(path, data, size, h, expect, err);
+            }
             expect->known = st == SAM_OK;
             goto done;
         } else if (count == 3 && token_is(tok[0], len[0], "element")) {
-            if (elements == PLY_MAX_ELEMENTS) {
+            if (elements == SAM_MESH_PLY_MAX_ELEMENTS) {
                 st = sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: PLY header line %d: more than %d elements", path,
-                              c.line_no, PLY_MAX_ELEMENTS);
+                              c.line_no, SAM_MESH_PLY_MAX_ELEMENTS);
                 goto done;
             }
-            ply_element *e = &el[elements++];
+            sam_mesh_ply_element *e = &el[elements++];
             snprintf(e->name, sizeof e->name, "%.*s", len[1], tok[1]);
             /* OpenMesh reads every element of a name: a second vertex
              * element would add to the first. */
@@ -448,18 +484,25 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                 goto done;
             }
         } else if (token_is(tok[0], len[0], "property") && elements &&
-                   el[elements - 1].property_count < PLY_MAX_PROPERTIES &&
-                   ((count == 3 && ply_type(tok[1], len[1], NULL)) ||
-                    (count == 5 && token_is(tok[1], len[1], "list") && ply_type(tok[2], len[2], NULL) &&
-                     ply_type(tok[3], len[3], NULL)))) {
-            ply_property *pr = &el[elements - 1].property[el[elements - 1].property_count++];
+                   el[elements - 1].property_count < SAM_MESH_PLY_MAX_PROPERTIES &&
+                   ((count == 3 && sam_mesh_ply_type_of(tok[1], len[1])) ||
+                    (count == 5 && token_is(tok[1], len[1], "list") && sam_mesh_ply_type_of(tok[2], len[2]) &&
+                     sam_mesh_ply_type_of(tok[3], len[3])))) {
+            sam_mesh_ply_property *pr = &el[elements - 1].property[el[elements - 1].property_count++];
             pr->is_list = count == 5;
             snprintf(pr->name, sizeof pr->name, "%.*s", len[count - 1], tok[count - 1]);
             if (pr->is_list) {
-                pr->count_size = ply_type(tok[2], len[2], &pr->count_signed);
-                pr->value_size = ply_type(tok[3], len[3], NULL);
+                pr->count_type = sam_mesh_ply_type_of(tok[2], len[2]);
+                pr->count_name_read = count_name_read(tok[2], len[2]);
+                pr->value_type = sam_mesh_ply_type_of(tok[3], len[3]);
+                if (pr->count_type == SAM_MESH_PLY_FLOAT32 || pr->count_type == SAM_MESH_PLY_FLOAT64) {
+                    st = sam_fail(err, SAM_ERR_FORMAT,
+                                  "%s: PLY header line %d: a list's count must have an integer type: \"%.*s\"", path,
+                                  c.line_no, s, line);
+                    goto done;
+                }
             } else {
-                pr->value_size = ply_type(tok[1], len[1], NULL);
+                pr->value_type = sam_mesh_ply_type_of(tok[1], len[1]);
             }
         } else {
             st = sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header line %d is not valid: \"%.*s\"", path, c.line_no, s,
@@ -469,7 +512,7 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
     }
     st = sam_fail(err, SAM_ERR_FORMAT, "%s: PLY header has no end_header line", path);
 done:
-    free(el);
+    free(h);
     return st;
 }
 
@@ -481,7 +524,7 @@ done:
  * "OFF490 518 0" too), a missing edge count or a face colour would shift
  * every number after it. Files in the wild have all of them (Geomview's
  * comments, MeshLab's face colours), so such a file is written again as
- * OpenMesh reads it (sam_mesh_expect.off_text) rather than refused. */
+ * OpenMesh reads it (sam_mesh_expect.rewritten) rather than refused. */
 
 /* Next line with a token, cut at a '#' (the rest of the line is a
  * comment, *commented set); its token count (storing at most `max`), -1 at
@@ -659,8 +702,9 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
         free(out.p);
         return st;
     }
-    expect->off_text = out.p;
-    expect->off_text_size = out.len;
+    expect->rewritten = out.p;
+    expect->rewritten_size = out.len;
+    expect->rewritten_extension = ".off";
     return SAM_OK;
 }
 

@@ -30,16 +30,17 @@ typedef struct sam_mesh_soup {
 /* Reads OBJ, PLY (ASCII/binary), OFF or STL through OpenMesh's readers into
  * a soup. Every exception is caught. Indices are checked against the vertex
  * count here; coordinates are validated by the caller. `text` (may be
- * NULL: the file is read) is an OFF file written again for the reader,
- * text_size bytes (sam_mesh_expect.off_text), read as OFF in the file's
- * place from a private temporary file in $TMPDIR (else /tmp), removed
- * after; `path` still names the file in the messages.
+ * NULL: the file is read) is the file written again for the reader,
+ * text_size bytes in the format of `extension` (".off" or ".ply";
+ * sam_mesh_expect.rewritten), read in the file's place from a private
+ * temporary file in $TMPDIR (else /tmp), removed after; `path` still names
+ * the file in the messages.
  * Errors: SAM_ERR_IO (missing/unreadable, or no temporary file to be had),
  * SAM_ERR_UNSUPPORTED (extension),
  * SAM_ERR_FORMAT (OpenMesh rejected the file; its diagnostics are quoted),
  * SAM_ERR_OUT_OF_MEMORY. */
-sam_status sam_mesh_soup_read(const char *path, const char *text, size_t text_size, sam_mesh_soup *soup,
-                              sam_error *err);
+sam_status sam_mesh_soup_read(const char *path, const char *text, size_t text_size, const char *extension,
+                              sam_mesh_soup *soup, sam_error *err);
 
 void sam_mesh_soup_free(sam_mesh_soup *soup);
 
@@ -81,12 +82,19 @@ typedef struct sam_mesh_expect {
     uint32_t *obj_face_offsets;        /* faces + 1: each kept face's corners in the two arrays below */
     uint32_t *obj_corner_vertex;       /* 0-based position, in file order, repeated corners included */
     uint32_t *obj_corner_normal;       /* 0-based vn */
-    /* An OFF file with comments, counts on the keyword's line, no edge
-     * count or face colours, written again as OpenMesh reads it (the same
-     * vertices and faces): what the reader reads instead of the file.
-     * Owned; NULL when the file goes as it is (sam_mesh_expect_free). */
-    char *off_text;
-    size_t off_text_size;              /* bytes, without the terminating NUL */
+    /* The file written again as OpenMesh reads it right (the same vertices
+     * and faces), which the reader reads instead: an OFF file with
+     * comments, counts on the keyword's line, no edge count or face
+     * colours; a PLY it would misread (sam_mesh_ply.h). Owned; NULL when
+     * the file goes as it is (sam_mesh_expect_free). */
+    char *rewritten;
+    size_t rewritten_size;             /* bytes, without the terminating NUL */
+    const char *rewritten_extension;   /* ".off" or ".ply" (static) */
+    /* A rewritten PLY's per-corner texture coordinates, which OpenMesh's
+     * reader does not carry: 2 * corner_uv_count floats, every face's
+     * corners in file order. Owned; NULL when the file has none. */
+    float *corner_uvs;
+    uint32_t corner_uv_count;
 } sam_mesh_expect;
 
 void sam_mesh_expect_free(sam_mesh_expect *expect);

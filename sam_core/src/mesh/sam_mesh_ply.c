@@ -1,0 +1,239 @@
+#include "sam_mesh_ply.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+sam_mesh_ply_type sam_mesh_ply_type_of(const char *tok, int len)
+{
+    static const struct {
+        const char *name;
+        sam_mesh_ply_type type;
+    } names[] = {{"char", SAM_MESH_PLY_INT8},      {"uchar", SAM_MESH_PLY_UINT8},     {"short", SAM_MESH_PLY_INT16},
+                 {"ushort", SAM_MESH_PLY_UINT16},  {"int", SAM_MESH_PLY_INT32},       {"uint", SAM_MESH_PLY_UINT32},
+                 {"float", SAM_MESH_PLY_FLOAT32},  {"double", SAM_MESH_PLY_FLOAT64},  {"int8", SAM_MESH_PLY_INT8},
+                 {"uint8", SAM_MESH_PLY_UINT8},    {"int16", SAM_MESH_PLY_INT16},     {"uint16", SAM_MESH_PLY_UINT16},
+                 {"int32", SAM_MESH_PLY_INT32},    {"uint32", SAM_MESH_PLY_UINT32},   {"float32", SAM_MESH_PLY_FLOAT32},
+                 {"float64", SAM_MESH_PLY_FLOAT64}};
+    for (size_t i = 0; i < sizeof names / sizeof *names; ++i)
+        if (len == (int)strlen(names[i].name) && !strncmp(tok, names[i].name, (size_t)len))
+            return names[i].type;
+    return SAM_MESH_PLY_UNKNOWN;
+}
+
+int sam_mesh_ply_type_size(sam_mesh_ply_type t)
+{
+    static const int sizes[] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
+    return sizes[t];
+}
+
+static int is_float(sam_mesh_ply_type t)
+{
+    return t == SAM_MESH_PLY_FLOAT32 || t == SAM_MESH_PLY_FLOAT64;
+}
+
+/* What a vertex property is to OpenMesh's reader: 0..2 position, 3..5
+ * normal, 6..7 texture coordinate, -1 anything else. */
+static int vertex_role(const char *name)
+{
+    static const char *const roles[] = {"x", "y", "z", "nx", "ny", "nz", "u", "v"};
+    for (int r = 0; r < 8; ++r)
+        if (!strcmp(name, roles[r]))
+            return r;
+    return !strcmp(name, "s") ? 6 : !strcmp(name, "t") ? 7 : -1;
+}
+
+const char *sam_mesh_ply_misread(const sam_mesh_ply_header *h)
+{
+    /* The reader stops after the face element. */
+    for (int e = 0; e < h->element_count; ++e) {
+        const sam_mesh_ply_element *el = &h->element[e];
+        const int face = !strcmp(el->name, "face"), vertex = !strcmp(el->name, "vertex");
+        for (int k = 0; k < el->property_count; ++k) {
+            const sam_mesh_ply_property *pr = &el->property[k];
+            if (face && k == 0) {
+                if (!pr->count_name_read)
+                    return "a face corner count type its reader does not know";
+                if (is_float(pr->value_type))
+                    return "face corner indices typed as floats";
+            } else if (pr->is_list) {
+                return "a list property other than the faces' corners";
+            } else if (vertex && vertex_role(pr->name) >= 0 && !is_float(pr->value_type)) {
+                return "integer vertex positions, normals or texture coordinates";
+            }
+        }
+        if (face)
+            break;
+    }
+    if (h->format != 0 && h->reader_body != h->body)
+        return "a header whose last line before end_header is a comment, blank or ends in a blank";
+    return NULL;
+}
+
+/* Walks a body value by value, ASCII or binary. */
+typedef struct ply_cursor {
+    const char *p, *end;
+    int format;
+} ply_cursor;
+
+static double read_value(ply_cursor *c, sam_mesh_ply_type t)
+{
+    if (c->format == 0) {
+        char *stop;
+        double v = strtod(c->p, &stop);
+        c->p = stop;
+        return v;
+    }
+    const int n = sam_mesh_ply_type_size(t);
+    unsigned char b[8];
+    for (int i = 0; i < n; ++i)
+        b[i] = (unsigned char)c->p[c->format == 2 ? n - 1 - i : i]; /* to little-endian */
+    c->p += n;
+    uint64_t bits = 0;
+    for (int i = n - 1; i >= 0; --i)
+        bits = bits << 8 | b[i];
+    switch (t) {
+    case SAM_MESH_PLY_INT8: return (double)(int8_t)bits;
+    case SAM_MESH_PLY_INT16: return (double)(int16_t)bits;
+    case SAM_MESH_PLY_INT32: return (double)(int32_t)bits;
+    case SAM_MESH_PLY_FLOAT32: {
+        uint32_t u = (uint32_t)bits;
+        float f;
+        memcpy(&f, &u, sizeof f);
+        return f;
+    }
+    case SAM_MESH_PLY_FLOAT64: {
+        double d;
+        memcpy(&d, &bits, sizeof d);
+        return d;
+    }
+    default: return (double)bits;
+    }
+}
+
+static void put_u32(sam_text *out, uint32_t v)
+{
+    const char b[4] = {(char)(v & 0xff), (char)(v >> 8 & 0xff), (char)(v >> 16 & 0xff), (char)(v >> 24 & 0xff)};
+    sam_text_append(out, b, 4);
+}
+
+static void put_float(sam_text *out, double v)
+{
+    const float f = (float)v;
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    put_u32(out, u);
+}
+
+static void put_line(sam_text *out, const char *s)
+{
+    sam_text_append(out, s, strlen(s));
+}
+
+sam_status sam_mesh_ply_rewrite(const char *path, const char *data, size_t size, const sam_mesh_ply_header *h,
+                                sam_text *out, float **corner_uvs, uint32_t *corner_uv_count, sam_error *err)
+{
+    *corner_uvs = NULL;
+    *corner_uv_count = 0;
+    const sam_mesh_ply_element *vertex = NULL, *face = NULL;
+    int normals = 0, uvs = 0;
+    for (int e = 0; e < h->element_count && !face; ++e) {
+        const sam_mesh_ply_element *el = &h->element[e];
+        if (!strcmp(el->name, "vertex")) {
+            vertex = el;
+            for (int k = 0; k < el->property_count; ++k) {
+                const int role = el->property[k].is_list ? -1 : vertex_role(el->property[k].name);
+                normals |= role >= 3 && role <= 5;
+                uvs |= role >= 6;
+            }
+        } else if (!strcmp(el->name, "face")) {
+            face = el;
+        }
+    }
+    char line[96];
+    put_line(out, "ply\nformat binary_little_endian 1.0\n");
+    snprintf(line, sizeof line, "element vertex %llu\n", vertex ? vertex->count : 0ull);
+    put_line(out, line);
+    put_line(out, "property float x\nproperty float y\nproperty float z\n");
+    if (normals)
+        put_line(out, "property float nx\nproperty float ny\nproperty float nz\n");
+    if (uvs)
+        put_line(out, "property float u\nproperty float v\n");
+    snprintf(line, sizeof line, "element face %llu\n", face ? face->count : 0ull);
+    put_line(out, line);
+    put_line(out, "property list int int vertex_indices\nend_header\n");
+
+    /* Per-corner texture coordinates, gathered while every face has them. */
+    float *uv = NULL;
+    size_t uv_len = 0, uv_cap = 0;
+    int uv_ok = face && face->count > 0;
+    ply_cursor c = {data + h->body, data + size, h->format};
+    for (int e = 0; e < h->element_count; ++e) {
+        const sam_mesh_ply_element *el = &h->element[e];
+        for (unsigned long long i = 0; i < el->count; ++i) {
+            double v[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+            int corners = 0, texcoords = 0;
+            for (int k = 0; k < el->property_count; ++k) {
+                const sam_mesh_ply_property *pr = &el->property[k];
+                if (!pr->is_list) {
+                    const double x = read_value(&c, pr->value_type);
+                    const int role = el == vertex ? vertex_role(pr->name) : -1;
+                    if (role >= 0)
+                        v[role] = x;
+                    continue;
+                }
+                const double n = read_value(&c, pr->count_type);
+                const int is_corners = el == face && k == 0;
+                const int is_uv = el == face && !strcmp(pr->name, "texcoord");
+                if (is_corners) {
+                    corners = (int)n;
+                    put_u32(out, (uint32_t)corners);
+                } else if (is_uv) {
+                    texcoords = (int)n;
+                }
+                for (double j = 0; j < n; ++j) {
+                    const double x = read_value(&c, pr->value_type);
+                    if (is_corners) {
+                        if (!(x >= 0 && x <= 2147483647.0 && x == floor(x))) {
+                            free(uv);
+                            return sam_fail(err, SAM_ERR_FORMAT,
+                                            "%s: PLY face %llu: corner %d is %g, which is no vertex index", path, i,
+                                            (int)j, x);
+                        }
+                        put_u32(out, (uint32_t)x);
+                    } else if (is_uv && uv_ok) {
+                        if (uv_len == uv_cap) {
+                            const size_t cap = uv_cap ? 2 * uv_cap : 1024;
+                            float *grown = realloc(uv, cap * sizeof *uv);
+                            if (!grown) {
+                                free(uv);
+                                return sam_fail(err, SAM_ERR_OUT_OF_MEMORY,
+                                                "%s: out of memory for the faces' texture coordinates", path);
+                            }
+                            uv = grown, uv_cap = cap;
+                        }
+                        /* MeshLab's v runs up, as OBJ's does. */
+                        uv[uv_len++] = (float)x;
+                    }
+                }
+            }
+            if (el == vertex) {
+                for (int r = 0; r < 3 + 3 * normals; ++r)
+                    put_float(out, v[r]);
+                if (uvs)
+                    put_float(out, v[6]), put_float(out, v[7]);
+            } else if (el == face && texcoords != 2 * corners) {
+                uv_ok = 0;
+            }
+        }
+        if (el == face)
+            break;
+    }
+    if (uv_ok && uv_len <= 2ull * UINT32_MAX) {
+        *corner_uvs = uv;
+        *corner_uv_count = (uint32_t)(uv_len / 2);
+    } else {
+        free(uv);
+    }
+    return SAM_OK;
+}
