@@ -1396,6 +1396,42 @@ static void test_obj_texture_name_after_options(void **state)
     }
 }
 
+/* MeshLab and Metashape name a PLY's texture in a header comment
+ * ("comment TextureFile NAME", the name's blanks its own); a PLY without
+ * one brings no texture and no note. */
+static void test_ply_texture_file(void **state)
+{
+    (void)state;
+    sam_error err;
+    char path[512], png[512], note[1200];
+    sam_image image;
+    assert_int_equal(sam_image_create(&image, 3, 2, 3, &err), SAM_OK);
+    for (uint32_t k = 0; k < 3 * 3 * 2; ++k)
+        image.pixels[k] = 0.25f;
+    sam_test_tmp_path(png, sizeof png, "ply albedo.png");
+    assert_int_equal(sam_image_write_png(png, &image, SAM_PNG_SRGB, &err), SAM_OK);
+    sam_image_destroy(&image);
+    const ply_variant textured = {"textured", "uchar", "int", "float", 0, 1, 0, "comment TextureFile ply albedo.png\n",
+                                  NULL};
+    unsigned char buf[8192];
+    size_t n = ply_cube(&textured, 1, buf, sizeof buf);
+    sam_test_write_file(sam_test_tmp_path(path, sizeof path, "textured.ply"), buf, n);
+    assert_int_equal(sam_mesh_load_albedo(path, &image, note, sizeof note, &err), SAM_OK);
+    if (!image.pixels)
+        fail_msg("textured.ply: no texture (%s)", note);
+    assert_int_equal(image.width, 3);
+    assert_int_equal(image.height, 2);
+    if (!strstr(note, "/ply albedo.png (TextureFile of"))
+        fail_msg("textured.ply: the note '%s' does not name the texture", note);
+    sam_image_destroy(&image);
+    const ply_variant plain = {"plain", "uchar", "int", "float", 0, 0, 0, "comment made by hand\n", NULL};
+    n = ply_cube(&plain, 0, buf, sizeof buf);
+    sam_test_write_file(sam_test_tmp_path(path, sizeof path, "untextured.ply"), buf, n);
+    assert_int_equal(sam_mesh_load_albedo(path, &image, note, sizeof note, &err), SAM_OK);
+    assert_null(image.pixels);
+    assert_string_equal(note, "");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1404,6 +1440,7 @@ int main(void)
         cmocka_unit_test(test_off_as_other_tools_write_it),
         cmocka_unit_test(test_rewritten_off_keeps_its_layout),
         cmocka_unit_test(test_ply_as_other_tools_write_it),
+        cmocka_unit_test(test_ply_texture_file),
         cmocka_unit_test(test_open_sheet_rings_and_fan_areas),
         cmocka_unit_test(test_sphere_curvature),
         cmocka_unit_test(test_repairs_are_reported),

@@ -120,8 +120,9 @@ sam_status sam_mesh_create(const sam_mesh_input *input, sam_mesh *mesh, sam_mesh
                            sam_error *err);
 
 /* The albedo texture a mesh file brings along: an OBJ's first used
- * material's map_Kd (through its mtllib; PNG, JPEG or TGA), or a glTF's
- * first base-colour texture times its baseColorFactor. A linear image in
+ * material's map_Kd (through its mtllib; PNG, JPEG or TGA), a PLY's
+ * "comment TextureFile NAME" header line (MeshLab's and Metashape's), or a
+ * glTF's first base-colour texture times its baseColorFactor. A linear image in
  * `image` (caller destroys; zeroed when the file brings none). `note`
  * (note_size bytes, > 0) names the texture when `image` holds one (for the
  * tools' list of what they assumed); a texture the file names but that

@@ -1,6 +1,8 @@
 /* A mesh file's own albedo texture (sam_mesh_load_albedo in sam_mesh.h):
- * an OBJ's material's map_Kd from its .mtl, or a glTF's base colour. */
+ * an OBJ's material's map_Kd from its .mtl, a PLY's TextureFile comment, or
+ * a glTF's base colour. */
 #include <ctype.h>
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -129,6 +131,38 @@ static sam_status obj_texture(const char *path, char *texture, size_t n, char *n
     return SAM_OK;
 }
 
+/* The texture a PLY's header names as MeshLab and Metashape write it
+ * ("comment TextureFile NAME"), into `texture`; "" when it names none. Only
+ * the header is read: a scan's body may be large. */
+static sam_status ply_texture(const char *path, char *texture, size_t n, sam_error *err)
+{
+    texture[0] = '\0';
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return sam_fail(err, SAM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    enum { HEADER_BYTES = 65536 };
+    char *head = malloc(HEADER_BYTES + 1);
+    if (!head) {
+        fclose(fp);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    const size_t size = fread(head, 1, HEADER_BYTES, fp);
+    fclose(fp);
+    head[size] = '\0';
+    char comment[512], name[512];
+    for (const char *line = head; line && line < head + size && !texture[0];) {
+        if (!strncmp(line, "end_header", 10))
+            break;
+        if (keyword_value(line, "comment", comment, sizeof comment) &&
+            keyword_value(comment, "TextureFile", name, sizeof name))
+            beside_file(path, name, texture, n);
+        const char *next = memchr(line, '\n', (size_t)(head + size - line));
+        line = next ? next + 1 : NULL;
+    }
+    free(head);
+    return SAM_OK;
+}
+
 sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, size_t note_size, sam_error *err)
 {
     if (!path || !image || !note || !note_size)
@@ -152,16 +186,18 @@ sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, 
             snprintf(note, note_size, "the base colour texture of %s", path);
         return SAM_OK;
     }
-    if (!sam_path_has_extension(path, ".obj"))
+    const int obj = sam_path_has_extension(path, ".obj"), ply = sam_path_has_extension(path, ".ply");
+    if (!obj && !ply)
         return SAM_OK;
     char texture[1024];
-    sam_status st = obj_texture(path, texture, sizeof texture, note, note_size, err);
+    sam_status st = obj ? obj_texture(path, texture, sizeof texture, note, note_size, err)
+                        : ply_texture(path, texture, sizeof texture, err);
     if (st != SAM_OK || !texture[0])
         return st;
     sam_error read_err;
     if (sam_image_read_picture(texture, image, SAM_PNG_SRGB, &read_err) != SAM_OK)
         snprintf(note, note_size, "%s: the texture it names cannot be used: %s", path, read_err.message);
     else
-        snprintf(note, note_size, "%s (map_Kd of %s)", texture, path);
+        snprintf(note, note_size, "%s (%s of %s)", texture, obj ? "map_Kd" : "TextureFile", path);
     return SAM_OK;
 }
