@@ -522,6 +522,78 @@ static void test_rewritten_off_keeps_its_layout(void **state)
     sam_mesh_destroy(&plain);
 }
 
+/* The body of a mesh leaves out loose specks only: a stray triangle far
+ * from a cube whose every face is split from the next by a UV seam (so the
+ * cube is one piece only through its welded positions) is left out of the
+ * bounds and the diagonal; pieces of the same size are all kept; a piece
+ * of 1/48 of the largest's area is kept, one of 1/600 is not; positions
+ * alone (no triangles) keep every vertex. */
+static void test_body_leaves_out_loose_specks(void **state)
+{
+    (void)state;
+    char path[512];
+    write_tmp(path, sizeof path, "cube_body.obj", cube_obj);
+    sam_mesh cube;
+    sam_error err;
+    assert_int_equal(sam_mesh_load(path, &cube, NULL, &err), SAM_OK);
+    assert_int_equal(cube.vertex_count, 24);
+    /* Add a triangle at (5, 5, 5) of side s. */
+    const uint32_t n = cube.vertex_count;
+    for (int k = 0; k < 4; ++k) {
+        const float side[4] = {0.01f, 0.14f, 0.5f, 1.0f}; /* areas 0.00005, 0.0098, 0.125, 0.5 of the cube's 6 */
+        float pos[27 * 3];
+        uint32_t tri[13 * 3];
+        memcpy(pos, cube.positions, 3 * (size_t)n * sizeof *pos);
+        memcpy(tri, cube.triangles, 3 * 12 * sizeof *tri);
+        const float at[3][3] = {{5, 5, 5}, {5 + side[k], 5, 5}, {5, 5 + side[k], 5}};
+        memcpy(pos + 3 * n, at, sizeof at);
+        tri[36] = n, tri[37] = n + 1, tri[38] = n + 2;
+        const sam_mesh m = {.vertex_count = n + 3, .positions = pos, .triangle_count = 13, .triangles = tri};
+        uint8_t in_body[27];
+        sam_mesh_body_info body;
+        assert_int_equal(sam_mesh_body(&m, in_body, &body, &err), SAM_OK);
+        const int speck = k < 2; /* under 1% of the cube's area */
+        assert_int_equal(body.loose_pieces, speck);
+        assert_int_equal(body.loose_vertices, 3 * speck);
+        assert_int_equal(body.box_changed, speck);
+        for (uint32_t v = 0; v < n + 3; ++v)
+            assert_int_equal(in_body[v], v < n || !speck);
+        assert_float_equal(body.total_area, 6.0 + 0.5 * side[k] * side[k], 1e-5);
+        const double whole = sqrt(2.0 * (5 + side[k]) * (5 + side[k]) + 25.0); /* every vertex's bounds */
+        assert_float_equal(sam_mesh_diagonal(&m), speck ? sqrt(3.0) : whole, 1e-5);
+        for (int c = 0; c < 3; ++c) {
+            assert_float_equal(body.min[c], 0, 0);
+            assert_float_equal(body.max[c], speck ? 1 : 5 + (c < 2 ? side[k] : 0), 1e-6);
+        }
+        /* The same positions without triangles: every vertex counts. */
+        const sam_mesh points = {.vertex_count = n + 3, .positions = pos};
+        assert_float_equal(sam_mesh_diagonal(&points), whole, 1e-5);
+        assert_int_equal(sam_mesh_body(&points, NULL, &body, &err), SAM_OK);
+        assert_int_equal(body.loose_pieces, 0);
+    }
+    /* Two cubes of one size, far apart: both are the body. */
+    float two[48 * 3];
+    uint32_t tri2[24 * 3];
+    memcpy(two, cube.positions, 3 * (size_t)n * sizeof *two);
+    for (uint32_t v = 0; v < n; ++v)
+        for (int c = 0; c < 3; ++c)
+            two[3 * (n + v) + c] = cube.positions[3 * v + c] + 10.0f;
+    memcpy(tri2, cube.triangles, 36 * sizeof *tri2);
+    for (int i = 0; i < 36; ++i)
+        tri2[36 + i] = cube.triangles[i] + n;
+    const sam_mesh pair = {.vertex_count = 2 * n, .positions = two, .triangle_count = 24, .triangles = tri2};
+    sam_mesh_body_info body;
+    assert_int_equal(sam_mesh_body(&pair, NULL, &body, &err), SAM_OK);
+    assert_int_equal(body.loose_pieces, 0);
+    assert_false(body.box_changed);
+    assert_float_equal(sam_mesh_diagonal(&pair), sqrt(3.0) * 11, 1e-5);
+    /* A triangle naming a vertex past the count is refused. */
+    tri2[5] = 2 * n;
+    assert_int_equal(sam_mesh_body(&pair, NULL, &body, &err), SAM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "triangle 1 names vertex 48 of 48"));
+    sam_mesh_destroy(&cube);
+}
+
 /* A 2x2 grid of unit quads in the plane z = 0 (an open square sheet, 3x3
  * vertices), each cut along the same diagonal, moved `offset` units along x. */
 static sam_status sheet_at(float offset, sam_mesh *m, sam_mesh_report *rep, sam_error *err)
@@ -1441,6 +1513,7 @@ int main(void)
         cmocka_unit_test(test_rewritten_off_keeps_its_layout),
         cmocka_unit_test(test_ply_as_other_tools_write_it),
         cmocka_unit_test(test_ply_texture_file),
+        cmocka_unit_test(test_body_leaves_out_loose_specks),
         cmocka_unit_test(test_open_sheet_rings_and_fan_areas),
         cmocka_unit_test(test_sphere_curvature),
         cmocka_unit_test(test_repairs_are_reported),

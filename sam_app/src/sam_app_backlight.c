@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "sam/sam_app_backlight.h"
+#include "sam/sam_mesh.h"
 #include "sam/sam_vec3.h"
 
 #define PI_F 3.14159265f
@@ -29,18 +30,48 @@ static sam_status score(sam_runtime *rt, const samfile_data *sam, const float ey
     return SAM_OK;
 }
 
+/* The centre of the object's box and the radius about it that holds it,
+ * loose specks left out (sam_mesh_body): a stray triangle far away put the
+ * light twice as far, and so its places elsewhere. */
+static sam_status body_sphere(const samfile_data *sam, float centre[3], float *radius, sam_error *err)
+{
+    const sam_mesh view = {.vertex_count = sam->vertex_count,
+                           .positions = sam->positions,
+                           .triangle_count = sam->triangle_count,
+                           .triangles = sam->triangles};
+    uint8_t *in_body = malloc((size_t)sam->vertex_count + 1);
+    if (!in_body)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "back light: out of memory for %u vertices", sam->vertex_count);
+    sam_mesh_body_info body;
+    sam_status st = sam_mesh_body(&view, in_body, &body, err);
+    float r2 = 0;
+    for (int c = 0; st == SAM_OK && c < 3; ++c)
+        centre[c] = 0.5f * (body.min[c] + body.max[c]);
+    for (uint32_t v = 0; st == SAM_OK && v < sam->vertex_count; ++v) {
+        const float *p = sam->positions + 3 * (size_t)v;
+        const float d[3] = {p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]};
+        if (in_body[v])
+            r2 = fmaxf(r2, sam_vec3_dot(d, d));
+    }
+    *radius = sqrtf(r2);
+    free(in_body);
+    return st;
+}
+
 sam_status sam_app_backlight_place(sam_runtime *rt, const samfile_data *sam, sam_scene *scene, size_t light,
                                    char *note, size_t n, sam_error *err)
 {
     if (!scene->has_camera || light >= scene->light_count || scene->lights[light].type != SAM_LIGHT_POINT)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "back light: the scene needs a camera and point light %zu",
                         light);
+    const sam_camera *cam = &scene->camera;
+    float centre[3], radius = 0, back[3], side[3], up[3];
+    sam_status st = body_sphere(sam, centre, &radius, err);
+    if (st != SAM_OK)
+        return st;
     float *t = malloc((size_t)sam->vertex_count * 3 * sizeof *t);
     if (!t)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "back light: out of memory for %u vertices", sam->vertex_count);
-    const sam_camera *cam = &scene->camera;
-    float centre[3], radius, back[3], side[3], up[3];
-    sam_runtime_bounds(rt, centre, &radius);
     for (int c = 0; c < 3; ++c)
         back[c] = cam->target[c] - cam->position[c];
     sam_vec3_normalize(back);
@@ -53,7 +84,6 @@ sam_status sam_app_backlight_place(sam_runtime *rt, const samfile_data *sam, sam
     float best_angle = 0;
     const float dist = 2.0f * radius;
     l.intensity = 4.0f * dist * dist;
-    sam_status st = SAM_OK;
     for (int k = 0; k < SAM_APP_BACKLIGHT_CANDIDATES && st == SAM_OK; ++k) {
         const int ring = k == 0 ? 0 : 1 + (k - 1) / 8;
         const float theta = 25.0f * (float)ring * PI_F / 180.0f, phi = 2.0f * PI_F * (float)((k - 1) % 8) / 8.0f;

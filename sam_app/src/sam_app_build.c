@@ -79,6 +79,13 @@ static int load_mesh(const sam_app_build_job *job, const char *tool, sam_mesh *m
             return 1;
         }
         *mm_per_unit = (float)(job->size_mm / diag);
+        sam_mesh_body_info body;
+        if (sam_mesh_body(mesh, NULL, &body, NULL) == SAM_OK && body.box_changed)
+            fprintf(stderr,
+                    "%s: %s: --size-mm measures the object without %u loose piece%s (%u vertices, %.2g%% of the "
+                    "surface) outside it\n",
+                    tool, job->mesh_path, body.loose_pieces, body.loose_pieces == 1 ? "" : "s", body.loose_vertices,
+                    100.0 * body.loose_area / body.total_area);
     }
     return 0;
 }

@@ -67,6 +67,13 @@ static sam_status cache_path(const char *dir, const sam_scene *scene, const sam_
              scene->material ? scene->material : "", (int)scene->scale_kind, scene->scale_value,
              sam_build_samples(set), set->mc_samples, (unsigned long long)set->seed, (int)set->map,
              set->cut_tolerance, set->candidates, set->radius_tolerance);
+    /* A size in mm measures the mesh without its loose specks
+     * (sam_mesh_diagonal) since these maps were first cached: a mesh with
+     * specks gets another scale, so such keys say so. */
+    if (scene->scale_kind == SAM_SCALE_SIZE_MM) {
+        const size_t used = strlen(key);
+        snprintf(key + used, sizeof key - used, " body");
+    }
     /* A cut's budget beyond N makes another map; the keys of maps without one stay as they were. */
     if (set->map == SAM_BUILD_MAP_CUT && sam_build_cut_budget(set) > sam_build_samples(set)) {
         const size_t used = strlen(key);

@@ -56,9 +56,12 @@ static sam_status read_prebuilt(const sam_scene *scene, const char *tool, samfil
     if (scene->scale_kind == SAM_SCALE_MM_PER_UNIT)
         *mm_per_unit = scene->scale_value;
     if (st == SAM_OK && scene->scale_kind == SAM_SCALE_SIZE_MM) {
-        /* The map holds the mesh's positions in model units, so its
-         * diagonal is the mesh's. */
-        sam_mesh extent = {.positions = sam->positions, .vertex_count = sam->vertex_count};
+        /* The map holds the mesh's positions and triangles in model units,
+         * so its diagonal is the mesh's, specks left out alike. */
+        sam_mesh extent = {.positions = sam->positions,
+                           .vertex_count = sam->vertex_count,
+                           .triangles = sam->triangles,
+                           .triangle_count = sam->triangle_count};
         *mm_per_unit = (float)(scene->scale_value / sam_mesh_diagonal(&extent));
     }
     if (st == SAM_OK && !(*mm_per_unit > 0))

@@ -74,47 +74,63 @@ typedef struct measure {
     float t_thin;  /* the THIN_FRACTION percentile of thin */
 } measure;
 
-static sam_status measure_mesh(const sam_mesh *m, measure *out, sam_error *err)
+/* Measures the mesh's body (sam_mesh_body): a stray speck far from the
+ * object would otherwise frame, scale and light the speck. Says what was
+ * left out when that moved the box. */
+static sam_status measure_mesh(const sam_mesh *m, measure *out, sam_app_stage_notes *notes, sam_error *err)
 {
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t v = 0; v < m->vertex_count; ++v)
-        for (int c = 0; c < 3; ++c) {
-            lo[c] = fminf(lo[c], m->positions[3 * (size_t)v + c]);
-            hi[c] = fmaxf(hi[c], m->positions[3 * (size_t)v + c]);
-        }
+    uint8_t *in_body = malloc((size_t)m->vertex_count + 1);
+    if (!in_body)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "stage: out of memory for %u vertices", m->vertex_count);
+    sam_mesh_body_info body;
+    sam_status st = sam_mesh_body(m, in_body, &body, err);
+    if (st != SAM_OK) {
+        free(in_body);
+        return st;
+    }
+    if (body.box_changed)
+        note(notes,
+             "framing and size: %u loose piece%s (%u vertices, %.2g%% of the surface) outside the object left out",
+             body.loose_pieces, body.loose_pieces == 1 ? "" : "s", body.loose_vertices,
+             100.0 * body.loose_area / body.total_area);
     float d2 = 0, r2 = 0;
     for (int c = 0; c < 3; ++c) {
-        out->centre[c] = 0.5f * (lo[c] + hi[c]);
-        out->extent[c] = hi[c] - lo[c];
-        d2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
+        out->centre[c] = 0.5f * (body.min[c] + body.max[c]);
+        out->extent[c] = body.max[c] - body.min[c];
+        d2 += out->extent[c] * out->extent[c];
     }
     for (uint32_t v = 0; v < m->vertex_count; ++v) {
         const float *p = m->positions + 3 * (size_t)v;
         float d[3] = {p[0] - out->centre[0], p[1] - out->centre[1], p[2] - out->centre[2]};
-        r2 = fmaxf(r2, sam_vec3_dot(d, d));
+        if (in_body[v])
+            r2 = fmaxf(r2, sam_vec3_dot(d, d));
     }
     out->diagonal = sqrtf(d2);
     out->radius = sqrtf(r2);
-    if (!(out->diagonal > 0))
-        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "stage: the mesh has no extent");
     out->thin = malloc((size_t)m->vertex_count * sizeof *out->thin);
-    if (!out->thin)
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "stage: out of memory for %u vertices", m->vertex_count);
-    sam_thickness_settings set;
-    sam_thickness_default_settings(&set);
-    set.strata = 6;
-    set.statistic = SAM_THICKNESS_THROUGH;
-    const sam_thickness_surface s = {m->vertex_count, m->positions, m->normals, m->triangle_count, m->triangles};
-    sam_status st = sam_thickness_compute(&s, 1.0f, &set, NULL, NULL, out->thin, err);
-    if (st != SAM_OK)
-        return st;
     float *sorted = malloc((size_t)m->vertex_count * sizeof *sorted);
-    if (!sorted)
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "stage: out of memory for %u vertices", m->vertex_count);
-    memcpy(sorted, out->thin, (size_t)m->vertex_count * sizeof *sorted);
-    out->t_thin = sorted_at(sorted, m->vertex_count, SAM_APP_STAGE_THIN_FRACTION);
+    if (!(out->diagonal > 0))
+        st = sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "stage: the mesh has no extent");
+    else if (!out->thin || !sorted)
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "stage: out of memory for %u vertices", m->vertex_count);
+    if (st == SAM_OK) {
+        sam_thickness_settings set;
+        sam_thickness_default_settings(&set);
+        set.strata = 6;
+        set.statistic = SAM_THICKNESS_THROUGH;
+        const sam_thickness_surface s = {m->vertex_count, m->positions, m->normals, m->triangle_count, m->triangles};
+        st = sam_thickness_compute(&s, 1.0f, &set, NULL, NULL, out->thin, err);
+    }
+    if (st == SAM_OK) {
+        size_t count = 0;
+        for (uint32_t v = 0; v < m->vertex_count; ++v)
+            if (in_body[v])
+                sorted[count++] = out->thin[v];
+        out->t_thin = sorted_at(sorted, count, SAM_APP_STAGE_THIN_FRACTION);
+    }
     free(sorted);
-    return SAM_OK;
+    free(in_body);
+    return st;
 }
 
 static void point_light(sam_light *l, const float at[3], float intensity)
@@ -260,7 +276,7 @@ sam_status sam_app_stage_scene(const char *mesh_path, const char *material, cons
     char rounding[256];
     if (sam_mesh_precision_warning(&mesh, NULL, rounding, sizeof rounding))
         note(notes, "warning: %s", rounding);
-    if ((st = measure_mesh(&mesh, &ms, err)) != SAM_OK)
+    if ((st = measure_mesh(&mesh, &ms, notes, err)) != SAM_OK)
         goto done;
     float mm_per_unit;
     if (options->mm_per_unit > 0) {

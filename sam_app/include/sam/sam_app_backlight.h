@@ -24,7 +24,8 @@ extern "C" {
 #define SAM_APP_BACKLIGHT_CANDIDATES 25
 
 /* Moves scene->lights[light] (a point light) to the best candidate: at
- * twice the bounding radius from the centre, its intensity giving
+ * twice the bounding radius from the centre of the object's box (its
+ * loose specks left out, sam_mesh_body), its intensity giving
  * irradiance 4 at the centre. `sam` is the runtime's map (for the rest
  * pose's normals and fan areas); the scene must have a camera. Leaves the
  * runtime lit by all the scene's lights again. `note` (may be NULL, `n`

@@ -139,14 +139,39 @@ int sam_mesh_is_mesh_path(const char *path);
 /* Frees everything a mesh owns and zeroes it. Safe on a zeroed mesh. */
 void sam_mesh_destroy(sam_mesh *mesh);
 
-/* Axis-aligned bounds of the render positions (model units). Both this and
- * sam_mesh_diagonal read only `positions` and `vertex_count`, so a mesh
- * struct holding just those (a map's positions, say) may be passed. */
+/* Axis-aligned bounds of the render positions (model units). This reads
+ * only `positions` and `vertex_count`, sam_mesh_diagonal those and the
+ * triangles, so a mesh struct holding just those (a map's, say) may be
+ * passed. */
 void sam_mesh_bounds(const sam_mesh *mesh, float min[3], float max[3]);
 
-/* Length of the bounds' diagonal (model units), which --size-mm and the
- * scenes' "size_mm" scale to; 0 for a mesh with no extent, infinity for one
- * with no vertices. */
+/* A piece of the surface (triangles joined through shared or coincident
+ * vertices) with less than this fraction of the largest piece's area is a
+ * loose speck: a scan's stray triangle, a forgotten fin. */
+#define SAM_MESH_LOOSE_FRACTION 0.01
+
+typedef struct sam_mesh_body_info {
+    float min[3], max[3];     /* bounds of the body (every piece but the specks), model units */
+    int box_changed;          /* 1 when the specks lie outside the body's bounds */
+    uint32_t loose_pieces;    /* specks left out */
+    uint32_t loose_vertices;  /* render vertices in them */
+    double loose_area, total_area; /* model units^2 */
+} sam_mesh_body_info;
+
+/* The mesh's body: every piece but the loose specks (see
+ * SAM_MESH_LOOSE_FRACTION). Reads `positions`, `vertex_count`, `triangles`
+ * and `triangle_count` only (a map's arrays may be passed); without
+ * triangles every vertex is the body. `in_body` (vertex_count bytes, may
+ * be NULL) gets 1 for a body vertex, 0 for a speck's.
+ * Errors: SAM_ERR_INVALID_ARGUMENT (NULL, or a triangle naming a vertex
+ * past vertex_count), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_body(const sam_mesh *mesh, uint8_t *in_body, sam_mesh_body_info *info, sam_error *err);
+
+/* Length of the body's bounds' diagonal (model units; sam_mesh_body, all
+ * the bounds when that runs out of memory), which --size-mm and the
+ * scenes' "size_mm" scale to: a stray speck far from the object does not
+ * change its size. 0 for a mesh with no extent, infinity for one with no
+ * vertices. */
 double sam_mesh_diagonal(const sam_mesh *mesh);
 
 /* Reduced fan area F' of every topo vertex (SAM paper eq. 16): one third of

@@ -148,7 +148,13 @@ void sam_mesh_bounds(const sam_mesh *mesh, float min[3], float max[3])
 double sam_mesh_diagonal(const sam_mesh *mesh)
 {
     float lo[3], hi[3];
-    sam_mesh_bounds(mesh, lo, hi);
+    sam_mesh_body_info body;
+    if (sam_mesh_body(mesh, NULL, &body, NULL) == SAM_OK) {
+        memcpy(lo, body.min, sizeof lo);
+        memcpy(hi, body.max, sizeof hi);
+    } else {
+        sam_mesh_bounds(mesh, lo, hi);
+    }
     double d2 = 0;
     for (int i = 0; i < 3; ++i)
         d2 += ((double)hi[i] - lo[i]) * ((double)hi[i] - lo[i]);
