@@ -316,6 +316,23 @@ static const char *reader_stop_after(const char *line, const char *eol, const ch
     return stop;
 }
 
+/* Hands a file written again (`out`, by a writer that returned `st`) to
+ * `expect` for the reader, or frees it on failure. */
+static sam_status keep_rewrite(const char *path, size_t size, sam_status st, sam_text *out, const char *extension,
+                               sam_mesh_expect *expect, sam_error *err)
+{
+    if (st == SAM_OK && out->oom)
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory writing the file again (%zu bytes)", path, size);
+    if (st != SAM_OK) {
+        free(out->p);
+        return st;
+    }
+    expect->rewritten = out->p;
+    expect->rewritten_size = out->len;
+    expect->rewritten_extension = extension;
+    return SAM_OK;
+}
+
 /* A PLY that OpenMesh would misread, written again as it reads one right
  * (sam_mesh_ply.h) into expect->rewritten. */
 static sam_status rewrite_ply(const char *path, const char *data, size_t size, const sam_mesh_ply_header *h,
@@ -323,17 +340,7 @@ static sam_status rewrite_ply(const char *path, const char *data, size_t size, c
 {
     sam_text out = {0};
     sam_status st = sam_mesh_ply_rewrite(path, data, size, h, &out, &expect->corner_uvs, &expect->corner_uv_count, err);
-    if (st == SAM_OK && out.oom)
-        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory writing the PLY file again (%zu bytes)", path,
-                      size);
-    if (st != SAM_OK) {
-        free(out.p);
-        return st;
-    }
-    expect->rewritten = out.p;
-    expect->rewritten_size = out.len;
-    expect->rewritten_extension = ".ply";
-    return SAM_OK;
+    return keep_rewrite(path, size, st, &out, ".ply", expect, err);
 }
 
 static sam_status preflight_ply(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
@@ -695,17 +702,7 @@ static sam_status preflight_off(const char *path, const char *data, size_t size,
         return st;
     sam_text out = {0};
     st = walk_off(path, data, size, expect, &out, NULL, err);
-    if (st == SAM_OK && out.oom)
-        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory writing the OFF file again (%zu bytes)", path,
-                      size);
-    if (st != SAM_OK) {
-        free(out.p);
-        return st;
-    }
-    expect->rewritten = out.p;
-    expect->rewritten_size = out.len;
-    expect->rewritten_extension = ".off";
-    return SAM_OK;
+    return keep_rewrite(path, size, st, &out, ".off", expect, err);
 }
 
 /* ---- OBJ */
