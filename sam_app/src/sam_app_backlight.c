@@ -30,31 +30,24 @@ static sam_status score(sam_runtime *rt, const samfile_data *sam, const float ey
     return SAM_OK;
 }
 
-/* The centre of the object's box and the radius about it that holds it,
- * loose specks left out (sam_mesh_body): a stray triangle far away put the
- * light twice as far, and so its places elsewhere. */
+/* The centre of the object's box and half its diagonal (the runtime's
+ * bounds, sam_runtime_bounds), loose specks left out (sam_mesh_body): a
+ * stray triangle far away put the light farther, and its places
+ * elsewhere. */
 static sam_status body_sphere(const samfile_data *sam, float centre[3], float *radius, sam_error *err)
 {
     const sam_mesh view = {.vertex_count = sam->vertex_count,
                            .positions = sam->positions,
                            .triangle_count = sam->triangle_count,
                            .triangles = sam->triangles};
-    uint8_t *in_body = malloc((size_t)sam->vertex_count + 1);
-    if (!in_body)
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "back light: out of memory for %u vertices", sam->vertex_count);
     sam_mesh_body_info body;
-    sam_status st = sam_mesh_body(&view, in_body, &body, err);
-    float r2 = 0;
-    for (int c = 0; st == SAM_OK && c < 3; ++c)
+    sam_status st = sam_mesh_body(&view, NULL, &body, err);
+    double d2 = 0;
+    for (int c = 0; st == SAM_OK && c < 3; ++c) {
         centre[c] = 0.5f * (body.min[c] + body.max[c]);
-    for (uint32_t v = 0; st == SAM_OK && v < sam->vertex_count; ++v) {
-        const float *p = sam->positions + 3 * (size_t)v;
-        const float d[3] = {p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]};
-        if (in_body[v])
-            r2 = fmaxf(r2, sam_vec3_dot(d, d));
+        d2 += ((double)body.max[c] - body.min[c]) * ((double)body.max[c] - body.min[c]);
     }
-    *radius = sqrtf(r2);
-    free(in_body);
+    *radius = (float)(0.5 * sqrt(d2));
     return st;
 }
 
