@@ -10,9 +10,9 @@
 #include "sam/sam_mesh.h"
 #include "sam_mesh_soup.h"
 
-/* Copies the line's argument after `keyword` (with its leading blanks and
- * trailing blanks and line end removed) into out; 0 when the line is not
- * that keyword. */
+/* Copies the line's argument after `keyword` (with its leading blanks,
+ * a comment after it (a '#' after a blank), trailing blanks and line end
+ * removed) into out; 0 when the line is not that keyword. */
 static int keyword_value(const char *line, const char *keyword, char *out, size_t n)
 {
     const size_t k = strlen(keyword);
@@ -24,6 +24,11 @@ static int keyword_value(const char *line, const char *keyword, char *out, size_
     while (*v == ' ' || *v == '\t')
         ++v;
     size_t len = strcspn(v, "\r\n");
+    for (size_t i = 1; i < len; ++i)
+        if (v[i] == '#' && (v[i - 1] == ' ' || v[i - 1] == '\t')) {
+            len = i;
+            break;
+        }
     while (len && isspace((unsigned char)v[len - 1]))
         --len;
     if (!len || len >= n)

@@ -740,8 +740,7 @@ static float token_float(const char *tok, int len)
     return strtof(buf, NULL);
 }
 
-static sam_status preflight_obj(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
-                                sam_error *err)
+static sam_status walk_obj(const char *path, const char *data, size_t size, sam_mesh_expect *expect, sam_error *err)
 {
     sam_status st = check_text(path, "OBJ", data, size, err);
     if (st != SAM_OK)
@@ -834,6 +833,78 @@ static sam_status preflight_obj(const char *path, const char *data, size_t size,
     expect->vertices = nv;
     expect->faces = expect->file_faces - expect->repeated_corner_faces;
     return SAM_OK;
+}
+
+/* OpenMesh's OBJ reader takes every word of a face line for a corner, so a
+ * comment after a face ("f 1 2 3 # lid") was refused, and it knows no
+ * continued lines (a line ending in a backslash, which the OBJ
+ * specification allows for long faces). Such a file is written again for
+ * it (sam_mesh_expect.rewritten), byte for byte as long and line for line
+ * where it was, so that messages name the file's own lines: a comment
+ * after content becomes blanks, and each backslash and the line end after
+ * it join the lines, the line end moving to the end of the joined line.
+ * Returns the text, or NULL when the file needs none (*oom set when out of
+ * memory). */
+static char *obj_plain_text(const char *data, size_t size, int *oom)
+{
+    *oom = 0;
+    int needed = 0;
+    for (size_t i = 0; i < size && !needed; ++i)
+        needed = data[i] == '\\' || data[i] == '#';
+    if (!needed)
+        return NULL;
+    char *out = malloc(size + 1);
+    if (!out) {
+        *oom = 1;
+        return NULL;
+    }
+    size_t o = 0;
+    int held = 0, content = 0, comment = 0; /* line ends held back; a word seen on the line; inside a comment */
+    for (size_t i = 0; i < size; ++i) {
+        const char ch = data[i];
+        const int crlf = ch == '\\' && i + 2 < size && data[i + 1] == '\r' && data[i + 2] == '\n';
+        if (!comment && ch == '\\' && (crlf || (i + 1 < size && data[i + 1] == '\n'))) {
+            out[o++] = ' ';
+            if (crlf)
+                out[o++] = ' '; /* the CR's place */
+            i += 1 + crlf;      /* the line end waits for the joined line's */
+            held++;
+            continue;
+        }
+        if (ch == '\n') {
+            for (; held > 0; --held)
+                out[o++] = '\n';
+            out[o++] = '\n';
+            content = comment = 0;
+            continue;
+        }
+        if (ch == '#' && content)
+            comment = 1;
+        if (ch != ' ' && ch != '\t' && ch != '\r')
+            content = 1;
+        out[o++] = comment && ch != '\r' ? ' ' : ch;
+    }
+    for (; held > 0; --held)
+        out[o++] = '\n';
+    out[o] = '\0';
+    if (o != size || !memcmp(out, data, size)) {
+        free(out);
+        return NULL;
+    }
+    return out;
+}
+
+static sam_status preflight_obj(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
+                                sam_error *err)
+{
+    int oom;
+    char *plain = obj_plain_text(data, size, &oom);
+    if (oom)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory (%zu bytes)", path, size);
+    if (!plain)
+        return walk_obj(path, data, size, expect, err);
+    sam_text out = {plain, size, size + 1, 0};
+    return keep_rewrite(path, size, walk_obj(path, plain, size, expect, err), &out, ".obj", expect, err);
 }
 
 /* ---- STL */
