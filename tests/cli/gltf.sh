@@ -49,6 +49,15 @@ head -c 300 "$tmp/ear.glb" > "$tmp/cut.glb"
 "$bin/sam_render" "$tmp/cut.glb" -o "$tmp/cut.png" --size-mm 60 > "$tmp/cut.txt" 2>&1 && fail "a cut .glb rendered"
 [ "$(wc -l < "$tmp/cut.txt")" -eq 1 ] && grep -q "cut.glb" "$tmp/cut.txt" || fail "cut .glb: $(cat "$tmp/cut.txt")"
 [ -e "$tmp/cut.png" ] && fail "a picture was written for a cut .glb"
+# gltfpack's default quantizes the attributes (KHR_mesh_quantization): the
+# same counts and bounds; with -c it compresses them (EXT_meshopt_compression),
+# which is refused in one line that says so, not with a buffer size.
+(cd "$tmp" && gltfpack -i ear.obj -o quantized.glb > /dev/null 2>&1 && gltfpack -i ear.obj -o packed.glb -c \
+  > /dev/null 2>&1) || fail "gltfpack"
+[ "$(counts "$tmp/quantized.glb")" = "$want" ] || fail "quantized.glb: counts '$(counts "$tmp/quantized.glb")'"
+"$bin/sam_info" "$tmp/packed.glb" > "$tmp/packed.txt" 2>&1 && fail "a compressed .glb was read"
+[ "$(wc -l < "$tmp/packed.txt")" -eq 1 ] && grep -q "packed.glb: its geometry is compressed (EXT_meshopt_compression" \
+  "$tmp/packed.txt" || fail "compressed .glb: $(cat "$tmp/packed.txt")"
 # A missing texture is a warning, not a failure.
 rm "$tmp/checker.png"
 "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/untextured.png" --size-mm 60 --size 64x48 --no-cache 2> "$tmp/missing.txt" \

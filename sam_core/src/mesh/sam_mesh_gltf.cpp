@@ -2,6 +2,7 @@
 // (sam_mesh_soup.h): the triangles of every mesh primitive in the default
 // scene with their node transforms applied, TEXCOORD_0, and the
 // base-colour texture. No exception crosses into C.
+#include <cjson/cJSON.h>
 #include <tiny_gltf.h>
 
 #include <cmath>
@@ -356,8 +357,51 @@ bool load(const char *path, bool images, tinygltf::Model &model, std::string &me
     return ok;
 }
 
+// The compressions a file requires that this reader does not decode, named
+// ("" when none). TinyGLTF refused a meshopt-compressed file with a message
+// about buffer sizes, which told a user nothing.
+std::string undecoded_compression(const char *path)
+{
+    uint8_t *data;
+    size_t size;
+    if (sam_read_file(path, &data, &size, nullptr) != SAM_OK)
+        return "";
+    const char *json = reinterpret_cast<const char *>(data);
+    size_t length = size;
+    if (sam_path_has_extension(path, ".glb")) {
+        // Header (magic, version, length), then the JSON chunk's length and type.
+        uint32_t chunk = 0;
+        if (size >= 20)
+            std::memcpy(&chunk, data + 12, 4);
+        json = size >= 20 && chunk <= size - 20 ? reinterpret_cast<const char *>(data + 20) : "";
+        length = size >= 20 && chunk <= size - 20 ? chunk : 0;
+    }
+    std::string found;
+    cJSON *root = cJSON_ParseWithLength(json, length);
+    const cJSON *required = cJSON_GetObjectItemCaseSensitive(root, "extensionsRequired");
+    const cJSON *name;
+    cJSON_ArrayForEach(name, required)
+    {
+        static const char *const compressions[] = {"KHR_draco_mesh_compression", "EXT_meshopt_compression",
+                                                   "KHR_meshopt_compression"};
+        for (const char *c : compressions)
+            if (cJSON_IsString(name) && !std::strcmp(name->valuestring, c))
+                found += (found.empty() ? "" : ", ") + std::string(c);
+    }
+    cJSON_Delete(root);
+    std::free(data);
+    return found;
+}
+
 sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
 {
+    const std::string compressed = undecoded_compression(path);
+    if (!compressed.empty())
+        return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                        "%s: its geometry is compressed (%s, required), which this reader does not decode; export "
+                        "it without compression (gltfpack without -c or -cc; Blender's glTF exporter with "
+                        "compression off)",
+                        path, compressed.c_str());
     tinygltf::Model model;
     std::string message;
     if (!load(path, false, model, message))
