@@ -40,18 +40,25 @@ static void usage(FILE *out)
             "  sam_info meshes/ear.obj scenes/ear_backlit.json --mm-per-unit 60\n");
 }
 
-static void print_bounds(const float *pos, uint32_t count)
+/* The bounds, and the loose specks outside the object's body that
+ * --size-mm leaves out (sam_mesh_body). */
+static void print_bounds(const float *pos, uint32_t count, const uint32_t *triangles, uint32_t triangle_count)
 {
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t v = 0; v < count; ++v)
-        for (int i = 0; i < 3; ++i) {
-            lo[i] = fminf(lo[i], pos[3 * (size_t)v + i]);
-            hi[i] = fmaxf(hi[i], pos[3 * (size_t)v + i]);
-        }
+    const sam_mesh view = {
+        .vertex_count = count, .positions = (float *)pos, .triangle_count = triangle_count,
+        .triangles = (uint32_t *)triangles};
+    float lo[3], hi[3];
+    sam_mesh_bounds(&view, lo, hi);
     double d = sqrt((double)(hi[0] - lo[0]) * (hi[0] - lo[0]) + (double)(hi[1] - lo[1]) * (hi[1] - lo[1]) +
                     (double)(hi[2] - lo[2]) * (hi[2] - lo[2]));
     printf("  bounds:            (%g, %g, %g) .. (%g, %g, %g), diagonal %g units\n", lo[0], lo[1], lo[2],
            hi[0], hi[1], hi[2], d);
+    sam_mesh_body_info body;
+    if (sam_mesh_body(&view, NULL, &body, NULL) == SAM_OK && body.box_changed)
+        printf("  loose specks:      %u piece%s (%u vertices, %.2g%% of the surface) outside the object; its size "
+               "(--size-mm) is the diagonal %g units\n",
+               body.loose_pieces, body.loose_pieces == 1 ? "" : "s", body.loose_vertices,
+               100.0 * body.loose_area / body.total_area, sam_mesh_diagonal(&view));
 }
 
 static void print_range(const char *label, const float *v, uint32_t n, const char *unit)
@@ -88,7 +95,7 @@ static int info_mesh(const char *path, float mm_per_unit)
     if (!rep.boundary_vertices && sam_mesh_signed_volume(&m) < 0)
         printf("  orientation:       closed and facing inward (negative volume): sam_build and sam_render turn it "
                "outside out\n");
-    print_bounds(m.positions, m.vertex_count);
+    print_bounds(m.positions, m.vertex_count, m.triangles, m.triangle_count);
     float *values = malloc((size_t)m.topo_count * sizeof *values);
     if (!values) {
         fprintf(stderr, "sam_info: %s: out of memory\n", path);
@@ -133,7 +140,7 @@ static int info_sam(const char *path)
     printf("  adjacency entries: %u\n", d.adjacency_count);
     if (d.unknown_chunk_count)
         printf("  unknown chunks:    %u (skipped)\n", d.unknown_chunk_count);
-    print_bounds(d.positions, d.vertex_count);
+    print_bounds(d.positions, d.vertex_count, d.triangles, d.triangle_count);
     print_range("fan area:", d.fan_area, d.vertex_count, " mm^2");
     samfile_info_print(&d, stdout);
     samfile_free(&d);

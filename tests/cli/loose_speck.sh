@@ -56,3 +56,8 @@ PY
   2> "$tmp/build.txt" || fail "sam_build: $(cat "$tmp/build.txt")"
 grep -q "size-mm measures the object without 1 loose piece" "$tmp/build.txt" \
   || fail "sam_build does not say what --size-mm measures: $(cat "$tmp/build.txt")"
+"$bin/sam_info" "$tmp/speck.obj" | grep -q "loose specks: *1 piece (3 vertices, .*) outside the object; its size (--size-mm) is the diagonal" \
+  || fail "sam_info does not name the speck: $("$bin/sam_info" "$tmp/speck.obj")"
+"$bin/sam_info" "$tmp/ear.obj" | grep -q "loose specks" && fail "sam_info names a speck the ear has not"
+"$bin/sam_info" "$tmp/speck.sam" | grep -q "loose specks: *1 piece" || fail "sam_info does not name the map's speck"
+echo "PASS"
