@@ -477,7 +477,8 @@ static void load_text(const char *name, const char *text, sam_mesh *m)
 
 /* OBJ files OpenMesh's reader alone refuses: a comment after a face's
  * corners (or after a vertex, a UV, a material), and a face continued on
- * the next line with a backslash (LF and CRLF). Each loads as the plain
+ * the next line with a backslash (LF and CRLF; a comment's backslash
+ * continues nothing). Each loads as the plain
  * cube, vertex for vertex and UV for UV, and an error after a continued
  * line names the file's own line. */
 static void test_obj_as_other_tools_write_it(void **state)
@@ -492,6 +493,8 @@ static void test_obj_as_other_tools_write_it(void **state)
          "usemtl skin # the only one\nf 1/1 4/2 3/3 2/4 # bottom\nf 5/5 6/6 7/7 8/8\t#top\nf 1/9 2/10 6/11 5/12\n"
          "f 4/13 8/14 7/15 3/16\nf 1/17 5/18 8/19 4/20\nf 2/21 3/22 7/23 6/24 #\n"},
         {"obj_continued.obj",
+         "# exported from C:\\models\\\n"
+         "mtllib cube.mtl # its material\n"
          "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
          "vt 0 0\nvt 0.3 0\nvt 0.3 0.3\nvt 0 0.3\nvt 0.35 0\nvt 0.65 0\nvt 0.65 0.3\nvt 0.35 0.3\n"
          "vt 0.7 0\nvt 1 0\nvt 1 0.3\nvt 0.7 0.3\nvt 0 0.35\nvt 0.3 0.35\nvt 0.3 0.65\nvt 0 0.65\n"
@@ -635,6 +638,16 @@ static void test_body_leaves_out_loose_specks(void **state)
     assert_int_equal(body.loose_pieces, 0);
     assert_false(body.box_changed);
     assert_float_equal(sam_mesh_diagonal(&pair), sqrt(3.0) * 11, 1e-5);
+    /* A tiny triangle joined to a large one only where one has +0 and the
+     * other -0 (equal positions, which topology welds) is part of it. */
+    {
+        const float pos[6 * 3] = {0, 0, 0, 1, 0, 0, 0, 1, 0, -0.0f, 0, 0, -0.001f, 0, 0, 0, 0, 0.001f};
+        const uint32_t tri[6] = {0, 1, 2, 3, 4, 5};
+        const sam_mesh joined = {.vertex_count = 6, .positions = (float *)pos, .triangle_count = 2,
+                                 .triangles = (uint32_t *)tri};
+        assert_int_equal(sam_mesh_body(&joined, NULL, &body, &err), SAM_OK);
+        assert_int_equal(body.loose_pieces, 0);
+    }
     /* A triangle naming a vertex past the count is refused. */
     tri2[5] = 2 * n;
     assert_int_equal(sam_mesh_body(&pair, NULL, &body, &err), SAM_ERR_INVALID_ARGUMENT);

@@ -68,8 +68,9 @@ static sam_status cache_path(const char *dir, const sam_scene *scene, const sam_
              sam_build_samples(set), set->mc_samples, (unsigned long long)set->seed, (int)set->map,
              set->cut_tolerance, set->candidates, set->radius_tolerance);
     /* A size in mm measures the mesh without its loose specks
-     * (sam_mesh_diagonal) since these maps were first cached: a mesh with
-     * specks gets another scale, so such keys say so. */
+     * (sam_mesh_diagonal) since these maps were first cached, which gives a
+     * mesh with specks another scale: every size-in-mm key changed once so
+     * that no such map is served at the old one. */
     if (scene->scale_kind == SAM_SCALE_SIZE_MM) {
         const size_t used = strlen(key);
         snprintf(key + used, sizeof key - used, " body");

@@ -161,7 +161,8 @@ typedef struct sam_mesh_body_info {
 /* The mesh's body: every piece but the loose specks (see
  * SAM_MESH_LOOSE_FRACTION). Reads `positions`, `vertex_count`, `triangles`
  * and `triangle_count` only (a map's arrays may be passed); without
- * triangles every vertex is the body. `in_body` (vertex_count bytes, may
+ * triangles every vertex is the body, with them a vertex no triangle uses
+ * is a speck of its own (a loaded mesh has none). `in_body` (vertex_count bytes, may
  * be NULL) gets 1 for a body vertex, 0 for a speck's.
  * Errors: SAM_ERR_INVALID_ARGUMENT (NULL, or a triangle naming a vertex
  * past vertex_count), SAM_ERR_OUT_OF_MEMORY. */

@@ -11,9 +11,10 @@
 #include "sam_mesh_soup.h"
 
 /* Copies the line's argument after `keyword` (with its leading blanks,
- * a comment after it (a '#' after a blank), trailing blanks and line end
- * removed) into out; 0 when the line is not that keyword. */
-static int keyword_value(const char *line, const char *keyword, char *out, size_t n)
+ * trailing blanks and line end removed, and with `comments` a comment after
+ * it, a '#' after a blank, as OBJ and MTL have them) into out; 0 when the
+ * line is not that keyword. */
+static int keyword_value(const char *line, const char *keyword, int comments, char *out, size_t n)
 {
     const size_t k = strlen(keyword);
     while (*line == ' ' || *line == '\t')
@@ -24,7 +25,7 @@ static int keyword_value(const char *line, const char *keyword, char *out, size_
     while (*v == ' ' || *v == '\t')
         ++v;
     size_t len = strcspn(v, "\r\n");
-    for (size_t i = 1; i < len; ++i)
+    for (size_t i = 1; comments && i < len; ++i)
         if (v[i] == '#' && (v[i - 1] == ' ' || v[i - 1] == '\t')) {
             len = i;
             break;
@@ -102,9 +103,9 @@ static sam_status obj_texture(const char *path, char *texture, size_t n, char *n
         return st;
     char mtllib[512] = "", material[512] = "", line_value[512];
     for (const char *line = (const char *)text; line && line < (const char *)text + size;) {
-        if (!mtllib[0] && keyword_value(line, "mtllib", line_value, sizeof line_value))
+        if (!mtllib[0] && keyword_value(line, "mtllib", 1, line_value, sizeof line_value))
             snprintf(mtllib, sizeof mtllib, "%s", line_value);
-        if (!material[0] && keyword_value(line, "usemtl", line_value, sizeof line_value))
+        if (!material[0] && keyword_value(line, "usemtl", 1, line_value, sizeof line_value))
             snprintf(material, sizeof material, "%s", line_value);
         const char *next = memchr(line, '\n', (size_t)((const char *)text + size - line));
         line = next ? next + 1 : NULL;
@@ -123,9 +124,9 @@ static sam_status obj_texture(const char *path, char *texture, size_t n, char *n
     int inside = !material[0];
     char map[512] = "";
     for (const char *line = (const char *)text; line && line < (const char *)text + size && !map[0];) {
-        if (keyword_value(line, "newmtl", line_value, sizeof line_value))
+        if (keyword_value(line, "newmtl", 1, line_value, sizeof line_value))
             inside = !material[0] || strcmp(line_value, material) == 0;
-        else if (inside && keyword_value(line, "map_Kd", line_value, sizeof line_value))
+        else if (inside && keyword_value(line, "map_Kd", 1, line_value, sizeof line_value))
             snprintf(map, sizeof map, "%s", map_file_name(line_value));
         const char *next = memchr(line, '\n', (size_t)((const char *)text + size - line));
         line = next ? next + 1 : NULL;
@@ -158,8 +159,8 @@ static sam_status ply_texture(const char *path, char *texture, size_t n, sam_err
     for (const char *line = head; line && line < head + size && !texture[0];) {
         if (!strncmp(line, "end_header", 10))
             break;
-        if (keyword_value(line, "comment", comment, sizeof comment) &&
-            keyword_value(comment, "TextureFile", name, sizeof name))
+        if (keyword_value(line, "comment", 0, comment, sizeof comment) &&
+            keyword_value(comment, "TextureFile", 0, name, sizeof name))
             beside_file(path, name, texture, n);
         const char *next = memchr(line, '\n', (size_t)(head + size - line));
         line = next ? next + 1 : NULL;

@@ -3,7 +3,8 @@
  * A scan's stray triangle or a modeller's forgotten fin far from the object
  * made the bounding box, and so --size-mm, the camera and the staged
  * lights, the speck's and not the object's. Pieces are found on positions
- * welded exactly (as topology is) so that a UV or normal seam splits none,
+ * welded where equal (as topology welds them) so that a UV or normal seam
+ * splits none,
  * and from the triangles alone, so that a map's positions and triangles
  * give the body its mesh had. */
 #include <math.h>
@@ -59,8 +60,9 @@ sam_status sam_mesh_body(const sam_mesh *mesh, uint8_t *in_body, sam_mesh_body_i
         key[v].v = v;
     }
     qsort(key, n, sizeof *key, by_position);
+    /* Equal as numbers, so -0 and +0 meet, as topology welds them. */
     for (uint32_t i = 1; i < n; ++i)
-        if (!memcmp(key[i].p, key[i - 1].p, sizeof key[i].p))
+        if (key[i].p[0] == key[i - 1].p[0] && key[i].p[1] == key[i - 1].p[1] && key[i].p[2] == key[i - 1].p[2])
             join(parent, key[i - 1].v, key[i].v);
     free(key);
     for (uint32_t t = 0; t < mesh->triangle_count; ++t) {

@@ -210,7 +210,8 @@ public:
             std::remove(path_.c_str());
     }
 
-    // Writes `text` to a file named with `extension` (4 characters, ".off");
+    // Writes `text` to a file named with `extension` (4 characters: ".off",
+    // ".ply", ".obj");
     // SAM_OK with path() naming the file.
     sam_status write(const char *source, const char *text, size_t size, const char *extension, sam_error *err)
     {

@@ -43,7 +43,7 @@ static int vertex_role(const char *name)
     return !strcmp(name, "s") ? 6 : !strcmp(name, "t") ? 7 : -1;
 }
 
-const char *sam_mesh_ply_misread(const sam_mesh_ply_header *h)
+int sam_mesh_ply_misread(const sam_mesh_ply_header *h)
 {
     /* The reader stops after the face element. */
     for (int e = 0; e < h->element_count; ++e) {
@@ -51,23 +51,21 @@ const char *sam_mesh_ply_misread(const sam_mesh_ply_header *h)
         const int face = !strcmp(el->name, "face"), vertex = !strcmp(el->name, "vertex");
         for (int k = 0; k < el->property_count; ++k) {
             const sam_mesh_ply_property *pr = &el->property[k];
-            if (face && k == 0) {
-                if (!pr->count_name_read)
-                    return "a face corner count type its reader does not know";
-                if (is_float(pr->value_type))
-                    return "face corner indices typed as floats";
+            if (face && k == 0 && pr->is_list) {
+                /* A count type it does not know; corner indices typed as floats. */
+                if (!pr->count_name_read || is_float(pr->value_type))
+                    return 1;
             } else if (pr->is_list) {
-                return "a list property other than the faces' corners";
+                return 1; /* skipped as one value */
             } else if (vertex && vertex_role(pr->name) >= 0 && !is_float(pr->value_type)) {
-                return "integer vertex positions, normals or texture coordinates";
+                return 1; /* integer positions, normals or texture coordinates: not read */
             }
         }
         if (face)
             break;
     }
-    if (h->format != 0 && h->reader_body != h->body)
-        return "a header whose last line before end_header is a comment, blank or ends in a blank";
-    return NULL;
+    /* A comment, blank line or trailing blank before end_header. */
+    return h->format != 0 && h->reader_body != h->body;
 }
 
 /* Walks a body value by value, ASCII or binary. */
@@ -172,7 +170,7 @@ sam_status sam_mesh_ply_rewrite(const char *path, const char *data, size_t size,
         const sam_mesh_ply_element *el = &h->element[e];
         for (unsigned long long i = 0; i < el->count; ++i) {
             double v[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-            int corners = 0, texcoords = 0;
+            uint32_t corners = 0, texcoords = 0; /* counts of at most 4 bytes, never negative (the walk) */
             for (int k = 0; k < el->property_count; ++k) {
                 const sam_mesh_ply_property *pr = &el->property[k];
                 if (!pr->is_list) {
@@ -186,10 +184,10 @@ sam_status sam_mesh_ply_rewrite(const char *path, const char *data, size_t size,
                 const int is_corners = el == face && k == 0;
                 const int is_uv = el == face && !strcmp(pr->name, "texcoord");
                 if (is_corners) {
-                    corners = (int)n;
-                    put_u32(out, (uint32_t)corners);
+                    corners = (uint32_t)n;
+                    put_u32(out, corners);
                 } else if (is_uv) {
-                    texcoords = (int)n;
+                    texcoords = (uint32_t)n;
                 }
                 for (double j = 0; j < n; ++j) {
                     const double x = read_value(&c, pr->value_type);
@@ -197,8 +195,8 @@ sam_status sam_mesh_ply_rewrite(const char *path, const char *data, size_t size,
                         if (!(x >= 0 && x <= 2147483647.0 && x == floor(x))) {
                             free(uv);
                             return sam_fail(err, SAM_ERR_FORMAT,
-                                            "%s: PLY face %llu: corner %d is %g, which is no vertex index", path, i,
-                                            (int)j, x);
+                                            "%s: PLY face %llu: corner %.0f is %g, which is no vertex index", path,
+                                            i, j, x);
                         }
                         put_u32(out, (uint32_t)x);
                     } else if (is_uv && uv_ok) {
@@ -222,7 +220,7 @@ sam_status sam_mesh_ply_rewrite(const char *path, const char *data, size_t size,
                     put_float(out, v[r]);
                 if (uvs)
                     put_float(out, v[6]), put_float(out, v[7]);
-            } else if (el == face && texcoords != 2 * corners) {
+            } else if (el == face && texcoords != 2ull * corners) {
                 uv_ok = 0;
             }
         }

@@ -72,9 +72,9 @@ sam_mesh_ply_type sam_mesh_ply_type_of(const char *tok, int len);
 /* Bytes of one value of type `t` (0 for SAM_MESH_PLY_UNKNOWN). */
 int sam_mesh_ply_type_size(sam_mesh_ply_type t);
 
-/* What in a parsed header OpenMesh's reader would misread (a phrase for a
- * message), or NULL when it reads the file as written. */
-const char *sam_mesh_ply_misread(const sam_mesh_ply_header *header);
+/* 1 when OpenMesh's reader would misread the file `header` describes (see
+ * the overview), 0 when it reads it as written. */
+int sam_mesh_ply_misread(const sam_mesh_ply_header *header);
 
 /* Writes the file at `data` (`size` bytes, its header parsed into
  * `header`, its body checked by the pre-check against it) again as a

@@ -859,7 +859,9 @@ static char *obj_plain_text(const char *data, size_t size, int *oom)
         return NULL;
     }
     size_t o = 0;
-    int held = 0, content = 0, comment = 0; /* line ends held back; a word seen on the line; inside a comment */
+    /* Line ends held back; a word seen on the line; inside a comment (no
+     * backslash continues it), blanked when after a word. */
+    int held = 0, content = 0, comment = 0, blank = 0;
     for (size_t i = 0; i < size; ++i) {
         const char ch = data[i];
         const int crlf = ch == '\\' && i + 2 < size && data[i + 1] == '\r' && data[i + 2] == '\n';
@@ -875,21 +877,32 @@ static char *obj_plain_text(const char *data, size_t size, int *oom)
             for (; held > 0; --held)
                 out[o++] = '\n';
             out[o++] = '\n';
-            content = comment = 0;
+            content = comment = blank = 0;
             continue;
         }
-        if (ch == '#' && content)
-            comment = 1;
+        if (ch == '#' && !comment)
+            comment = 1, blank = content;
         if (ch != ' ' && ch != '\t' && ch != '\r')
             content = 1;
-        out[o++] = comment && ch != '\r' ? ' ' : ch;
+        out[o++] = blank && ch != '\r' ? ' ' : ch;
     }
     for (; held > 0; --held)
         out[o++] = '\n';
     out[o] = '\0';
-    if (o != size || !memcmp(out, data, size)) {
+    if (!memcmp(out, data, size)) {
         free(out);
         return NULL;
+    }
+    /* OpenMesh would look for the material library beside the temporary
+     * file, where anyone may have put one; materials are read from the
+     * file's own folder (sam_mesh_load_albedo), so the line goes. */
+    for (char *line = out; line && line < out + size;) {
+        char *end = memchr(line, '\n', (size_t)(out + size - line));
+        const size_t len = end ? (size_t)(end - line) : (size_t)(out + size - line);
+        const char *word = line + strspn(line, " \t");
+        if (!strncmp(word, "mtllib", 6) && (word[6] == ' ' || word[6] == '\t'))
+            memset(line, ' ', len && line[len - 1] == '\r' ? len - 1 : len);
+        line = end ? end + 1 : NULL;
     }
     return out;
 }

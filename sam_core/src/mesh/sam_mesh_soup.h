@@ -31,7 +31,7 @@ typedef struct sam_mesh_soup {
  * a soup. Every exception is caught. Indices are checked against the vertex
  * count here; coordinates are validated by the caller. `text` (may be
  * NULL: the file is read) is the file written again for the reader,
- * text_size bytes in the format of `extension` (".off" or ".ply";
+ * text_size bytes in the format of `extension` (".off", ".ply" or ".obj";
  * sam_mesh_expect.rewritten), read in the file's place from a private
  * temporary file in $TMPDIR (else /tmp), removed after; `path` still names
  * the file in the messages.
@@ -85,11 +85,12 @@ typedef struct sam_mesh_expect {
     /* The file written again as OpenMesh reads it right (the same vertices
      * and faces), which the reader reads instead: an OFF file with
      * comments, counts on the keyword's line, no edge count or face
-     * colours; a PLY it would misread (sam_mesh_ply.h). Owned; NULL when
+     * colours; a PLY it would misread (sam_mesh_ply.h); an OBJ with
+     * comments after values or continued lines. Owned; NULL when
      * the file goes as it is (sam_mesh_expect_free). */
     char *rewritten;
     size_t rewritten_size;             /* bytes, without the terminating NUL */
-    const char *rewritten_extension;   /* ".off" or ".ply" (static) */
+    const char *rewritten_extension;   /* ".off", ".ply" or ".obj" (static) */
     /* A rewritten PLY's per-corner texture coordinates, which OpenMesh's
      * reader does not carry: 2 * corner_uv_count floats, every face's
      * corners in file order. Owned; NULL when the file has none. */
