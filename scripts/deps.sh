@@ -10,6 +10,7 @@ packages=(
   libpng-dev zlib1g-dev
   libstb-dev                                   # JPEG and TGA albedo maps (stb_image), sam_view's text
   libtinygltf-dev                              # glTF 2.0 meshes
+  libmeshoptimizer-dev                         # glTF geometry gltfpack compressed (EXT_meshopt_compression)
   gltfpack                                     # tests: a glTF written by a real exporter
   xvfb xauth                                   # window tests
   gnuplot-nox                                  # sam_compare's RMSE-against-N plot

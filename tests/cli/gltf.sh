@@ -49,15 +49,39 @@ head -c 300 "$tmp/ear.glb" > "$tmp/cut.glb"
 "$bin/sam_render" "$tmp/cut.glb" -o "$tmp/cut.png" --size-mm 60 > "$tmp/cut.txt" 2>&1 && fail "a cut .glb rendered"
 [ "$(wc -l < "$tmp/cut.txt")" -eq 1 ] && grep -q "cut.glb" "$tmp/cut.txt" || fail "cut .glb: $(cat "$tmp/cut.txt")"
 [ -e "$tmp/cut.png" ] && fail "a picture was written for a cut .glb"
-# gltfpack's default quantizes the attributes (KHR_mesh_quantization): the
-# same counts and bounds; with -c it compresses them (EXT_meshopt_compression),
-# which is refused in one line that says so, not with a buffer size.
+# gltfpack's default quantizes the attributes (KHR_mesh_quantization, its
+# UVs undone by KHR_texture_transform); -c and -cc compress them with meshopt
+# (EXT_meshopt_compression), decoded here: each has the OBJ's counts and
+# renders its picture, texture and all. A compressed .gltf (its buffer in a
+# .bin beside it) is refused in one line that says so, and a .glb whose
+# meshopt data is damaged in one line naming the buffer view.
 (cd "$tmp" && gltfpack -i ear.obj -o quantized.glb > /dev/null 2>&1 && gltfpack -i ear.obj -o packed.glb -c \
-  > /dev/null 2>&1) || fail "gltfpack"
-[ "$(counts "$tmp/quantized.glb")" = "$want" ] || fail "quantized.glb: counts '$(counts "$tmp/quantized.glb")'"
-"$bin/sam_info" "$tmp/packed.glb" > "$tmp/packed.txt" 2>&1 && fail "a compressed .glb was read"
-[ "$(wc -l < "$tmp/packed.txt")" -eq 1 ] && grep -q "packed.glb: its geometry is compressed (EXT_meshopt_compression" \
-  "$tmp/packed.txt" || fail "compressed .glb: $(cat "$tmp/packed.txt")"
+  > /dev/null 2>&1 && gltfpack -i ear.obj -o packed_more.glb -cc > /dev/null 2>&1 &&
+  gltfpack -i ear.obj -o packed.gltf -c > /dev/null 2>&1) || fail "gltfpack"
+for f in quantized packed packed_more; do
+  [ "$(counts "$tmp/$f.glb")" = "$want" ] || fail "$f.glb: counts '$(counts "$tmp/$f.glb")', the OBJ's '$want'"
+  render $f.glb $f
+  grep -q "albedo map: the base colour texture of .*$f.glb" "$tmp/$f.txt" || fail "$f.glb: $(cat "$tmp/$f.txt")"
+  db=$(png psnr "$tmp/obj.png" "$tmp/$f.png")
+  echo "OBJ against $f.glb: $db dB"
+  python3 -c "import sys; sys.exit(0 if float('$db') >= 35 else 1)" || fail "$f.glb renders another picture ($db dB)"
+done
+"$bin/sam_info" "$tmp/packed.gltf" > "$tmp/packed_gltf.txt" 2>&1 && fail "a compressed .gltf was read"
+[ "$(wc -l < "$tmp/packed_gltf.txt")" -eq 1 ] && grep -q "packed.gltf: its geometry is compressed (EXT_meshopt" \
+  "$tmp/packed_gltf.txt" || fail "compressed .gltf: $(cat "$tmp/packed_gltf.txt")"
+python3 - "$tmp/packed.glb" "$tmp/damaged.glb" <<'PY' || fail "damaging the .glb"
+import json, struct, sys
+d = bytearray(open(sys.argv[1], "rb").read())
+n = struct.unpack_from("<I", d, 12)[0]
+views = json.loads(bytes(d[20:20 + n]))["bufferViews"]
+ext = next(v["extensions"]["EXT_meshopt_compression"] for v in views if "extensions" in v)
+at = 20 + ((n + 3) & ~3) + 8 + ext.get("byteOffset", 0)
+d[at:at + ext["byteLength"]] = bytes(ext["byteLength"])  # its meshopt data zeroed
+open(sys.argv[2], "wb").write(d)
+PY
+"$bin/sam_info" "$tmp/damaged.glb" > "$tmp/damaged.txt" 2>&1 && fail "a damaged compressed .glb was read"
+[ "$(wc -l < "$tmp/damaged.txt")" -eq 1 ] && grep -q "damaged.glb: .*meshopt.*buffer view [0-9]*: its meshopt data does not decode" \
+  "$tmp/damaged.txt" || fail "damaged compressed .glb: $(cat "$tmp/damaged.txt")"
 # A missing texture is a warning, not a failure.
 rm "$tmp/checker.png"
 "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/untextured.png" --size-mm 60 --size 64x48 --no-cache 2> "$tmp/missing.txt" \

@@ -5,6 +5,7 @@
 #include <cjson/cJSON.h>
 #include <tiny_gltf.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 
 #include "../io/sam_image_internal.h"
 #include "sam_mesh_cpp.hpp"
+#include "sam_mesh_gltf_meshopt.h"
 
 namespace {
 
@@ -206,6 +208,32 @@ Mat4 local_transform(const tinygltf::Node &n, int index)
     return m;
 }
 
+// The KHR_texture_transform of the base colour texture of `p`'s material,
+// as u' = m[0] u + m[1] v + m[2], v' = m[3] u + m[4] v + m[5] in glTF's UV
+// space; the identity without one. gltfpack quantizes UVs by default and
+// undoes it here: read without it, the whole texture fell on one texel.
+std::array<double, 6> uv_transform(const tinygltf::Model &model, const tinygltf::Primitive &p)
+{
+    std::array<double, 6> m = {1, 0, 0, 0, 1, 0};
+    if (p.material < 0 || size_t(p.material) >= model.materials.size())
+        return m;
+    const tinygltf::ExtensionMap &ext = model.materials[size_t(p.material)].pbrMetallicRoughness.baseColorTexture.extensions;
+    const auto it = ext.find("KHR_texture_transform");
+    if (it == ext.end() || !it->second.IsObject())
+        return m;
+    auto number = [&](const char *key, int i, double fallback) {
+        const tinygltf::Value &v = it->second.Get(key);
+        const tinygltf::Value &x = i < 0 ? v : v.IsArray() && v.ArrayLen() == 2 ? v.Get(i) : tinygltf::Value();
+        return x.IsNumber() && std::isfinite(x.GetNumberAsDouble()) ? x.GetNumberAsDouble() : fallback;
+    };
+    const double ox = number("offset", 0, 0), oy = number("offset", 1, 0), r = number("rotation", -1, 0);
+    const double sx = number("scale", 0, 1), sy = number("scale", 1, 1), c = std::cos(r), s = std::sin(r);
+    // The extension's matrix, offset x rotation x scale, its rotation a
+    // column-major mat3(cos, sin, 0, -sin, cos, 0, 0, 0, 1).
+    m = {c * sx, -s * sy, ox, s * sx, c * sy, oy};
+    return m;
+}
+
 // One primitive's triangles into the soup, transformed by `world`.
 void add_primitive(Reader &r, const tinygltf::Primitive &p, const Mat4 &world, const std::string &where)
 {
@@ -239,6 +267,7 @@ void add_primitive(Reader &r, const tinygltf::Primitive &p, const Mat4 &world, c
     const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
     const double inv_t[9] = {(e * i - f * h), -(d * i - f * g), (d * h - e * g), -(b * i - c * h), (a * i - c * g),
                              -(a * h - b * g), (b * f - c * e), -(a * f - c * d), (a * e - b * d)};
+    const std::array<double, 6> t = uv_transform(r.model, p);
     for (size_t v = 0; v < n; ++v) {
         const double x = pos[3 * v], y = pos[3 * v + 1], z = pos[3 * v + 2];
         for (int k = 0; k < 3; ++k)
@@ -248,8 +277,9 @@ void add_primitive(Reader &r, const tinygltf::Primitive &p, const Mat4 &world, c
                                             : float(inv_t[3 * k] * nrm[3 * v] + inv_t[3 * k + 1] * nrm[3 * v + 1] +
                                                     inv_t[3 * k + 2] * nrm[3 * v + 2]));
         // glTF's v runs down the image, the project's (OBJ's) up.
-        r.uvs.push_back(uv.empty() ? 0.0f : uv[2 * v]);
-        r.uvs.push_back(uv.empty() ? 0.0f : 1.0f - uv[2 * v + 1]);
+        const double u0 = uv.empty() ? 0 : uv[2 * v], v0 = uv.empty() ? 0 : uv[2 * v + 1];
+        r.uvs.push_back(uv.empty() ? 0.0f : float(t[0] * u0 + t[1] * v0 + t[2]));
+        r.uvs.push_back(uv.empty() ? 0.0f : float(1.0 - (t[3] * u0 + t[4] * v0 + t[5])));
     }
     std::vector<uint32_t> idx = read_indices(r, p.indices, n);
     // A mirroring transform turns the winding; the triangles are turned back.
@@ -342,7 +372,9 @@ std::string short_last_read(std::string message)
 
 // Parses the file; with `images` its pictures are decoded too (for the
 // base colour).
-bool load(const char *path, bool images, tinygltf::Model &model, std::string &message)
+// A GLB compressed with meshopt is decoded first and read from memory
+// (sam_mesh_gltf_meshopt.h), its other files found beside it.
+bool load(const char *path, bool images, bool meshopt, tinygltf::Model &model, std::string &message)
 {
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_whole_file,
@@ -350,18 +382,35 @@ bool load(const char *path, bool images, tinygltf::Model &model, std::string &me
     if (!images)
         loader.SetImageLoader(skip_image, nullptr);
     std::string err, warn;
-    const bool binary = sam_path_has_extension(path, ".glb");
-    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    bool ok;
+    if (meshopt) {
+        std::vector<unsigned char> file, glb;
+        if (!read_whole_file(&file, &err, path, nullptr)) {
+            message = sam_mesh_one_line(err);
+            return false;
+        }
+        if (!sam_mesh_gltf_meshopt_decode(file.data(), file.size(), glb, message)) {
+            message = "its meshopt-compressed geometry (EXT_meshopt_compression): " + message;
+            return false;
+        }
+        const char *slash = std::strrchr(path, '/');
+        const std::string dir = slash ? std::string(path, size_t(slash - path)) : ".";
+        ok = loader.LoadBinaryFromMemory(&model, &err, &warn, glb.data(), unsigned(glb.size()), dir);
+    } else {
+        ok = sam_path_has_extension(path, ".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                                                  : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    }
     message = short_last_read(sam_mesh_one_line(err.empty() ? warn : err));
     return ok;
 }
 
 // The compressions a file requires that this reader does not decode, named
-// ("" when none). TinyGLTF refused a meshopt-compressed file with a message
-// about buffer sizes, which told a user nothing.
-std::string undecoded_compression(const char *path)
+// ("" when none; *meshopt set when a GLB's meshopt is to be decoded).
+// TinyGLTF refused a meshopt-compressed file with a message about buffer
+// sizes, which told a user nothing.
+std::string undecoded_compression(const char *path, bool *meshopt)
 {
+    *meshopt = false;
     uint8_t *data;
     size_t size;
     if (sam_read_file(path, &data, &size, nullptr) != SAM_OK)
@@ -384,9 +433,14 @@ std::string undecoded_compression(const char *path)
     {
         static const char *const compressions[] = {"KHR_draco_mesh_compression", "EXT_meshopt_compression",
                                                    "KHR_meshopt_compression"};
-        for (const char *c : compressions)
-            if (cJSON_IsString(name) && !std::strcmp(name->valuestring, c))
+        for (const char *c : compressions) {
+            if (!cJSON_IsString(name) || std::strcmp(name->valuestring, c))
+                continue;
+            if (!std::strcmp(c, "EXT_meshopt_compression") && sam_path_has_extension(path, ".glb"))
+                *meshopt = true;
+            else
                 found += (found.empty() ? "" : ", ") + std::string(c);
+        }
     }
     cJSON_Delete(root);
     std::free(data);
@@ -395,16 +449,17 @@ std::string undecoded_compression(const char *path)
 
 sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
 {
-    const std::string compressed = undecoded_compression(path);
+    bool meshopt;
+    const std::string compressed = undecoded_compression(path, &meshopt);
     if (!compressed.empty())
         return sam_fail(err, SAM_ERR_UNSUPPORTED,
                         "%s: its geometry is compressed (%s, required), which this reader does not decode; export "
-                        "it without compression (gltfpack without -c or -cc; Blender's glTF exporter with "
-                        "compression off)",
-                        path, compressed.c_str());
+                        "it without compression (%sBlender's glTF exporter with compression off)",
+                        path, compressed.c_str(),
+                        compressed.find("meshopt") != std::string::npos ? "as a .glb, which is decoded; " : "");
     tinygltf::Model model;
     std::string message;
-    if (!load(path, false, model, message))
+    if (!load(path, false, meshopt, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: not a readable glTF file: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
     Reader r{model, path, {}, {}, {}, {}};
@@ -447,9 +502,11 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
 // The first base-colour texture among the default scene's materials.
 sam_status read_base_color(const char *path, sam_image *image, float factor[4], sam_error *err)
 {
+    bool meshopt;
+    undecoded_compression(path, &meshopt);
     tinygltf::Model model;
     std::string message;
-    if (!load(path, true, model, message))
+    if (!load(path, true, meshopt, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: its textures cannot be read: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
     for (const tinygltf::Material &mat : model.materials) {

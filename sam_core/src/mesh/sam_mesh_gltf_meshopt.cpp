@@ -1,0 +1,215 @@
+// A GLB whose geometry gltfpack compressed with meshopt
+// (EXT_meshopt_compression), decoded into a plain GLB for TinyGLTF
+// (sam_mesh_gltf_meshopt.h).
+#include "sam_mesh_gltf_meshopt.h"
+
+#include <cjson/cJSON.h>
+#include <meshoptimizer.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+
+namespace {
+
+const char *const kExtension = "EXT_meshopt_compression";
+
+uint32_t get_u32(const uint8_t *p)
+{
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+void put_u32(std::vector<uint8_t> &out, uint32_t v)
+{
+    for (int i = 0; i < 4; ++i)
+        out.push_back(uint8_t(v >> (8 * i)));
+}
+
+// A whole non-negative number under `key` of `object`, `fallback` when
+// the key is absent; -1 when it is there but no such number.
+double whole(const cJSON *object, const char *key, double fallback)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!item)
+        return fallback;
+    const double v = cJSON_IsNumber(item) ? item->valuedouble : -1.0;
+    return v >= 0 && v <= 9007199254740992.0 && v == double(uint64_t(v)) ? v : -1.0;
+}
+
+const char *text(const cJSON *object, const char *key, const char *fallback)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    return cJSON_IsString(item) ? item->valuestring : item ? "" : fallback;
+}
+
+// Drops `name` from the string array `key` of `root`.
+void drop_name(cJSON *root, const char *key, const char *name)
+{
+    cJSON *list = cJSON_GetObjectItemCaseSensitive(root, key);
+    for (int i = cJSON_GetArraySize(list) - 1; i >= 0; --i) {
+        const cJSON *item = cJSON_GetArrayItem(list, i);
+        if (cJSON_IsString(item) && !std::strcmp(item->valuestring, name))
+            cJSON_DeleteItemFromArray(list, i);
+    }
+}
+
+void set_number(cJSON *object, const char *key, double v)
+{
+    cJSON_DeleteItemFromObjectCaseSensitive(object, key);
+    cJSON_AddNumberToObject(object, key, v);
+}
+
+struct Decoder {
+    cJSON *root = nullptr;
+    const uint8_t *bin = nullptr; // the GLB's binary chunk: buffer 0 when it has no uri
+    size_t bin_size = 0;
+    std::vector<uint8_t> out;
+    size_t compressed = 0; // bytes of meshopt data decoded so far
+    std::string message;
+
+    ~Decoder() { cJSON_Delete(root); }
+
+    bool fail(const std::string &why)
+    {
+        message = why;
+        return false;
+    }
+
+    // The bytes [offset, offset + length) of buffer `b`, or null.
+    const uint8_t *bytes(double b, double offset, double length)
+    {
+        const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(root, "buffers");
+        const cJSON *buffer = b >= 0 && b < cJSON_GetArraySize(buffers) ? cJSON_GetArrayItem(buffers, int(b)) : nullptr;
+        if (b != 0 || !buffer || cJSON_GetObjectItemCaseSensitive(buffer, "uri") || !bin || offset < 0 ||
+            length < 0 || offset > double(bin_size) || length > double(bin_size) - offset)
+            return nullptr;
+        return bin + size_t(offset);
+    }
+
+    // Room for `n` more bytes at a 4-byte boundary of `out`; their offset.
+    size_t append(size_t n)
+    {
+        out.resize((out.size() + 3) & ~size_t(3));
+        const size_t at = out.size();
+        out.resize(at + n);
+        return at;
+    }
+
+    bool view(cJSON *view, int index)
+    {
+        const std::string name = "buffer view " + std::to_string(index);
+        cJSON *extensions = cJSON_GetObjectItemCaseSensitive(view, "extensions");
+        const cJSON *ext = cJSON_GetObjectItemCaseSensitive(extensions, kExtension);
+        size_t at;
+        double length;
+        if (!ext) {
+            const double offset = whole(view, "byteOffset", 0);
+            length = whole(view, "byteLength", -1);
+            const uint8_t *src = bytes(whole(view, "buffer", -1), offset, length);
+            if (!src)
+                return fail(name + " lies outside the binary chunk, the one buffer a compressed GLB's views may read");
+            at = append(size_t(length));
+            std::memcpy(out.data() + at, src, size_t(length));
+        } else {
+            const double offset = whole(ext, "byteOffset", 0), size = whole(ext, "byteLength", -1);
+            const double stride = whole(ext, "byteStride", -1), count = whole(ext, "count", -1);
+            const std::string mode = text(ext, "mode", ""), filter = text(ext, "filter", "NONE");
+            const uint8_t *src = bytes(whole(ext, "buffer", -1), offset, size);
+            if (!src)
+                return fail(name + ": its meshopt data lies outside the binary chunk");
+            const bool attributes = mode == "ATTRIBUTES", triangles = mode == "TRIANGLES", indices = mode == "INDICES";
+            const bool stride_ok = attributes ? stride >= 4 && stride <= 256 && std::fmod(stride, 4) == 0
+                                              : (triangles || indices) && (stride == 2 || stride == 4);
+            if (!stride_ok || count < 0 || (triangles && std::fmod(count, 3) != 0))
+                return fail(name + ": meshopt mode \"" + mode + "\" with byteStride " + std::to_string(stride) +
+                            " and count " + std::to_string(count) + " is not one the extension allows");
+            // Decoded data is at most a few hundred times the compressed;
+            // a file that claims more would only make this allocate.
+            compressed += size_t(size);
+            length = count * stride;
+            if (length > double(out.size()) + 256.0 * double(compressed) + 65536.0 || length > 2147483647.0)
+                return fail(name + ": " + std::to_string(size_t(count)) + " elements of " +
+                            std::to_string(size_t(stride)) + " bytes from " + std::to_string(size_t(size)) +
+                            " compressed bytes is more than meshopt data holds");
+            at = append(size_t(length));
+            uint8_t *dst = out.data() + at;
+            const size_t n = size_t(count), s = size_t(stride);
+            const int rc = attributes  ? meshopt_decodeVertexBuffer(dst, n, s, src, size_t(size))
+                           : triangles ? meshopt_decodeIndexBuffer(dst, n, s, src, size_t(size))
+                                       : meshopt_decodeIndexSequence(dst, n, s, src, size_t(size));
+            if (rc != 0)
+                return fail(name + ": its meshopt data does not decode (meshopt error " + std::to_string(rc) + ")");
+            if (filter == "OCTAHEDRAL" && attributes && (s == 4 || s == 8))
+                meshopt_decodeFilterOct(dst, n, s);
+            else if (filter == "QUATERNION" && attributes && s == 8)
+                meshopt_decodeFilterQuat(dst, n, s);
+            else if (filter == "EXPONENTIAL" && attributes)
+                meshopt_decodeFilterExp(dst, n, s);
+            else if (filter != "NONE")
+                return fail(name + ": meshopt filter \"" + filter + "\" does not go with mode \"" + mode +
+                            "\" and byteStride " + std::to_string(s));
+            cJSON_DeleteItemFromObjectCaseSensitive(extensions, kExtension);
+        }
+        set_number(view, "buffer", 0);
+        set_number(view, "byteOffset", double(at));
+        set_number(view, "byteLength", length);
+        return true;
+    }
+};
+
+} // namespace
+
+bool sam_mesh_gltf_meshopt_decode(const uint8_t *data, size_t size, std::vector<uint8_t> &glb, std::string &message)
+{
+    auto refuse = [&](const std::string &why) {
+        message = why;
+        return false;
+    };
+    Decoder d;
+    if (size < 20 || std::memcmp(data, "glTF", 4) || get_u32(data + 16) != 0x4E4F534Au)
+        return refuse("not a GLB with a JSON chunk first");
+    const size_t json_size = get_u32(data + 12);
+    if (json_size > size - 20)
+        return refuse("its JSON chunk runs past the end of the file");
+    const size_t bin_at = 20 + ((json_size + 3) & ~size_t(3));
+    if (bin_at + 8 <= size && get_u32(data + bin_at + 4) == 0x004E4942u && get_u32(data + bin_at) <= size - bin_at - 8) {
+        d.bin = data + bin_at + 8;
+        d.bin_size = get_u32(data + bin_at);
+    }
+    d.root = cJSON_ParseWithLength(reinterpret_cast<const char *>(data + 20), json_size);
+    cJSON *views = cJSON_GetObjectItemCaseSensitive(d.root, "bufferViews");
+    if (!cJSON_IsObject(d.root) || (views && !cJSON_IsArray(views)))
+        return refuse("its JSON chunk is not a glTF object with an array of buffer views");
+    for (int i = 0; i < cJSON_GetArraySize(views); ++i) {
+        cJSON *view = cJSON_GetArrayItem(views, i);
+        if (!cJSON_IsObject(view))
+            return refuse("buffer view " + std::to_string(i) + " is not an object");
+        if (!d.view(view, i))
+            return refuse(d.message);
+    }
+    d.out.resize((d.out.size() + 3) & ~size_t(3));
+    cJSON *buffers = cJSON_CreateArray(), *buffer = cJSON_CreateObject();
+    cJSON_AddNumberToObject(buffer, "byteLength", double(d.out.size()));
+    cJSON_AddItemToArray(buffers, buffer);
+    cJSON_DeleteItemFromObjectCaseSensitive(d.root, "buffers");
+    cJSON_AddItemToObject(d.root, "buffers", buffers);
+    drop_name(d.root, "extensionsUsed", kExtension);
+    drop_name(d.root, "extensionsRequired", kExtension);
+    std::unique_ptr<char, decltype(&cJSON_free)> json(cJSON_PrintUnformatted(d.root), cJSON_free);
+    if (!json)
+        return refuse("out of memory writing its JSON again");
+    std::string padded(json.get());
+    padded.resize((padded.size() + 3) & ~size_t(3), ' ');
+    glb.clear();
+    glb.reserve(28 + padded.size() + d.out.size());
+    glb.insert(glb.end(), {'g', 'l', 'T', 'F'});
+    put_u32(glb, 2);
+    put_u32(glb, uint32_t(28 + padded.size() + d.out.size()));
+    put_u32(glb, uint32_t(padded.size()));
+    put_u32(glb, 0x4E4F534Au);
+    glb.insert(glb.end(), padded.begin(), padded.end());
+    put_u32(glb, uint32_t(d.out.size()));
+    put_u32(glb, 0x004E4942u);
+    glb.insert(glb.end(), d.out.begin(), d.out.end());
+    return true;
+}
