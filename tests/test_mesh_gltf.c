@@ -281,6 +281,26 @@ static void test_truncated_buffer_message_is_short(void **state)
         fail_msg("a %zu-character word in \"%s\"", longest, err.message);
 }
 
+/* The tetrahedron's vertex at render vertex `v` of `m`. */
+static int tetra_vertex(const sam_mesh *m, uint32_t v)
+{
+    int k = 0;
+    while (k < 4 && memcmp(&m->positions[3 * v], &k_tetra.positions[3 * k], 3 * sizeof(float)))
+        k++;
+    assert_true(k < 4);
+    return k;
+}
+
+/* Every UV of `m` is the file's, v turned to the OBJ convention. */
+static void assert_file_uvs(const sam_mesh *m)
+{
+    for (uint32_t v = 0; v < m->vertex_count; ++v) {
+        const int k = tetra_vertex(m, v);
+        assert_float_equal(m->uvs[2 * v], k_tetra.uvs[2 * k], 0);
+        assert_float_equal(m->uvs[2 * v + 1], 1.0f - k_tetra.uvs[2 * k + 1], 1e-7);
+    }
+}
+
 /* The base colour texture's KHR_texture_transform moves the UVs, as
  * gltfpack's quantized UVs need: offset x rotation x scale, the rotation
  * as the extension's GLSL writes it, then v turned to the OBJ convention.
@@ -297,25 +317,24 @@ static void test_texture_transform(void **state)
     load_ok(path, &m);
     assert_non_null(m.uvs);
     for (uint32_t v = 0; v < m.vertex_count; ++v) {
-        int k = 0;
-        while (k < 4 && memcmp(&m.positions[3 * v], &k_tetra.positions[3 * k], 3 * sizeof(float)))
-            k++;
-        assert_true(k < 4);
+        const int k = tetra_vertex(&m, v);
         const double u0 = k_tetra.uvs[2 * k], v0 = k_tetra.uvs[2 * k + 1];
         /* cos = 0, sin = 1: u' = -2 v + 0.5, v' = 0.5 u + 0.25. */
         assert_float_equal(m.uvs[2 * v], -2.0 * v0 + 0.5, 1e-6);
         assert_float_equal(m.uvs[2 * v + 1], 1.0 - (0.5 * u0 + 0.25), 1e-6);
     }
     sam_mesh_destroy(&m);
+    /* None, and one of another UV set (its texCoord 1): the file's UVs. */
     write_gltf(path, sizeof path, "no_texture_transform", "{\"mesh\": 0}", k_triangles, "", k_scene);
     load_ok(path, &m);
-    for (uint32_t v = 0; v < m.vertex_count; ++v) {
-        int k = 0;
-        while (k < 4 && memcmp(&m.positions[3 * v], &k_tetra.positions[3 * k], 3 * sizeof(float)))
-            k++;
-        assert_float_equal(m.uvs[2 * v], k_tetra.uvs[2 * k], 0);
-        assert_float_equal(m.uvs[2 * v + 1], 1.0f - k_tetra.uvs[2 * k + 1], 1e-7);
-    }
+    assert_file_uvs(&m);
+    sam_mesh_destroy(&m);
+    write_gltf(path, sizeof path, "other_set_transform", "{\"mesh\": 0}", ", \"indices\": 2, \"material\": 0", "",
+               "\"scene\": 0, \"scenes\": [{\"nodes\": [0]}], \"materials\": [{\"pbrMetallicRoughness\": "
+               "{\"baseColorTexture\": {\"index\": 0, \"extensions\": {\"KHR_texture_transform\": "
+               "{\"offset\": [0.5, 0.25], \"texCoord\": 1}}}}}],");
+    load_ok(path, &m);
+    assert_file_uvs(&m);
     sam_mesh_destroy(&m);
 }
 

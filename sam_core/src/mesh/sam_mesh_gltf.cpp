@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <new>
 #include <string>
 #include <vector>
@@ -217,9 +218,13 @@ std::array<double, 6> uv_transform(const tinygltf::Model &model, const tinygltf:
     std::array<double, 6> m = {1, 0, 0, 0, 1, 0};
     if (p.material < 0 || size_t(p.material) >= model.materials.size())
         return m;
-    const tinygltf::ExtensionMap &ext = model.materials[size_t(p.material)].pbrMetallicRoughness.baseColorTexture.extensions;
-    const auto it = ext.find("KHR_texture_transform");
-    if (it == ext.end() || !it->second.IsObject())
+    const tinygltf::TextureInfo &info = model.materials[size_t(p.material)].pbrMetallicRoughness.baseColorTexture;
+    const auto it = info.extensions.find("KHR_texture_transform");
+    if (it == info.extensions.end() || !it->second.IsObject())
+        return m;
+    // A transform of another UV set than the one read leaves this one be.
+    const tinygltf::Value &set = it->second.Get("texCoord");
+    if ((set.IsNumber() ? set.GetNumberAsDouble() : double(info.texCoord)) != 0)
         return m;
     auto number = [&](const char *key, int i, double fallback) {
         const tinygltf::Value &v = it->second.Get(key);
@@ -425,9 +430,10 @@ std::string undecoded_compression(const char *path, bool *meshopt)
         json = size >= 20 && chunk <= size - 20 ? reinterpret_cast<const char *>(data + 20) : "";
         length = size >= 20 && chunk <= size - 20 ? chunk : 0;
     }
+    std::unique_ptr<uint8_t, decltype(&std::free)> owned(data, std::free);
     std::string found;
-    cJSON *root = cJSON_ParseWithLength(json, length);
-    const cJSON *required = cJSON_GetObjectItemCaseSensitive(root, "extensionsRequired");
+    std::unique_ptr<cJSON, decltype(&cJSON_Delete)> root(cJSON_ParseWithLength(json, length), cJSON_Delete);
+    const cJSON *required = cJSON_GetObjectItemCaseSensitive(root.get(), "extensionsRequired");
     const cJSON *name;
     cJSON_ArrayForEach(name, required)
     {
@@ -442,8 +448,6 @@ std::string undecoded_compression(const char *path, bool *meshopt)
                 found += (found.empty() ? "" : ", ") + std::string(c);
         }
     }
-    cJSON_Delete(root);
-    std::free(data);
     return found;
 }
 

@@ -6,6 +6,7 @@
 #include <cjson/cJSON.h>
 #include <meshoptimizer.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -42,29 +43,35 @@ const char *text(const cJSON *object, const char *key, const char *fallback)
     return cJSON_IsString(item) ? item->valuestring : item ? "" : fallback;
 }
 
-// Drops `name` from the string array `key` of `root`.
+// Drops `name` from the string array `key` of `root`, walking it once
+// (indexing a cJSON array walks it from the start).
 void drop_name(cJSON *root, const char *key, const char *name)
 {
     cJSON *list = cJSON_GetObjectItemCaseSensitive(root, key);
-    for (int i = cJSON_GetArraySize(list) - 1; i >= 0; --i) {
-        const cJSON *item = cJSON_GetArrayItem(list, i);
+    for (cJSON *item = cJSON_IsArray(list) ? list->child : nullptr, *next; item; item = next) {
+        next = item->next;
         if (cJSON_IsString(item) && !std::strcmp(item->valuestring, name))
-            cJSON_DeleteItemFromArray(list, i);
+            cJSON_Delete(cJSON_DetachItemViaPointer(list, item));
     }
 }
 
-void set_number(cJSON *object, const char *key, double v)
+// Sets `key` (every copy of it gone first); false when out of memory.
+bool set_number(cJSON *object, const char *key, double v)
 {
-    cJSON_DeleteItemFromObjectCaseSensitive(object, key);
-    cJSON_AddNumberToObject(object, key, v);
+    while (cJSON_GetObjectItemCaseSensitive(object, key))
+        cJSON_DeleteItemFromObjectCaseSensitive(object, key);
+    return cJSON_AddNumberToObject(object, key, v) != nullptr;
 }
 
 struct Decoder {
     cJSON *root = nullptr;
     const uint8_t *bin = nullptr; // the GLB's binary chunk: buffer 0 when it has no uri
     size_t bin_size = 0;
+    // Bytes the new chunk may hold: views that copy or decode the same
+    // bytes again, or claim more than meshopt data holds, would otherwise
+    // make a small file ask for gigabytes.
+    size_t budget = 0;
     std::vector<uint8_t> out;
-    size_t compressed = 0; // bytes of meshopt data decoded so far
     std::string message;
 
     ~Decoder() { cJSON_Delete(root); }
@@ -78,21 +85,26 @@ struct Decoder {
     // The bytes [offset, offset + length) of buffer `b`, or null.
     const uint8_t *bytes(double b, double offset, double length)
     {
+        if (b != 0)
+            return nullptr;
         const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(root, "buffers");
-        const cJSON *buffer = b >= 0 && b < cJSON_GetArraySize(buffers) ? cJSON_GetArrayItem(buffers, int(b)) : nullptr;
-        if (b != 0 || !buffer || cJSON_GetObjectItemCaseSensitive(buffer, "uri") || !bin || offset < 0 ||
-            length < 0 || offset > double(bin_size) || length > double(bin_size) - offset)
+        const cJSON *buffer = cJSON_IsArray(buffers) ? buffers->child : nullptr;
+        if (!buffer || cJSON_GetObjectItemCaseSensitive(buffer, "uri") || !bin || offset < 0 || length < 0 ||
+            offset > double(bin_size) || length > double(bin_size) - offset)
             return nullptr;
         return bin + size_t(offset);
     }
 
-    // Room for `n` more bytes at a 4-byte boundary of `out`; their offset.
-    size_t append(size_t n)
+    // Room for `n` more bytes at a 4-byte boundary of `out`: their offset,
+    // or false past the budget.
+    bool append(double n, size_t *at)
     {
-        out.resize((out.size() + 3) & ~size_t(3));
-        const size_t at = out.size();
-        out.resize(at + n);
-        return at;
+        const size_t aligned = (out.size() + 3) & ~size_t(3);
+        if (n < 0 || aligned > budget || n > double(budget - aligned))
+            return false;
+        out.resize(aligned + size_t(n));
+        *at = aligned;
+        return true;
     }
 
     bool view(cJSON *view, int index)
@@ -108,8 +120,11 @@ struct Decoder {
             const uint8_t *src = bytes(whole(view, "buffer", -1), offset, length);
             if (!src)
                 return fail(name + " lies outside the binary chunk, the one buffer a compressed GLB's views may read");
-            at = append(size_t(length));
-            std::memcpy(out.data() + at, src, size_t(length));
+            if (!append(length, &at))
+                return fail(name + ": the views copy more than " + std::to_string(budget) +
+                            " bytes, 64 times the file");
+            if (length > 0)
+                std::memcpy(out.data() + at, src, size_t(length));
         } else {
             const double offset = whole(ext, "byteOffset", 0), size = whole(ext, "byteLength", -1);
             const double stride = whole(ext, "byteStride", -1), count = whole(ext, "count", -1);
@@ -123,15 +138,11 @@ struct Decoder {
             if (!stride_ok || count < 0 || (triangles && std::fmod(count, 3) != 0))
                 return fail(name + ": meshopt mode \"" + mode + "\" with byteStride " + std::to_string(stride) +
                             " and count " + std::to_string(count) + " is not one the extension allows");
-            // Decoded data is at most a few hundred times the compressed;
-            // a file that claims more would only make this allocate.
-            compressed += size_t(size);
             length = count * stride;
-            if (length > double(out.size()) + 256.0 * double(compressed) + 65536.0 || length > 2147483647.0)
+            if (!append(length, &at))
                 return fail(name + ": " + std::to_string(size_t(count)) + " elements of " +
-                            std::to_string(size_t(stride)) + " bytes from " + std::to_string(size_t(size)) +
-                            " compressed bytes is more than meshopt data holds");
-            at = append(size_t(length));
+                            std::to_string(size_t(stride)) + " bytes would take the views past " +
+                            std::to_string(budget) + " bytes, 64 times the file: more than meshopt data holds");
             uint8_t *dst = out.data() + at;
             const size_t n = size_t(count), s = size_t(stride);
             const int rc = attributes  ? meshopt_decodeVertexBuffer(dst, n, s, src, size_t(size))
@@ -150,9 +161,9 @@ struct Decoder {
                             "\" and byteStride " + std::to_string(s));
             cJSON_DeleteItemFromObjectCaseSensitive(extensions, kExtension);
         }
-        set_number(view, "buffer", 0);
-        set_number(view, "byteOffset", double(at));
-        set_number(view, "byteLength", length);
+        if (!set_number(view, "buffer", 0) || !set_number(view, "byteOffset", double(at)) ||
+            !set_number(view, "byteLength", length))
+            return fail("out of memory writing the JSON again");
         return true;
     }
 };
@@ -176,23 +187,35 @@ bool sam_mesh_gltf_meshopt_decode(const uint8_t *data, size_t size, std::vector<
         d.bin = data + bin_at + 8;
         d.bin_size = get_u32(data + bin_at);
     }
+    // Under 2 GiB in all, the GLB's 32-bit lengths with room to spare.
+    d.budget = size_t(std::max(0.0, std::min(64.0 * double(size) + 1048576.0, 2147483648.0 - 65536.0 - double(json_size))));
     d.root = cJSON_ParseWithLength(reinterpret_cast<const char *>(data + 20), json_size);
     cJSON *views = cJSON_GetObjectItemCaseSensitive(d.root, "bufferViews");
     if (!cJSON_IsObject(d.root) || (views && !cJSON_IsArray(views)))
         return refuse("its JSON chunk is not a glTF object with an array of buffer views");
-    for (int i = 0; i < cJSON_GetArraySize(views); ++i) {
-        cJSON *view = cJSON_GetArrayItem(views, i);
+    int i = 0;
+    cJSON *view;
+    cJSON_ArrayForEach(view, views)
+    {
         if (!cJSON_IsObject(view))
             return refuse("buffer view " + std::to_string(i) + " is not an object");
-        if (!d.view(view, i))
+        if (!d.view(view, i++))
             return refuse(d.message);
     }
     d.out.resize((d.out.size() + 3) & ~size_t(3));
     cJSON *buffers = cJSON_CreateArray(), *buffer = cJSON_CreateObject();
-    cJSON_AddNumberToObject(buffer, "byteLength", double(d.out.size()));
+    if (!buffers || !buffer || !cJSON_AddNumberToObject(buffer, "byteLength", double(d.out.size()))) {
+        cJSON_Delete(buffers);
+        cJSON_Delete(buffer);
+        return refuse("out of memory writing its JSON again");
+    }
     cJSON_AddItemToArray(buffers, buffer);
-    cJSON_DeleteItemFromObjectCaseSensitive(d.root, "buffers");
-    cJSON_AddItemToObject(d.root, "buffers", buffers);
+    while (cJSON_GetObjectItemCaseSensitive(d.root, "buffers"))
+        cJSON_DeleteItemFromObjectCaseSensitive(d.root, "buffers");
+    if (!cJSON_AddItemToObject(d.root, "buffers", buffers)) {
+        cJSON_Delete(buffers);
+        return refuse("out of memory writing its JSON again");
+    }
     drop_name(d.root, "extensionsUsed", kExtension);
     drop_name(d.root, "extensionsRequired", kExtension);
     std::unique_ptr<char, decltype(&cJSON_free)> json(cJSON_PrintUnformatted(d.root), cJSON_free);

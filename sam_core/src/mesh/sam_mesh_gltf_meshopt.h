@@ -17,9 +17,9 @@
 // read only the GLB's own binary chunk. False with `message` (one phrase,
 // naming the buffer view) when the file is no such GLB, a view lies
 // outside the chunk, its mode, stride or filter is none the extension
-// allows, it claims more than its data could hold (more than 256 times its
-// size) or it does not decode. Throws std::bad_alloc when out of memory
-// (the callers guard).
+// allows, the views would hold more than 64 times the file (1 MiB more for
+// small files; copies of the same bytes count each time) or it does not
+// decode. Throws std::bad_alloc when out of memory (the callers guard).
 bool sam_mesh_gltf_meshopt_decode(const uint8_t *data, size_t size, std::vector<uint8_t> &glb, std::string &message);
 
 #endif
