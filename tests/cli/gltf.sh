@@ -51,24 +51,32 @@ head -c 300 "$tmp/ear.glb" > "$tmp/cut.glb"
 [ -e "$tmp/cut.png" ] && fail "a picture was written for a cut .glb"
 # gltfpack's default quantizes the attributes (KHR_mesh_quantization, its
 # UVs undone by KHR_texture_transform); -c and -cc compress them with meshopt
-# (EXT_meshopt_compression), decoded here: each has the OBJ's counts and
-# renders its picture, texture and all. A compressed .gltf (its buffer in a
-# .bin beside it) is refused in one line that says so, and a .glb whose
-# meshopt data is damaged in one line naming the buffer view.
+# (EXT_meshopt_compression), decoded here, in a .glb and in a .gltf with its
+# buffer in a .bin beside it or in a data URI: each has the OBJ's counts and
+# renders its picture, texture and all. A .gltf whose .bin is missing, and a
+# .glb whose meshopt data is damaged, are refused in one line naming the
+# buffer or the buffer view.
 (cd "$tmp" && gltfpack -i ear.obj -o quantized.glb > /dev/null 2>&1 && gltfpack -i ear.obj -o packed.glb -c \
   > /dev/null 2>&1 && gltfpack -i ear.obj -o packed_more.glb -cc > /dev/null 2>&1 &&
   gltfpack -i ear.obj -o packed.gltf -c > /dev/null 2>&1) || fail "gltfpack"
-for f in quantized packed packed_more; do
-  [ "$(counts "$tmp/$f.glb")" = "$want" ] || fail "$f.glb: counts '$(counts "$tmp/$f.glb")', the OBJ's '$want'"
-  render $f.glb $f
-  grep -q "albedo map: the base colour texture of .*$f.glb" "$tmp/$f.txt" || fail "$f.glb: $(cat "$tmp/$f.txt")"
-  db=$(png psnr "$tmp/obj.png" "$tmp/$f.png")
-  echo "OBJ against $f.glb: $db dB"
-  python3 -c "import sys; sys.exit(0 if float('$db') >= 35 else 1)" || fail "$f.glb renders another picture ($db dB)"
+python3 - "$tmp/packed.gltf" "$tmp/packed.bin" "$tmp/embedded.gltf" <<'PY' || fail "embedding the .bin"
+import base64, json, sys
+j = json.load(open(sys.argv[1]))
+j["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(open(sys.argv[2], "rb").read()).decode()
+json.dump(j, open(sys.argv[3], "w"))
+PY
+for f in quantized.glb packed.glb packed_more.glb packed.gltf embedded.gltf; do
+  [ "$(counts "$tmp/$f")" = "$want" ] || fail "$f: counts '$(counts "$tmp/$f")', the OBJ's '$want'"
+  render $f ${f%.*}_${f##*.}
+  grep -q "albedo map: .*$f" "$tmp/${f%.*}_${f##*.}.txt" || fail "$f: $(cat "$tmp/${f%.*}_${f##*.}.txt")"
+  db=$(png psnr "$tmp/obj.png" "$tmp/${f%.*}_${f##*.}.png")
+  echo "OBJ against $f: $db dB"
+  python3 -c "import sys; sys.exit(0 if float('$db') >= 35 else 1)" || fail "$f renders another picture ($db dB)"
 done
-"$bin/sam_info" "$tmp/packed.gltf" > "$tmp/packed_gltf.txt" 2>&1 && fail "a compressed .gltf was read"
-[ "$(wc -l < "$tmp/packed_gltf.txt")" -eq 1 ] && grep -q "packed.gltf: its geometry is compressed (EXT_meshopt" \
-  "$tmp/packed_gltf.txt" || fail "compressed .gltf: $(cat "$tmp/packed_gltf.txt")"
+mv "$tmp/packed.bin" "$tmp/packed_moved.bin"
+"$bin/sam_info" "$tmp/packed.gltf" > "$tmp/packed_gltf.txt" 2>&1 && fail "a .gltf without its .bin was read"
+[ "$(wc -l < "$tmp/packed_gltf.txt")" -eq 1 ] && grep -q "packed.gltf: .*buffer 0: .*packed.bin" \
+  "$tmp/packed_gltf.txt" || fail ".gltf without its .bin: $(cat "$tmp/packed_gltf.txt")"
 python3 - "$tmp/packed.glb" "$tmp/damaged.glb" <<'PY' || fail "damaging the .glb"
 import json, struct, sys
 d = bytearray(open(sys.argv[1], "rb").read())

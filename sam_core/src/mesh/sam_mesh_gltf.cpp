@@ -377,8 +377,8 @@ std::string short_last_read(std::string message)
 
 // Parses the file; with `images` its pictures are decoded too (for the
 // base colour).
-// A GLB compressed with meshopt is decoded first and read from memory
-// (sam_mesh_gltf_meshopt.h), its other files found beside it.
+// A file compressed with meshopt is decoded first and read from memory as a
+// GLB (sam_mesh_gltf_meshopt.h), its images found beside it.
 bool load(const char *path, bool images, bool meshopt, tinygltf::Model &model, std::string &message)
 {
     tinygltf::TinyGLTF loader;
@@ -394,7 +394,7 @@ bool load(const char *path, bool images, bool meshopt, tinygltf::Model &model, s
             message = sam_mesh_one_line(err);
             return false;
         }
-        if (!sam_mesh_gltf_meshopt_decode(file.data(), file.size(), glb, message)) {
+        if (!sam_mesh_gltf_meshopt_decode(path, file.data(), file.size(), glb, message)) {
             message = "its meshopt-compressed geometry (EXT_meshopt_compression): " + message;
             return false;
         }
@@ -410,7 +410,7 @@ bool load(const char *path, bool images, bool meshopt, tinygltf::Model &model, s
 }
 
 // The compressions a file requires that this reader does not decode, named
-// ("" when none; *meshopt set when a GLB's meshopt is to be decoded).
+// ("" when none; *meshopt set when its meshopt is to be decoded).
 // TinyGLTF refused a meshopt-compressed file with a message about buffer
 // sizes, which told a user nothing.
 std::string undecoded_compression(const char *path, bool *meshopt)
@@ -442,7 +442,7 @@ std::string undecoded_compression(const char *path, bool *meshopt)
         for (const char *c : compressions) {
             if (!cJSON_IsString(name) || std::strcmp(name->valuestring, c))
                 continue;
-            if (!std::strcmp(c, "EXT_meshopt_compression") && sam_path_has_extension(path, ".glb"))
+            if (!std::strcmp(c, "EXT_meshopt_compression"))
                 *meshopt = true;
             else
                 found += (found.empty() ? "" : ", ") + std::string(c);
@@ -458,9 +458,9 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
     if (!compressed.empty())
         return sam_fail(err, SAM_ERR_UNSUPPORTED,
                         "%s: its geometry is compressed (%s, required), which this reader does not decode; export "
-                        "it without compression (%sBlender's glTF exporter with compression off)",
-                        path, compressed.c_str(),
-                        compressed.find("meshopt") != std::string::npos ? "as a .glb, which is decoded; " : "");
+                        "it without it (gltfpack's -c and -cc are decoded; Blender's glTF exporter with compression "
+                        "off)",
+                        path, compressed.c_str());
     tinygltf::Model model;
     std::string message;
     if (!load(path, false, meshopt, model, message))

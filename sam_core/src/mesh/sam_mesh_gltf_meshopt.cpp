@@ -1,13 +1,17 @@
-// A GLB whose geometry gltfpack compressed with meshopt
-// (EXT_meshopt_compression), decoded into a plain GLB for TinyGLTF
-// (sam_mesh_gltf_meshopt.h).
+// glTF geometry gltfpack compressed with meshopt (EXT_meshopt_compression),
+// decoded into a plain GLB for TinyGLTF (sam_mesh_gltf_meshopt.h).
 #include "sam_mesh_gltf_meshopt.h"
+
+#include "sam/sam_common.h"
 
 #include <cjson/cJSON.h>
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 
@@ -63,10 +67,53 @@ bool set_number(cJSON *object, const char *key, double v)
     return cJSON_AddNumberToObject(object, key, v) != nullptr;
 }
 
+// A data URI's base64 payload decoded into `out`; false on a character
+// base64 does not have.
+bool base64_decode(const char *in, std::vector<uint8_t> &out)
+{
+    uint32_t bits = 0;
+    int have = 0;
+    for (; *in && *in != '='; ++in) {
+        const char *abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        const char *at = std::strchr(abc, *in);
+        if (!at)
+            return false;
+        bits = bits << 6 | uint32_t(at - abc);
+        if ((have += 6) >= 8) {
+            have -= 8;
+            out.push_back(uint8_t(bits >> have));
+        }
+    }
+    return true;
+}
+
+// A relative URI's path: %XX escapes decoded, as glTF's URIs have them.
+std::string uri_path(const char *uri)
+{
+    std::string path;
+    for (const char *p = uri; *p; ++p) {
+        unsigned code;
+        if (*p == '%' && std::isxdigit((unsigned char)p[1]) && std::isxdigit((unsigned char)p[2]) &&
+            std::sscanf(p + 1, "%2x", &code) == 1) {
+            path += char(code);
+            p += 2;
+        } else {
+            path += *p;
+        }
+    }
+    return path;
+}
+
+struct Source {
+    const uint8_t *p = nullptr; // null: a buffer this decoder does not read (meshopt's fallback)
+    size_t n = 0;
+};
+
 struct Decoder {
     cJSON *root = nullptr;
-    const uint8_t *bin = nullptr; // the GLB's binary chunk: buffer 0 when it has no uri
-    size_t bin_size = 0;
+    std::vector<Source> sources;              // by buffer index
+    std::vector<std::vector<uint8_t>> loaded; // a .gltf's buffers, read from files or data URIs
+    size_t input = 0;                         // bytes of the file and the buffers it reads
     // Bytes the new chunk may hold: views that copy or decode the same
     // bytes again, or claim more than meshopt data holds, would otherwise
     // make a small file ask for gigabytes.
@@ -82,17 +129,53 @@ struct Decoder {
         return false;
     }
 
+    // The buffers' bytes: a GLB's binary chunk for a first buffer without
+    // a URI, a .gltf's files beside it (`path`) and data URIs.
+    bool read_sources(const char *path, const uint8_t *bin, size_t bin_size)
+    {
+        const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(root, "buffers"), *buffer;
+        const char *slash = std::strrchr(path, '/');
+        const std::string dir = slash ? std::string(path, size_t(slash - path) + 1) : "";
+        cJSON_ArrayForEach(buffer, buffers)
+        {
+            const size_t b = sources.size();
+            const char *uri = text(buffer, "uri", nullptr);
+            Source s;
+            if (!uri && b == 0 && bin) {
+                s = {bin, bin_size};
+            } else if (uri && !std::strncmp(uri, "data:", 5)) {
+                const char *payload = std::strstr(uri, ";base64,");
+                std::vector<uint8_t> bytes;
+                if (!payload || !base64_decode(payload + 8, bytes))
+                    return fail("buffer " + std::to_string(b) + ": its data URI is not base64");
+                loaded.push_back(std::move(bytes));
+                s = {loaded.back().data(), loaded.back().size()};
+            } else if (uri) {
+                const std::string file = dir + uri_path(uri);
+                uint8_t *data;
+                size_t size;
+                sam_error err;
+                if (sam_read_file(file.c_str(), &data, &size, &err) != SAM_OK)
+                    return fail("buffer " + std::to_string(b) + ": " + err.message);
+                loaded.emplace_back(data, data + size);
+                std::free(data);
+                s = {loaded.back().data(), loaded.back().size()};
+            }
+            input += s.n;
+            sources.push_back(s);
+        }
+        return true;
+    }
+
     // The bytes [offset, offset + length) of buffer `b`, or null.
     const uint8_t *bytes(double b, double offset, double length)
     {
-        if (b != 0)
+        if (b < 0 || b >= double(sources.size()))
             return nullptr;
-        const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(root, "buffers");
-        const cJSON *buffer = cJSON_IsArray(buffers) ? buffers->child : nullptr;
-        if (!buffer || cJSON_GetObjectItemCaseSensitive(buffer, "uri") || !bin || offset < 0 || length < 0 ||
-            offset > double(bin_size) || length > double(bin_size) - offset)
+        const Source &s = sources[size_t(b)];
+        if (!s.p || offset < 0 || length < 0 || offset > double(s.n) || length > double(s.n) - offset)
             return nullptr;
-        return bin + size_t(offset);
+        return s.p + size_t(offset);
     }
 
     // Room for `n` more bytes at a 4-byte boundary of `out`: their offset,
@@ -119,10 +202,10 @@ struct Decoder {
             length = whole(view, "byteLength", -1);
             const uint8_t *src = bytes(whole(view, "buffer", -1), offset, length);
             if (!src)
-                return fail(name + " lies outside the binary chunk, the one buffer a compressed GLB's views may read");
+                return fail(name + " lies outside its buffer, or in one it has no bytes of (a fallback)");
             if (!append(length, &at))
                 return fail(name + ": the views copy more than " + std::to_string(budget) +
-                            " bytes, 64 times the file");
+                            " bytes, 64 times the file and its buffers");
             if (length > 0)
                 std::memcpy(out.data() + at, src, size_t(length));
         } else {
@@ -131,7 +214,7 @@ struct Decoder {
             const std::string mode = text(ext, "mode", ""), filter = text(ext, "filter", "NONE");
             const uint8_t *src = bytes(whole(ext, "buffer", -1), offset, size);
             if (!src)
-                return fail(name + ": its meshopt data lies outside the binary chunk");
+                return fail(name + ": its meshopt data lies outside its buffer");
             const bool attributes = mode == "ATTRIBUTES", triangles = mode == "TRIANGLES", indices = mode == "INDICES";
             const bool stride_ok = attributes ? stride >= 4 && stride <= 256 && std::fmod(stride, 4) == 0
                                               : (triangles || indices) && (stride == 2 || stride == 4);
@@ -142,7 +225,8 @@ struct Decoder {
             if (!append(length, &at))
                 return fail(name + ": " + std::to_string(size_t(count)) + " elements of " +
                             std::to_string(size_t(stride)) + " bytes would take the views past " +
-                            std::to_string(budget) + " bytes, 64 times the file: more than meshopt data holds");
+                            std::to_string(budget) +
+                            " bytes, 64 times the file and its buffers: more than meshopt data holds");
             uint8_t *dst = out.data() + at;
             const size_t n = size_t(count), s = size_t(stride);
             const int rc = attributes  ? meshopt_decodeVertexBuffer(dst, n, s, src, size_t(size))
@@ -170,29 +254,43 @@ struct Decoder {
 
 } // namespace
 
-bool sam_mesh_gltf_meshopt_decode(const uint8_t *data, size_t size, std::vector<uint8_t> &glb, std::string &message)
+bool sam_mesh_gltf_meshopt_decode(const char *path, const uint8_t *data, size_t size, std::vector<uint8_t> &glb,
+                                  std::string &message)
 {
     auto refuse = [&](const std::string &why) {
         message = why;
         return false;
     };
     Decoder d;
-    if (size < 20 || std::memcmp(data, "glTF", 4) || get_u32(data + 16) != 0x4E4F534Au)
-        return refuse("not a GLB with a JSON chunk first");
-    const size_t json_size = get_u32(data + 12);
-    if (json_size > size - 20)
-        return refuse("its JSON chunk runs past the end of the file");
-    const size_t bin_at = 20 + ((json_size + 3) & ~size_t(3));
-    if (bin_at + 8 <= size && get_u32(data + bin_at + 4) == 0x004E4942u && get_u32(data + bin_at) <= size - bin_at - 8) {
-        d.bin = data + bin_at + 8;
-        d.bin_size = get_u32(data + bin_at);
+    const char *json = reinterpret_cast<const char *>(data);
+    size_t json_size = size;
+    const uint8_t *bin = nullptr;
+    size_t bin_size = 0;
+    if (size >= 4 && !std::memcmp(data, "glTF", 4)) {
+        if (size < 20 || get_u32(data + 16) != 0x4E4F534Au)
+            return refuse("a GLB without a JSON chunk first");
+        json_size = get_u32(data + 12);
+        if (json_size > size - 20)
+            return refuse("its JSON chunk runs past the end of the file");
+        json += 20;
+        const size_t bin_at = 20 + ((json_size + 3) & ~size_t(3));
+        if (bin_at + 8 <= size && get_u32(data + bin_at + 4) == 0x004E4942u &&
+            get_u32(data + bin_at) <= size - bin_at - 8) {
+            bin = data + bin_at + 8;
+            bin_size = get_u32(data + bin_at);
+        }
     }
+    d.root = cJSON_ParseWithLength(json, json_size);
+    if (!cJSON_IsObject(d.root))
+        return refuse("its JSON is not a glTF object");
+    if (!d.read_sources(path, bin, bin_size))
+        return refuse(d.message);
     // Under 2 GiB in all, the GLB's 32-bit lengths with room to spare.
-    d.budget = size_t(std::max(0.0, std::min(64.0 * double(size) + 1048576.0, 2147483648.0 - 65536.0 - double(json_size))));
-    d.root = cJSON_ParseWithLength(reinterpret_cast<const char *>(data + 20), json_size);
+    d.budget = size_t(std::max(0.0, std::min(64.0 * double(size + d.input) + 1048576.0,
+                                             2147483648.0 - 65536.0 - double(json_size))));
     cJSON *views = cJSON_GetObjectItemCaseSensitive(d.root, "bufferViews");
-    if (!cJSON_IsObject(d.root) || (views && !cJSON_IsArray(views)))
-        return refuse("its JSON chunk is not a glTF object with an array of buffer views");
+    if (views && !cJSON_IsArray(views))
+        return refuse("its buffer views are not an array");
     int i = 0;
     cJSON *view;
     cJSON_ArrayForEach(view, views)
@@ -218,10 +316,10 @@ bool sam_mesh_gltf_meshopt_decode(const uint8_t *data, size_t size, std::vector<
     }
     drop_name(d.root, "extensionsUsed", kExtension);
     drop_name(d.root, "extensionsRequired", kExtension);
-    std::unique_ptr<char, decltype(&cJSON_free)> json(cJSON_PrintUnformatted(d.root), cJSON_free);
-    if (!json)
+    std::unique_ptr<char, decltype(&cJSON_free)> printed(cJSON_PrintUnformatted(d.root), cJSON_free);
+    if (!printed)
         return refuse("out of memory writing its JSON again");
-    std::string padded(json.get());
+    std::string padded(printed.get());
     padded.resize((padded.size() + 3) & ~size_t(3), ' ');
     glb.clear();
     glb.reserve(28 + padded.size() + d.out.size());

@@ -11,15 +11,18 @@
 #include <string>
 #include <vector>
 
-// Writes into `glb` the GLB at `data` (`size` bytes) with every buffer view
-// decoded (filters undone) into one binary chunk and the extension gone
-// from the file's lists, for TinyGLTF to read from memory. The views may
-// read only the GLB's own binary chunk. False with `message` (one phrase,
-// naming the buffer view) when the file is no such GLB, a view lies
-// outside the chunk, its mode, stride or filter is none the extension
-// allows, the views would hold more than 64 times the file (1 MiB more for
-// small files; copies of the same bytes count each time) or it does not
-// decode. Throws std::bad_alloc when out of memory (the callers guard).
-bool sam_mesh_gltf_meshopt_decode(const uint8_t *data, size_t size, std::vector<uint8_t> &glb, std::string &message);
+// Writes into `glb` the glTF at `path` (its bytes at `data`, `size` bytes:
+// a GLB, or a .gltf whose buffers are files beside it or data URIs) as a
+// GLB with every buffer view decoded (filters undone) into one binary
+// chunk and the extension gone from the file's lists, for TinyGLTF to read
+// from memory (its images still found beside `path`). False with
+// `message` (one phrase, naming the buffer or buffer view) when a buffer
+// cannot be read, a view lies outside its buffer, its mode, stride or
+// filter is none the extension allows, the views would hold more than 64
+// times the file and its buffers (1 MiB more for small files; copies of
+// the same bytes count each time) or it does not decode. Throws
+// std::bad_alloc when out of memory (the callers guard).
+bool sam_mesh_gltf_meshopt_decode(const char *path, const uint8_t *data, size_t size, std::vector<uint8_t> &glb,
+                                  std::string &message);
 
 #endif
