@@ -41,14 +41,13 @@ static sam_status body_sphere(const samfile_data *sam, float centre[3], float *r
                            .triangle_count = sam->triangle_count,
                            .triangles = sam->triangles};
     sam_mesh_body_info body;
-    sam_status st = sam_mesh_body(&view, NULL, &body, err);
-    double d2 = 0;
-    for (int c = 0; st == SAM_OK && c < 3; ++c) {
+    const sam_status st = sam_mesh_body(&view, NULL, &body, err);
+    if (st != SAM_OK)
+        return st;
+    for (int c = 0; c < 3; ++c)
         centre[c] = 0.5f * (body.min[c] + body.max[c]);
-        d2 += ((double)body.max[c] - body.min[c]) * ((double)body.max[c] - body.min[c]);
-    }
-    *radius = (float)(0.5 * sqrt(d2));
-    return st;
+    *radius = (float)(0.5 * sam_mesh_box_diagonal(body.min, body.max));
+    return SAM_OK;
 }
 
 sam_status sam_app_backlight_place(sam_runtime *rt, const samfile_data *sam, sam_scene *scene, size_t light,

@@ -72,15 +72,17 @@ static int load_mesh(const sam_app_build_job *job, const char *tool, sam_mesh *m
                         "(--keep-orientation keeps it)\n", tool, job->mesh_path);
     *mm_per_unit = job->mm_per_unit;
     if (!isnan(job->size_mm)) {
-        double diag = sam_mesh_diagonal(mesh);
+        /* Measured once for the size and the line on what it leaves out. */
+        sam_mesh_body_info body;
+        const int measured = sam_mesh_body(mesh, NULL, &body, NULL) == SAM_OK;
+        const double diag = measured ? sam_mesh_box_diagonal(body.min, body.max) : sam_mesh_diagonal(mesh);
         if (!(diag > 0)) {
             fprintf(stderr, "%s: %s: the mesh has no extent, so --size-mm cannot scale it\n", tool, job->mesh_path);
             sam_mesh_destroy(mesh);
             return 1;
         }
         *mm_per_unit = (float)(job->size_mm / diag);
-        sam_mesh_body_info body;
-        if (sam_mesh_body(mesh, NULL, &body, NULL) == SAM_OK && body.box_changed)
+        if (measured && body.box_changed)
             fprintf(stderr,
                     "%s: %s: --size-mm measures the object without %u loose piece%s (%u vertices, %.2g%% of the "
                     "surface) outside it\n",

@@ -49,16 +49,14 @@ static void print_bounds(const float *pos, uint32_t count, const uint32_t *trian
         .triangles = (uint32_t *)triangles};
     float lo[3], hi[3];
     sam_mesh_bounds(&view, lo, hi);
-    double d = sqrt((double)(hi[0] - lo[0]) * (hi[0] - lo[0]) + (double)(hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                    (double)(hi[2] - lo[2]) * (hi[2] - lo[2]));
     printf("  bounds:            (%g, %g, %g) .. (%g, %g, %g), diagonal %g units\n", lo[0], lo[1], lo[2],
-           hi[0], hi[1], hi[2], d);
+           hi[0], hi[1], hi[2], sam_mesh_box_diagonal(lo, hi));
     sam_mesh_body_info body;
     if (sam_mesh_body(&view, NULL, &body, NULL) == SAM_OK && body.box_changed)
         printf("  loose specks:      %u piece%s (%u vertices, %.2g%% of the surface) outside the object; its size "
                "(--size-mm) is the diagonal %g units\n",
                body.loose_pieces, body.loose_pieces == 1 ? "" : "s", body.loose_vertices,
-               100.0 * body.loose_area / body.total_area, sam_mesh_diagonal(&view));
+               100.0 * body.loose_area / body.total_area, sam_mesh_box_diagonal(body.min, body.max));
 }
 
 static void print_range(const char *label, const float *v, uint32_t n, const char *unit)

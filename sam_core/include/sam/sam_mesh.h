@@ -168,6 +168,9 @@ typedef struct sam_mesh_body_info {
  * past vertex_count), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_mesh_body(const sam_mesh *mesh, uint8_t *in_body, sam_mesh_body_info *info, sam_error *err);
 
+/* Length (model units) of the diagonal of the box from min to max. */
+double sam_mesh_box_diagonal(const float min[3], const float max[3]);
+
 /* Length of the body's bounds' diagonal (model units; sam_mesh_body, all
  * the bounds when that runs out of memory), which --size-mm and the
  * scenes' "size_mm" scale to: a stray speck far from the object does not

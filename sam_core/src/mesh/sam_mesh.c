@@ -145,20 +145,22 @@ void sam_mesh_bounds(const sam_mesh *mesh, float min[3], float max[3])
         }
 }
 
-double sam_mesh_diagonal(const sam_mesh *mesh)
+double sam_mesh_box_diagonal(const float min[3], const float max[3])
 {
-    float lo[3], hi[3];
-    sam_mesh_body_info body;
-    if (sam_mesh_body(mesh, NULL, &body, NULL) == SAM_OK) {
-        memcpy(lo, body.min, sizeof lo);
-        memcpy(hi, body.max, sizeof hi);
-    } else {
-        sam_mesh_bounds(mesh, lo, hi);
-    }
     double d2 = 0;
     for (int i = 0; i < 3; ++i)
-        d2 += ((double)hi[i] - lo[i]) * ((double)hi[i] - lo[i]);
+        d2 += ((double)max[i] - min[i]) * ((double)max[i] - min[i]);
     return sqrt(d2);
+}
+
+double sam_mesh_diagonal(const sam_mesh *mesh)
+{
+    sam_mesh_body_info body;
+    if (sam_mesh_body(mesh, NULL, &body, NULL) == SAM_OK)
+        return sam_mesh_box_diagonal(body.min, body.max);
+    float lo[3], hi[3];
+    sam_mesh_bounds(mesh, lo, hi);
+    return sam_mesh_box_diagonal(lo, hi);
 }
 
 static const float *topo_position(const sam_mesh *mesh, const float *positions, uint32_t t)
