@@ -5,9 +5,11 @@
 #include <cjson/cJSON.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -413,26 +415,38 @@ bool load(const char *path, bool images, bool meshopt, tinygltf::Model &model, s
 // ("" when none; *meshopt set when its meshopt is to be decoded).
 // TinyGLTF refused a meshopt-compressed file with a message about buffer
 // sizes, which told a user nothing.
+// The file's JSON ("" when it cannot be read): a .gltf whole, of a .glb
+// only its JSON chunk, not the buffers and textures after it.
+std::string json_of(const char *path)
+{
+    std::unique_ptr<FILE, decltype(&std::fclose)> fp(std::fopen(path, "rb"), std::fclose);
+    if (!fp)
+        return "";
+    size_t length = SIZE_MAX;
+    if (sam_path_has_extension(path, ".glb")) {
+        // Header (magic, version, length), then the JSON chunk's length and type.
+        uint8_t header[20];
+        uint32_t chunk;
+        if (std::fread(header, 1, sizeof header, fp.get()) != sizeof header)
+            return "";
+        std::memcpy(&chunk, header + 12, 4);
+        length = chunk;
+    }
+    std::string json;
+    char block[65536];
+    for (size_t got; json.size() < length && (got = std::fread(block, 1, std::min(sizeof block, length - json.size()),
+                                                                fp.get())) > 0;)
+        json.append(block, got);
+    return json;
+}
+
 std::string undecoded_compression(const char *path, bool *meshopt)
 {
     *meshopt = false;
-    uint8_t *data;
-    size_t size;
-    if (sam_read_file(path, &data, &size, nullptr) != SAM_OK)
-        return "";
-    const char *json = reinterpret_cast<const char *>(data);
-    size_t length = size;
-    if (sam_path_has_extension(path, ".glb")) {
-        // Header (magic, version, length), then the JSON chunk's length and type.
-        uint32_t chunk = 0;
-        if (size >= 20)
-            std::memcpy(&chunk, data + 12, 4);
-        json = size >= 20 && chunk <= size - 20 ? reinterpret_cast<const char *>(data + 20) : "";
-        length = size >= 20 && chunk <= size - 20 ? chunk : 0;
-    }
-    std::unique_ptr<uint8_t, decltype(&std::free)> owned(data, std::free);
+    const std::string json = json_of(path);
     std::string found;
-    std::unique_ptr<cJSON, decltype(&cJSON_Delete)> root(cJSON_ParseWithLength(json, length), cJSON_Delete);
+    std::unique_ptr<cJSON, decltype(&cJSON_Delete)> root(cJSON_ParseWithLength(json.data(), json.size()),
+                                                         cJSON_Delete);
     const cJSON *required = cJSON_GetObjectItemCaseSensitive(root.get(), "extensionsRequired");
     const cJSON *name;
     cJSON_ArrayForEach(name, required)
