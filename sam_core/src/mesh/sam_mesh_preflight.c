@@ -18,192 +18,21 @@
  * against what the reader delivered (sam_mesh.c), so any other
  * disagreement between this walk and OpenMesh fails the load too.
  */
-#include <ctype.h>
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "sam_mesh_ply.h"
 #include "sam_mesh_soup.h"
-
-typedef struct text_cursor {
-    const char *p, *end;
-    int line_no;
-    const char *eol; /* where the last line read ends, for messages that quote it whole */
-} text_cursor;
-
-/* Next line [*line, *eol) without its newline (and CR); 0 at the end. */
-static int next_line(text_cursor *c, const char **line, const char **eol)
-{
-    if (c->p >= c->end)
-        return 0;
-    *line = c->p;
-    while (c->p < c->end && *c->p != '\n')
-        c->p++;
-    *eol = c->p;
-    if (c->p < c->end)
-        c->p++;
-    if (*eol > *line && (*eol)[-1] == '\r')
-        (*eol)--;
-    c->eol = *eol;
-    c->line_no++;
-    return 1;
-}
-
-/* Splits [line, eol) into blank-separated tokens; stores at most `max`,
- * returns how many there are. */
-static int tokenize(const char *line, const char *eol, const char **tok, int *len, int max)
-{
-    int count = 0;
-    const char *p = line;
-    for (;;) {
-        while (p < eol && (*p == ' ' || *p == '\t'))
-            p++;
-        if (p >= eol)
-            return count;
-        const char *start = p;
-        while (p < eol && *p != ' ' && *p != '\t')
-            p++;
-        if (count < max) {
-            tok[count] = start;
-            len[count] = (int)(p - start);
-        }
-        count++;
-    }
-}
-
-/* A stream of whitespace-separated tokens, as C++ stream extraction (and
- * so OpenMesh) reads them. */
-typedef struct token_stream {
-    const char *p, *end;
-} token_stream;
-
-static int next_token(token_stream *ts, const char **tok, int *len)
-{
-    while (ts->p < ts->end && isspace((unsigned char)*ts->p))
-        ts->p++;
-    if (ts->p >= ts->end)
-        return 0;
-    *tok = ts->p;
-    while (ts->p < ts->end && !isspace((unsigned char)*ts->p))
-        ts->p++;
-    *len = (int)(ts->p - *tok);
-    return 1;
-}
-
-static int token_is(const char *tok, int len, const char *word)
-{
-    return len == (int)strlen(word) && !strncmp(tok, word, (size_t)len);
-}
-
-/* A whole token of decimal digits: 1, with its value; 0 when it is not
- * one; -1 when its value passes 2^64 - 1. */
-static int token_count(const char *tok, int len, unsigned long long *out)
-{
-    unsigned long long v = 0;
-    int overflow = 0;
-    if (len <= 0)
-        return 0;
-    for (int i = 0; i < len; ++i) {
-        if (!isdigit((unsigned char)tok[i]))
-            return 0;
-        const unsigned long long digit = (unsigned long long)(tok[i] - '0');
-        if (v > (~0ull - digit) / 10)
-            overflow = 1;
-        v = v * 10 + digit;
-    }
-    *out = v;
-    return overflow ? -1 : 1;
-}
-
-/* A decimal number as C++ stream extraction reads one, which OpenMesh
- * uses: [+-]digits[.digits][(e|E)[+-]digits], a digit before or after the
- * point. strtod also takes hex ("0xce"), "inf" and "nan", on which the
- * stream stops and OpenMesh drops the line. */
-static int decimal_syntax(const char *tok, int len)
-{
-    int i = 0, digits = 0;
-    if (i < len && (tok[i] == '+' || tok[i] == '-'))
-        i++;
-    while (i < len && isdigit((unsigned char)tok[i]))
-        i++, digits++;
-    if (i < len && tok[i] == '.')
-        for (i++; i < len && isdigit((unsigned char)tok[i]); i++)
-            digits++;
-    if (!digits)
-        return 0;
-    if (i < len && (tok[i] == 'e' || tok[i] == 'E')) {
-        int exponent = 0;
-        if (++i < len && (tok[i] == '+' || tok[i] == '-'))
-            i++;
-        while (i < len && isdigit((unsigned char)tok[i]))
-            i++, exponent++;
-        if (!exponent)
-            return 0;
-    }
-    return i == len;
-}
-
-/* A whole token read as a number: 1 when it is a decimal number that fits
- * a 32-bit float (finite, at most FLT_MAX in size; smaller ones round to 0
- * or a subnormal, as a float reader gives them), -1 when it is a number
- * that does not, 0 when it is no decimal number. */
-static int token_number(const char *tok, int len)
-{
-    char buf[64];
-    if (len <= 0 || len >= (int)sizeof buf)
-        return 0;
-    if (!decimal_syntax(tok, len)) {
-        /* "inf" and "nan" are numbers, just not finite ones. */
-        const int special = (len >= 3 && (!strncasecmp(tok + (tok[0] == '-' || tok[0] == '+'), "inf", 3) ||
-                                          !strncasecmp(tok + (tok[0] == '-' || tok[0] == '+'), "nan", 3)));
-        return special ? -1 : 0;
-    }
-    memcpy(buf, tok, (size_t)len);
-    buf[len] = 0;
-    char *stop;
-    double v = strtod(buf, &stop);
-    if (stop == buf || *stop)
-        return 0;
-    return isfinite(v) && fabs(v) <= FLT_MAX ? 1 : -1;
-}
-
-#define NOT_A_FLOAT "is not a finite number that fits a 32-bit float (at most 3.4e38 in size)"
-
-static int shown(const char *line, const char *eol)
-{
-    return eol - line < 80 ? (int)(eol - line) : 80;
-}
-
-/* ---- Text */
-
-/* Text formats hold printable characters, blanks and line ends (LF or
- * CRLF; and UTF-8 in comments); a control character means a damaged or
- * binary file, on which OpenMesh's stream parsing and ours would disagree
- * (a lone CR in a PLY header sent OpenMesh into an endless loop). */
-static sam_status check_text(const char *path, const char *kind, const char *data, size_t size, sam_error *err)
-{
-    int line = 1;
-    for (size_t i = 0; i < size; ++i) {
-        unsigned char ch = (unsigned char)data[i];
-        if (ch == '\n')
-            line++;
-        else if ((ch < 0x20 && ch != '\t' && !(ch == '\r' && i + 1 < size && data[i + 1] == '\n')) || ch == 0x7f)
-            return sam_fail(err, SAM_ERR_FORMAT, "%s: %s line %d contains the control character 0x%02x", path, kind,
-                            line, ch);
-    }
-    return SAM_OK;
-}
+#include "sam_mesh_text.h"
 
 /* ---- PLY */
 
 /* OpenMesh's reader takes a list count typed by these names only. */
 static int count_name_read(const char *tok, int len)
 {
-    return token_is(tok, len, "uchar") || token_is(tok, len, "uint8") || token_is(tok, len, "uint16") ||
-           token_is(tok, len, "int");
+    return sam_mesh_token_is(tok, len, "uchar") || sam_mesh_token_is(tok, len, "uint8") || sam_mesh_token_is(tok, len, "uint16") ||
+           sam_mesh_token_is(tok, len, "int");
 }
 
 /* Reads a list count of `size` bytes at `p`; -1 when negative. */
@@ -262,7 +91,7 @@ static sam_status ply_body_binary(const char *path, const sam_mesh_ply_element *
 static sam_status ply_body_ascii(const char *path, const sam_mesh_ply_element *el, int elements, const char *body,
                                  size_t size, sam_error *err)
 {
-    token_stream ts = {body, body + size};
+    sam_mesh_token_stream ts = {body, body + size};
     const char *tok;
     int len;
     for (int e = 0; e < elements; ++e) {
@@ -270,9 +99,9 @@ static sam_status ply_body_ascii(const char *path, const sam_mesh_ply_element *e
             for (int k = 0; k < el[e].property_count; ++k) {
                 unsigned long long n = 1;
                 if (el[e].property[k].is_list) {
-                    if (!next_token(&ts, &tok, &len))
+                    if (!sam_mesh_next_token(&ts, &tok, &len))
                         goto truncated;
-                    if (token_count(tok, len, &n) != 1)
+                    if (sam_mesh_token_count(tok, len, &n) != 1)
                         return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY %s %llu: list count \"%.*s\" is not a count",
                                         path, el[e].name, i, len < 40 ? len : 40, tok);
                     /* Each entry takes at least two bytes (a digit and a blank). */
@@ -280,12 +109,12 @@ static sam_status ply_body_ascii(const char *path, const sam_mesh_ply_element *e
                         goto truncated;
                 }
                 for (unsigned long long j = 0; j < n; ++j) {
-                    if (!next_token(&ts, &tok, &len))
+                    if (!sam_mesh_next_token(&ts, &tok, &len))
                         goto truncated;
-                    const int kind = token_number(tok, len);
+                    const int kind = sam_mesh_token_number(tok, len);
                     if (kind != 1)
                         return sam_fail(err, SAM_ERR_FORMAT, "%s: PLY %s %llu: \"%.*s\" %s", path, el[e].name, i,
-                                        len < 40 ? len : 40, tok, kind ? NOT_A_FLOAT : "is not a number");
+                                        len < 40 ? len : 40, tok, kind ? SAM_MESH_NOT_A_FLOAT : "is not a number");
                 }
             }
             continue;
@@ -303,13 +132,13 @@ static sam_status ply_body_ascii(const char *path, const sam_mesh_ply_element *e
  * anywhere in an obj_info line, which it reads word by word. */
 static const char *reader_stop_after(const char *line, const char *eol, const char *next)
 {
-    token_stream words = {line, eol};
+    sam_mesh_token_stream words = {line, eol};
     const char *word, *stop = line;
     int n, first = 1, obj_info = 0;
-    while (next_token(&words, &word, &n)) {
-        if (token_is(word, n, "comment") && (first || obj_info))
+    while (sam_mesh_next_token(&words, &word, &n)) {
+        if (sam_mesh_token_is(word, n, "comment") && (first || obj_info))
             return next;
-        obj_info |= first && token_is(word, n, "obj_info");
+        obj_info |= first && sam_mesh_token_is(word, n, "obj_info");
         first = 0;
         stop = word + n;
     }
@@ -346,7 +175,7 @@ static sam_status rewrite_ply(const char *path, const char *data, size_t size, c
 static sam_status preflight_ply(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
                                 sam_error *err)
 {
-    text_cursor c = {data, data + size, 0, data};
+    sam_mesh_text_cursor c = {data, data + size, 0, data};
     const char *line, *eol;
     sam_mesh_ply_header *h = calloc(1, sizeof *h);
     if (!h)
@@ -358,16 +187,16 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
      * past where its header parse stopped: the end of the last word before
      * end_header, or the start of the line after a comment. */
     const char *reader_stop = data;
-    while (next_line(&c, &line, &eol)) {
+    while (sam_mesh_text_next_line(&c, &line, &eol)) {
         const char *tok[6];
         int len[6];
-        int count = tokenize(line, eol, tok, len, 6);
-        int s = shown(line, eol);
-        const int ends_header = count == 1 && token_is(tok[0], len[0], "end_header");
+        int count = sam_mesh_text_tokenize(line, eol, tok, len, 6);
+        int s = sam_mesh_text_shown(line, eol);
+        const int ends_header = count == 1 && sam_mesh_token_is(tok[0], len[0], "end_header");
         if (count > 0 && !ends_header)
             reader_stop = reader_stop_after(line, eol, c.p);
         if (c.line_no == 1) {
-            if (count != 1 || !token_is(tok[0], len[0], "ply")) {
+            if (count != 1 || !sam_mesh_token_is(tok[0], len[0], "ply")) {
                 st = sam_fail(err, SAM_ERR_FORMAT, "%s: not a PLY file (first line \"%.*s\", expected \"ply\")", path,
                               s, line);
                 goto done;
@@ -375,30 +204,30 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
         } else if (c.line_no == 2) {
             static const char *const formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
             for (int f = 0; f < 3 && count == 3; ++f)
-                if (token_is(tok[1], len[1], formats[f]))
+                if (sam_mesh_token_is(tok[1], len[1], formats[f]))
                     format = f;
-            if (count != 3 || !token_is(tok[0], len[0], "format") || format < 0 || !token_is(tok[2], len[2], "1.0")) {
+            if (count != 3 || !sam_mesh_token_is(tok[0], len[0], "format") || format < 0 || !sam_mesh_token_is(tok[2], len[2], "1.0")) {
                 st = sam_fail(err, SAM_ERR_FORMAT,
                               "%s: PLY header line 2 is \"%.*s\", expected \"format "
                               "ascii|binary_little_endian|binary_big_endian 1.0\"",
                               path, s, line);
                 goto done;
             }
-        } else if (count == 0 || token_is(tok[0], len[0], "comment")) {
+        } else if (count == 0 || sam_mesh_token_is(tok[0], len[0], "comment")) {
             continue;
-        } else if (token_is(tok[0], len[0], "obj_info")) {
+        } else if (sam_mesh_token_is(tok[0], len[0], "obj_info")) {
             /* OpenMesh reads the header word by word and skips only the
              * words it does not know, so a keyword inside an obj_info line
              * would start an element or property there (its count taken
              * from the next line; a word that is no count sent the parser
              * into an endless loop). */
             static const char *const keywords[] = {"element", "property", "end_header"};
-            token_stream words = {line, eol};
+            sam_mesh_token_stream words = {line, eol};
             const char *word;
             int n;
-            while (next_token(&words, &word, &n))
+            while (sam_mesh_next_token(&words, &word, &n))
                 for (size_t k = 0; k < sizeof keywords / sizeof *keywords; ++k)
-                    if (token_is(word, n, keywords[k])) {
+                    if (sam_mesh_token_is(word, n, keywords[k])) {
                         st = sam_fail(err, SAM_ERR_UNSUPPORTED,
                                       "%s: PLY header line %d: obj_info holds the keyword \"%s\", which the PLY reader "
                                       "would take for a header entry: \"%.*s\"",
@@ -413,7 +242,7 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
             }
             size_t body = (size_t)(c.p - data);
             /* The header is text in every PLY; the body only in ASCII ones. */
-            if ((st = check_text(path, "PLY", data, format == 0 ? size : (size_t)(c.p - data), err)) != SAM_OK)
+            if ((st = sam_mesh_check_text(path, "PLY", data, format == 0 ? size : (size_t)(c.p - data), err)) != SAM_OK)
                 goto done;
             st = format == 0 ? ply_body_ascii(path, el, elements, data + body, size - body, err)
                              : ply_body_binary(path, el, elements, (const unsigned char *)data + body, size - body,
@@ -457,7 +286,7 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
             }
             expect->known = st == SAM_OK;
             goto done;
-        } else if (count == 3 && token_is(tok[0], len[0], "element")) {
+        } else if (count == 3 && sam_mesh_token_is(tok[0], len[0], "element")) {
             if (elements == SAM_MESH_PLY_MAX_ELEMENTS) {
                 st = sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: PLY header line %d: more than %d elements", path,
                               c.line_no, SAM_MESH_PLY_MAX_ELEMENTS);
@@ -473,7 +302,7 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                                   path, c.line_no, e->name);
                     goto done;
                 }
-            const int counted = token_count(tok[2], len[2], &e->count);
+            const int counted = sam_mesh_token_count(tok[2], len[2], &e->count);
             if (counted != 1) {
                 st = counted ? sam_fail(err, SAM_ERR_FORMAT,
                                         "%s: PLY header line %d: the element count in \"%.*s\" is too large "
@@ -490,10 +319,10 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                               path, c.line_no, e->count, s, line, size);
                 goto done;
             }
-        } else if (token_is(tok[0], len[0], "property") && elements &&
+        } else if (sam_mesh_token_is(tok[0], len[0], "property") && elements &&
                    el[elements - 1].property_count < SAM_MESH_PLY_MAX_PROPERTIES &&
                    ((count == 3 && sam_mesh_ply_type_of(tok[1], len[1])) ||
-                    (count == 5 && token_is(tok[1], len[1], "list") && sam_mesh_ply_type_of(tok[2], len[2]) &&
+                    (count == 5 && sam_mesh_token_is(tok[1], len[1], "list") && sam_mesh_ply_type_of(tok[2], len[2]) &&
                      sam_mesh_ply_type_of(tok[3], len[3])))) {
             sam_mesh_ply_property *pr = &el[elements - 1].property[el[elements - 1].property_count++];
             pr->is_list = count == 5;
@@ -536,14 +365,14 @@ done:
 /* Next line with a token, cut at a '#' (the rest of the line is a
  * comment, *commented set); its token count (storing at most `max`), -1 at
  * the end of the file. *eol is where its content ends. */
-static int next_content_line(text_cursor *c, const char **line, const char **eol, const char **tok, int *len, int max,
+static int next_content_line(sam_mesh_text_cursor *c, const char **line, const char **eol, const char **tok, int *len, int max,
                              int *commented)
 {
-    while (next_line(c, line, eol)) {
+    while (sam_mesh_text_next_line(c, line, eol)) {
         const char *hash = memchr(*line, '#', (size_t)(*eol - *line));
         if (hash)
             *eol = hash, *commented = 1;
-        int count = tokenize(*line, *eol, tok, len, max);
+        int count = sam_mesh_text_tokenize(*line, *eol, tok, len, max);
         if (count > 0)
             return count;
     }
@@ -558,7 +387,7 @@ static int next_content_line(text_cursor *c, const char **line, const char **eol
 static sam_status walk_off(const char *path, const char *data, size_t size, sam_mesh_expect *expect, sam_text *out,
                            int *rewrite, sam_error *err)
 {
-    text_cursor c = {data, data + size, 0, data};
+    sam_mesh_text_cursor c = {data, data + size, 0, data};
     const char *line = data, *eol = data;
     const char *tok[OFF_MAX_TOKENS];
     int len[OFF_MAX_TOKENS], commented = 0, reshaped = 0;
@@ -575,11 +404,11 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
     if (i < kw_len && kw[i] == 'N')
         normal = 1, i++;
     if (kw_len - i < 3 || strncmp(kw + i, "OFF", 3) ||
-        (kw_len - i > 3 && token_count(kw + i + 3, kw_len - i - 3, &(unsigned long long){0}) == 0))
+        (kw_len - i > 3 && sam_mesh_token_count(kw + i + 3, kw_len - i - 3, &(unsigned long long){0}) == 0))
         return sam_fail(err, SAM_ERR_FORMAT,
                         "%s: not an OFF file (first line \"%.*s\"; expected OFF, COFF, NOFF, STOFF or a combination)",
-                        path, shown(line, c.eol), line);
-    if (count == 2 && token_is(tok[1], len[1], "BINARY"))
+                        path, sam_mesh_text_shown(line, c.eol), line);
+    if (count == 2 && sam_mesh_token_is(tok[1], len[1], "BINARY"))
         return sam_fail(err, SAM_ERR_UNSUPPORTED, "%s: binary OFF is not supported; use ASCII OFF or PLY", path);
     /* The counts: on the keyword's line after it (the first may be glued
      * to it), or alone on the next. */
@@ -599,12 +428,12 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
     unsigned long long value[3] = {0, 0, 0};
     int numbers = counts == 2 || counts == 3 ? counts : -1;
     for (int k = 0; k < numbers; ++k)
-        if (token_count(count_tok[k], count_len[k], &value[k]) != 1)
+        if (sam_mesh_token_count(count_tok[k], count_len[k], &value[k]) != 1)
             numbers = -1;
     if (numbers < 0)
         return sam_fail(err, SAM_ERR_FORMAT,
                         "%s: OFF header line %d: expected vertex and face counts (and an edge count), found \"%.*s\"",
-                        path, c.line_no, shown(line, c.eol), line);
+                        path, c.line_no, sam_mesh_text_shown(line, c.eol), line);
     /* OpenMesh reads the edge count whether or not it is there, and would
      * take the first coordinate for it. */
     if (numbers == 2)
@@ -629,14 +458,14 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
                             v, value[0]);
         int ok = count == base || (colour && (count == base + 3 || count == base + 4)), kind = 1, at = 0;
         for (int k = 0; k < count && count <= OFF_MAX_TOKENS && kind == 1; ++k)
-            kind = token_number(tok[k], len[k]), at = k;
+            kind = sam_mesh_token_number(tok[k], len[k]), at = k;
         if (ok && kind < 0)
-            return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF line %d: vertex %llu: \"%.*s\" " NOT_A_FLOAT, path,
+            return sam_fail(err, SAM_ERR_FORMAT, "%s: OFF line %d: vertex %llu: \"%.*s\" " SAM_MESH_NOT_A_FLOAT, path,
                             c.line_no, v, len[at] < 40 ? len[at] : 40, tok[at]);
         if (!ok || kind != 1)
             return sam_fail(err, SAM_ERR_FORMAT,
                             "%s: OFF line %d: vertex %llu must be %d finite numbers%s: \"%.*s\"", path, c.line_no, v,
-                            base, colour ? " plus 3 or 4 colour values" : "", shown(line, c.eol), line);
+                            base, colour ? " plus 3 or 4 colour values" : "", sam_mesh_text_shown(line, c.eol), line);
         if (out) {
             /* count <= base + 4 <= 12 here: every token is stored. */
             sam_text_append(out, tok[0], (size_t)(tok[count - 1] + len[count - 1] - tok[0]));
@@ -652,7 +481,7 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
          * or 3 or 4 values) that OpenMesh is not given: the whole line is
          * checked, whatever its length. */
         unsigned long long corners;
-        int ok = token_count(tok[0], len[0], &corners) == 1 && corners >= 3 && corners < (unsigned long long)count;
+        int ok = sam_mesh_token_count(tok[0], len[0], &corners) == 1 && corners >= 3 && corners < (unsigned long long)count;
         const unsigned long long extra = ok ? (unsigned long long)count - corners - 1 : 0;
         ok = ok && (extra == 0 || extra == 1 || extra == 3 || extra == 4);
         const char *p = line, *corners_end = line;
@@ -661,13 +490,13 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
             int l[1] = {0};
             while (*p == ' ' || *p == '\t')
                 p++;
-            tokenize(p, eol, t, l, 1);
+            sam_mesh_text_tokenize(p, eol, t, l, 1);
             unsigned long long index;
             if ((unsigned long long)k <= corners) {
-                ok = token_count(t[0], l[0], &index) == 1 && (k == 0 || index < value[0]);
+                ok = sam_mesh_token_count(t[0], l[0], &index) == 1 && (k == 0 || index < value[0]);
                 corners_end = t[0] + l[0];
             } else {
-                ok = token_number(t[0], l[0]) == 1;
+                ok = sam_mesh_token_number(t[0], l[0]) == 1;
             }
             p = t[0] + l[0];
         }
@@ -675,7 +504,7 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
             return sam_fail(err, SAM_ERR_FORMAT,
                             "%s: OFF line %d: face %llu must be a corner count k >= 3, k vertex indices below %llu "
                             "and at most a colour (1, 3 or 4 numbers): \"%.*s\"",
-                            path, c.line_no, f, value[0], shown(line, c.eol), line);
+                            path, c.line_no, f, value[0], sam_mesh_text_shown(line, c.eol), line);
         if (extra)
             reshaped = 1;
         if (out) {
@@ -694,7 +523,7 @@ static sam_status walk_off(const char *path, const char *data, size_t size, sam_
 static sam_status preflight_off(const char *path, const char *data, size_t size, sam_mesh_expect *expect,
                                 sam_error *err)
 {
-    sam_status st = check_text(path, "OFF", data, size, err);
+    sam_status st = sam_mesh_check_text(path, "OFF", data, size, err);
     int rewrite = 0;
     if (st == SAM_OK)
         st = walk_off(path, data, size, expect, NULL, &rewrite, err);
@@ -713,7 +542,7 @@ static int obj_index_ok(const char *tok, int len, unsigned long long count, unsi
 {
     int negative = len > 0 && tok[0] == '-';
     unsigned long long v;
-    if (token_count(tok + negative, len - negative, &v) != 1 || v < 1 || v > count)
+    if (sam_mesh_token_count(tok + negative, len - negative, &v) != 1 || v < 1 || v > count)
         return 0;
     *at = negative ? count - v : v - 1;
     return 1;
@@ -731,7 +560,7 @@ static void note_distinct(unsigned long long v, unsigned long long *seen, int *n
         seen[(*n)++] = v;
 }
 
-/* A token token_number accepted, as the float the reader stores. */
+/* A token sam_mesh_token_number accepted, as the float the reader stores. */
 static float token_float(const char *tok, int len)
 {
     char buf[64];
@@ -742,36 +571,36 @@ static float token_float(const char *tok, int len)
 
 static sam_status walk_obj(const char *path, const char *data, size_t size, sam_mesh_expect *expect, sam_error *err)
 {
-    sam_status st = check_text(path, "OBJ", data, size, err);
+    sam_status st = sam_mesh_check_text(path, "OBJ", data, size, err);
     if (st != SAM_OK)
         return st;
-    text_cursor c = {data, data + size, 0, data};
+    sam_mesh_text_cursor c = {data, data + size, 0, data};
     const char *line, *eol;
     unsigned long long nv = 0, nt = 0, nn = 0;
     sam_mesh_obj_gather g = {1, 0, 0, 0, 0, 0, 0};
-    while (next_line(&c, &line, &eol)) {
+    while (sam_mesh_text_next_line(&c, &line, &eol)) {
         const char *tok[16];
         int len[16];
-        int count = tokenize(line, eol, tok, len, 16);
+        int count = sam_mesh_text_tokenize(line, eol, tok, len, 16);
         if (count == 0)
             continue;
-        int s = shown(line, eol), values = 0;
+        int s = sam_mesh_text_shown(line, eol), values = 0;
         unsigned long long *counter = NULL;
-        if (token_is(tok[0], len[0], "v"))
+        if (sam_mesh_token_is(tok[0], len[0], "v"))
             counter = &nv, values = 3;
-        else if (token_is(tok[0], len[0], "vt"))
+        else if (sam_mesh_token_is(tok[0], len[0], "vt"))
             counter = &nt, values = 1;
-        else if (token_is(tok[0], len[0], "vn"))
+        else if (sam_mesh_token_is(tok[0], len[0], "vn"))
             counter = &nn, values = 3;
         if (counter) {
             if (count - 1 < values)
                 return sam_fail(err, SAM_ERR_FORMAT, "%s: OBJ line %d: expected %d numbers: \"%.*s\"", path,
                                 c.line_no, values, s, line);
             for (int i = 1; i <= values; ++i) {
-                int kind = token_number(tok[i], len[i]);
+                int kind = sam_mesh_token_number(tok[i], len[i]);
                 if (kind <= 0)
                     return sam_fail(err, SAM_ERR_FORMAT, "%s: OBJ line %d: \"%.*s\" %s", path, c.line_no,
-                                    len[i] < 40 ? len[i] : 40, tok[i], kind < 0 ? NOT_A_FLOAT : "is not a valid number");
+                                    len[i] < 40 ? len[i] : 40, tok[i], kind < 0 ? SAM_MESH_NOT_A_FLOAT : "is not a valid number");
             }
             if (counter == &nn) {
                 const float v[3] = {token_float(tok[1], len[1]), token_float(tok[2], len[2]),
@@ -782,7 +611,7 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
             (*counter)++;
             continue;
         }
-        if (!token_is(tok[0], len[0], "f"))
+        if (!sam_mesh_token_is(tok[0], len[0], "f"))
             continue; /* groups, materials, smoothing, lines: not geometry we read */
         /* Corners: v, v/t, v//n or v/t/n; all corners of a face alike.
          * OpenMesh drops repeated corners, and a face left with fewer
@@ -933,23 +762,23 @@ static sam_status preflight_stl(const char *path, const char *data, size_t size,
                             : 0;
     /* Binary files may begin with "solid" too; their size tells them apart. */
     if (size >= 5 && !memcmp(data, "solid", 5) && !(size >= 84 && 84ull + 50ull * n == size)) {
-        text_cursor c = {data, data + size, 0, data};
+        sam_mesh_text_cursor c = {data, data + size, 0, data};
         const char *line, *eol;
-        while (next_line(&c, &line, &eol)) {
+        while (sam_mesh_text_next_line(&c, &line, &eol)) {
             const char *tok[5];
             int len[5];
-            int count = tokenize(line, eol, tok, len, 5);
-            if (count < 1 || !token_is(tok[0], len[0], "vertex"))
+            int count = sam_mesh_text_tokenize(line, eol, tok, len, 5);
+            if (count < 1 || !sam_mesh_token_is(tok[0], len[0], "vertex"))
                 continue;
             for (int k = 1; k < count && k < 5; ++k) {
-                const int kind = token_number(tok[k], len[k]);
+                const int kind = sam_mesh_token_number(tok[k], len[k]);
                 if (kind != 1)
                     return sam_fail(err, SAM_ERR_FORMAT, "%s: STL line %d: \"%.*s\" %s", path, c.line_no,
-                                    len[k] < 40 ? len[k] : 40, tok[k], kind ? NOT_A_FLOAT : "is not a number");
+                                    len[k] < 40 ? len[k] : 40, tok[k], kind ? SAM_MESH_NOT_A_FLOAT : "is not a number");
             }
             if (count != 4)
                 return sam_fail(err, SAM_ERR_FORMAT, "%s: STL line %d: a vertex takes 3 numbers: \"%.*s\"", path,
-                                c.line_no, shown(line, eol), line);
+                                c.line_no, sam_mesh_text_shown(line, eol), line);
         }
         return SAM_OK;
     }
