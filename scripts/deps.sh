@@ -11,6 +11,7 @@ packages=(
   libstb-dev                                   # JPEG and TGA albedo maps (stb_image), sam_view's text
   libtinygltf-dev                              # glTF 2.0 meshes
   libmeshoptimizer-dev                         # glTF geometry gltfpack compressed (EXT_meshopt_compression)
+  libdraco-dev draco                           # Draco-compressed glTF geometry; tests: draco_transcoder writes it
   gltfpack                                     # tests: a glTF written by a real exporter
   xvfb xauth                                   # window tests
   gnuplot-nox                                  # sam_compare's RMSE-against-N plot

@@ -90,6 +90,72 @@ PY
 "$bin/sam_info" "$tmp/damaged.glb" > "$tmp/damaged.txt" 2>&1 && fail "a damaged compressed .glb was read"
 [ "$(wc -l < "$tmp/damaged.txt")" -eq 1 ] && grep -q "damaged.glb: .*meshopt.*buffer view [0-9]*: its meshopt data does not decode" \
   "$tmp/damaged.txt" || fail "damaged compressed .glb: $(cat "$tmp/damaged.txt")"
+# Draco (KHR_draco_mesh_compression), as draco_transcoder writes it from a
+# GLB (positions quantized to 11 bits, UVs to 10, normals to 8): a .glb,
+# and a .gltf with its .bin beside it, of the ear with normals of its own
+# (Draco numbers them before the positions) load with the OBJ's counts and
+# normals and render its picture. Damaged Draco data, and an accessor whose
+# type is not the data's, are refused in one line naming the primitive.
+command -v draco_transcoder > /dev/null || fail "draco_transcoder is missing (scripts/deps.sh installs it)"
+python3 - "$tmp/ear.obj" "$tmp/normals.obj" <<'PY' || fail "writing normals"
+import math, sys
+lines = open(sys.argv[1]).read().split("\n")
+v = [[float(x) for x in l.split()[1:4]] for l in lines if l.startswith("v ")]
+faces = [[int(c.split("/")[0]) - 1 for c in l.split()[1:]] for l in lines if l.startswith("f ")]
+n = [[0.0] * 3 for _ in v]
+for f in faces:
+    a, b, c = (v[i] for i in f[:3])
+    u, w = [b[k] - a[k] for k in range(3)], [c[k] - a[k] for k in range(3)]
+    cross = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
+    for i in f:
+        n[i] = [n[i][k] + cross[k] for k in range(3)]
+out = [l for l in lines if not l.startswith("f ")]
+out += ["vn %.6f %.6f %.6f" % tuple(x / (math.sqrt(sum(y * y for y in m)) or 1) for x in m) for m in n]
+out += ["f " + " ".join("%s/%s" % (c, c.split("/")[0]) for c in l.split()[1:]) for l in lines if l.startswith("f ")]
+open(sys.argv[2], "w").write("\n".join(out) + "\n")
+PY
+mkdir -p "$tmp/beside"
+(cd "$tmp" && gltfpack -i normals.obj -o normals.glb -noq > /dev/null 2>&1 &&
+  draco_transcoder -i normals.glb -o draco.glb > /dev/null 2>&1 &&
+  draco_transcoder -i normals.glb -o beside/draco.gltf > /dev/null 2>&1) || fail "draco_transcoder"
+grep -q KHR_draco_mesh_compression "$tmp/draco.glb" || fail "draco_transcoder wrote no Draco data"
+normals_want=$(counts "$tmp/normals.obj")
+render normals.obj normals_obj
+for f in draco.glb beside/draco.gltf; do
+  [ "$(counts "$tmp/$f")" = "$normals_want" ] || fail "$f: counts '$(counts "$tmp/$f")', the OBJ's '$normals_want'"
+  "$bin/sam_info" "$tmp/$f" | grep -q "normals from the file" || fail "$f: its normals were not read"
+  out=draco_${f##*.}
+  render $f $out
+  grep -q "albedo map: .*$f" "$tmp/$out.txt" || fail "$f: $(cat "$tmp/$out.txt")"
+  db=$(png psnr "$tmp/normals_obj.png" "$tmp/$out.png")
+  echo "OBJ against Draco $f: $db dB"
+  python3 -c "import sys; sys.exit(0 if float('$db') >= 35 else 1)" || fail "$f renders another picture ($db dB)"
+done
+python3 - "$tmp/draco.glb" "$tmp/draco_damaged.glb" "$tmp/draco_retyped.glb" <<'PY' || fail "damaging the Draco .glb"
+import json, struct, sys
+d = bytearray(open(sys.argv[1], "rb").read())
+n = struct.unpack_from("<I", d, 12)[0]
+j = json.loads(bytes(d[20:20 + n]))
+p = j["meshes"][0]["primitives"][0]
+view = j["bufferViews"][p["extensions"]["KHR_draco_mesh_compression"]["bufferView"]]
+at = 20 + ((n + 3) & ~3) + 8 + view.get("byteOffset", 0)
+damaged = bytearray(d)
+damaged[at + 16:at + view["byteLength"]] = bytes(view["byteLength"] - 16)  # all but its header zeroed
+open(sys.argv[2], "wb").write(damaged)
+j["accessors"][p["attributes"]["TEXCOORD_0"]]["componentType"] = 5123  # UVs said to be unsigned shorts
+text = json.dumps(j).encode()
+text += b" " * (-len(text) % 4)
+rest = d[20 + ((n + 3) & ~3):]
+open(sys.argv[3], "wb").write(d[:8] + struct.pack("<III", 20 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest)
+PY
+for f in draco_damaged draco_retyped; do
+  "$bin/sam_render" "$tmp/$f.glb" -o "$tmp/$f.png" --size-mm 60 > "$tmp/$f.txt" 2>&1 && fail "$f.glb rendered"
+  [ "$(wc -l < "$tmp/$f.txt")" -eq 1 ] && grep -q "$f.glb: mesh 0 primitive 0 (KHR_draco_mesh_compression)" \
+    "$tmp/$f.txt" || fail "$f.glb: $(cat "$tmp/$f.txt")"
+  [ -e "$tmp/$f.png" ] && fail "a picture was written for $f.glb"
+done
+grep -q "does not decode" "$tmp/draco_damaged.txt" || fail "damaged Draco data: $(cat "$tmp/draco_damaged.txt")"
+grep -q "component type 5123" "$tmp/draco_retyped.txt" || fail "retyped UVs: $(cat "$tmp/draco_retyped.txt")"
 # A missing texture is a warning, not a failure.
 rm "$tmp/checker.png"
 "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/untextured.png" --size-mm 60 --size 64x48 --no-cache 2> "$tmp/missing.txt" \

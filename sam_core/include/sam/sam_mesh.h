@@ -105,10 +105,12 @@ typedef struct sam_mesh_input {
 
 /* Loads OBJ, PLY (ASCII and binary), OFF or STL through OpenMesh, or glTF
  * 2.0 (.gltf, .glb: every triangle primitive of the default scene with its
- * node transforms, TEXCOORD_0) through TinyGLTF, then welds, repairs and
- * builds the topology as described above.
+ * node transforms, TEXCOORD_0; geometry compressed with meshopt or Draco
+ * decoded) through TinyGLTF, then welds, repairs and builds the topology as
+ * described above.
  * `report` may be NULL. On failure `mesh` is zeroed (nothing to free).
- * Errors: SAM_ERR_IO (missing/unreadable), SAM_ERR_UNSUPPORTED (extension),
+ * Errors: SAM_ERR_IO (missing/unreadable), SAM_ERR_UNSUPPORTED (extension, or
+ * a compression it does not decode),
  * SAM_ERR_FORMAT (unparseable, non-finite coordinate, index out of range:
  * the message names the element and value), SAM_ERR_EMPTY (empty file, no
  * usable triangle), SAM_ERR_OUT_OF_MEMORY. */

@@ -19,6 +19,7 @@
 
 #include "../io/sam_image_internal.h"
 #include "sam_mesh_cpp.hpp"
+#include "sam_mesh_gltf_draco.h"
 #include "sam_mesh_gltf_meshopt.h"
 
 namespace {
@@ -48,19 +49,74 @@ std::string name_of(const char *kind, int index)
     return std::string(kind) + " " + std::to_string(index);
 }
 
-// Accessor `index` as `want` floats per element (a normalised integer type
+// `count` elements `stride` bytes apart from `data`, each `want`
+// components of glTF component type `type` (a normalised integer type
 // scaled as the specification says; KHR_mesh_quantization's plain integers
-// as they are), every byte range checked against its buffer.
-std::vector<float> read_floats(const Reader &r, int index, int want, const char *what)
+// as they are), as floats. The caller has checked the bytes are there.
+std::vector<float> to_floats(const unsigned char *data, size_t count, uint64_t stride, int type, bool normalized,
+                             int want, const std::string &where)
+{
+    const int size = tinygltf::GetComponentSizeInBytes(uint32_t(type));
+    std::vector<float> out(count * size_t(want), 0.0f);
+    for (size_t e = 0; e < count; ++e)
+        for (int c = 0; c < want; ++c) {
+            const unsigned char *p = data + stride * e + uint64_t(size) * c;
+            float x;
+            switch (type) {
+            case TINYGLTF_COMPONENT_TYPE_FLOAT:
+                std::memcpy(&x, p, 4);
+                break;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                x = normalized ? *p / 255.0f : *p;
+                break;
+            case TINYGLTF_COMPONENT_TYPE_BYTE:
+                x = normalized ? std::fmax(int8_t(*p) / 127.0f, -1.0f) : int8_t(*p);
+                break;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                uint16_t u;
+                std::memcpy(&u, p, 2);
+                x = normalized ? u / 65535.0f : u;
+                break;
+            }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                int16_t s;
+                std::memcpy(&s, p, 2);
+                x = normalized ? std::fmax(s / 32767.0f, -1.0f) : s;
+                break;
+            }
+            default:
+                fail(where + ": component type " + std::to_string(type) + " is not a vertex attribute's");
+            }
+            if (!std::isfinite(x))
+                fail(where + ": component " + std::to_string(c) + " of element " + std::to_string(e) +
+                     " is not finite");
+            out[e * size_t(want) + size_t(c)] = x;
+        }
+    return out;
+}
+
+// Accessor `index`, which must exist and have `want` components per
+// element; `where` names it for messages.
+const tinygltf::Accessor &accessor(const Reader &r, int index, int want, const char *what, std::string &where)
 {
     const tinygltf::Model &m = r.model;
     if (index < 0 || size_t(index) >= m.accessors.size())
         fail(std::string(what) + ": accessor " + std::to_string(index) + " does not exist (" +
              std::to_string(m.accessors.size()) + " accessors)");
     const tinygltf::Accessor &a = m.accessors[size_t(index)];
-    const std::string where = name_of("accessor", index) + " (" + what + ")";
+    where = name_of("accessor", index) + " (" + what + ")";
     if (tinygltf::GetNumComponentsInType(uint32_t(a.type)) != want)
         fail(where + ": expected " + std::to_string(want) + " components per element");
+    return a;
+}
+
+// Accessor `index` as `want` floats per element, every byte range checked
+// against its buffer.
+std::vector<float> read_floats(const Reader &r, int index, int want, const char *what)
+{
+    const tinygltf::Model &m = r.model;
+    std::string where;
+    const tinygltf::Accessor &a = accessor(r, index, want, what, where);
     if (a.sparse.isSparse || a.bufferView < 0)
         fail(where + ": sparse accessors and accessors without a buffer view are not supported");
     if (size_t(a.bufferView) >= m.bufferViews.size())
@@ -87,42 +143,7 @@ std::vector<float> read_floats(const Reader &r, int index, int want, const char 
         fail(where + ": " + std::to_string(a.count) + " elements need " + std::to_string(need) +
              " bytes past offset " + std::to_string(a.byteOffset) + " of buffer view " +
              std::to_string(a.bufferView) + ", which has " + std::to_string(v.byteLength));
-    std::vector<float> out(a.count * size_t(want), 0.0f);
-    for (size_t e = 0; e < a.count; ++e)
-        for (int c = 0; c < want; ++c) {
-            const unsigned char *p = data.data() + start + uint64_t(stride) * e + uint64_t(size) * c;
-            float x;
-            switch (a.componentType) {
-            case TINYGLTF_COMPONENT_TYPE_FLOAT:
-                std::memcpy(&x, p, 4);
-                break;
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-                x = a.normalized ? *p / 255.0f : *p;
-                break;
-            case TINYGLTF_COMPONENT_TYPE_BYTE:
-                x = a.normalized ? std::fmax(int8_t(*p) / 127.0f, -1.0f) : int8_t(*p);
-                break;
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-                uint16_t u;
-                std::memcpy(&u, p, 2);
-                x = a.normalized ? u / 65535.0f : u;
-                break;
-            }
-            case TINYGLTF_COMPONENT_TYPE_SHORT: {
-                int16_t s;
-                std::memcpy(&s, p, 2);
-                x = a.normalized ? std::fmax(s / 32767.0f, -1.0f) : s;
-                break;
-            }
-            default:
-                fail(where + ": component type " + std::to_string(a.componentType) + " is not a vertex attribute's");
-            }
-            if (!std::isfinite(x))
-                fail(where + ": component " + std::to_string(c) + " of element " + std::to_string(e) +
-                     " is not finite");
-            out[e * size_t(want) + size_t(c)] = x;
-        }
-    return out;
+    return to_floats(data.data() + start, a.count, uint64_t(stride), a.componentType, a.normalized, want, where);
 }
 
 // The index accessor of a primitive, or 0..vertices-1 without one.
@@ -241,6 +262,61 @@ std::array<double, 6> uv_transform(const tinygltf::Model &model, const tinygltf:
     return m;
 }
 
+// A primitive's geometry from its KHR_draco_mesh_compression object `ext`:
+// POSITION, and NORMAL and TEXCOORD_0 where both the primitive and the
+// extension name them, as the primitive's accessors say they are stored;
+// the triangles' corners into `idx`.
+template <class Attribute>
+void read_draco(const Reader &r, const tinygltf::Value &ext, Attribute attribute, std::vector<float> &pos,
+                std::vector<float> &nrm, std::vector<float> &uv, std::vector<uint32_t> &idx, const std::string &where)
+{
+    const tinygltf::Model &m = r.model;
+    const std::string at = where + " (KHR_draco_mesh_compression)";
+    const tinygltf::Value &view_value = ext.Get("bufferView"), &ids = ext.Get("attributes");
+    if (!view_value.IsInt() || !ids.IsObject())
+        fail(at + ": no bufferView or attributes");
+    const int view = view_value.Get<int>();
+    if (view < 0 || size_t(view) >= m.bufferViews.size())
+        fail(at + ": buffer view " + std::to_string(view) + " does not exist");
+    const tinygltf::BufferView &v = m.bufferViews[size_t(view)];
+    if (v.buffer < 0 || size_t(v.buffer) >= m.buffers.size())
+        fail(at + ": buffer " + std::to_string(v.buffer) + " does not exist");
+    const std::vector<unsigned char> &data = m.buffers[size_t(v.buffer)].data;
+    if (v.byteLength > data.size() || v.byteOffset > data.size() - v.byteLength)
+        fail(at + ": buffer view " + std::to_string(view) + " (" + std::to_string(v.byteLength) + " bytes at " +
+             std::to_string(v.byteOffset) + ") does not fit its " + std::to_string(data.size()) + "-byte buffer");
+    static const char *const names[] = {"POSITION", "NORMAL", "TEXCOORD_0"};
+    static const int components[] = {3, 3, 2};
+    std::vector<float> *const into[] = {&pos, &nrm, &uv};
+    std::vector<SamDracoWant> want;
+    std::vector<std::vector<float> *> targets;
+    std::vector<const tinygltf::Accessor *> accessors;
+    std::vector<std::string> wheres;
+    for (int k = 0; k < 3; ++k) {
+        const tinygltf::Value &id = ids.Get(names[k]);
+        if (attribute(names[k]) < 0 || !id.IsInt()) {
+            if (k == 0)
+                fail(at + ": no POSITION among its attributes");
+            continue;
+        }
+        std::string name;
+        accessors.push_back(&accessor(r, attribute(names[k]), components[k], names[k], name));
+        wheres.push_back(name);
+        targets.push_back(into[k]);
+        want.push_back({names[k], id.Get<int>(), accessors.back()->componentType, components[k]});
+    }
+    SamDracoMesh mesh;
+    std::string message;
+    if (!sam_mesh_gltf_draco_decode(data.data() + v.byteOffset, v.byteLength, want, mesh, message))
+        fail(at + ", buffer view " + std::to_string(view) + ": " + message);
+    for (size_t w = 0; w < want.size(); ++w) {
+        const int size = tinygltf::GetComponentSizeInBytes(uint32_t(want[w].component_type));
+        *targets[w] = to_floats(mesh.attributes[w].data(), mesh.points, uint64_t(size) * uint64_t(want[w].components),
+                                want[w].component_type, accessors[w]->normalized, want[w].components, wheres[w]);
+    }
+    idx = std::move(mesh.corners);
+}
+
 // One primitive's triangles into the soup, transformed by `world`.
 void add_primitive(Reader &r, const tinygltf::Primitive &p, const Mat4 &world, const std::string &where)
 {
@@ -255,15 +331,24 @@ void add_primitive(Reader &r, const tinygltf::Primitive &p, const Mat4 &world, c
     };
     if (attribute("POSITION") < 0)
         fail(where + ": no POSITION attribute");
-    std::vector<float> pos = read_floats(r, attribute("POSITION"), 3, "POSITION");
+    std::vector<float> pos, nrm, uv;
+    std::vector<uint32_t> idx;
+    const auto draco = p.extensions.find("KHR_draco_mesh_compression");
+    if (draco != p.extensions.end()) {
+        if (p.mode != TINYGLTF_MODE_TRIANGLES)
+            fail(where + ": Draco-compressed triangles in mode " + std::to_string(p.mode) +
+                 " (only 4, a list, is read)");
+        read_draco(r, draco->second, attribute, pos, nrm, uv, idx, where);
+    } else {
+        pos = read_floats(r, attribute("POSITION"), 3, "POSITION");
+        if (attribute("NORMAL") >= 0)
+            nrm = read_floats(r, attribute("NORMAL"), 3, "NORMAL");
+        if (attribute("TEXCOORD_0") >= 0)
+            uv = read_floats(r, attribute("TEXCOORD_0"), 2, "TEXCOORD_0");
+    }
     const size_t n = pos.size() / 3, base = r.positions.size() / 3;
     if (base + n > UINT32_MAX / 4)
         fail(where + ": more vertices than 32-bit indices reach");
-    std::vector<float> nrm, uv;
-    if (attribute("NORMAL") >= 0)
-        nrm = read_floats(r, attribute("NORMAL"), 3, "NORMAL");
-    if (attribute("TEXCOORD_0") >= 0)
-        uv = read_floats(r, attribute("TEXCOORD_0"), 2, "TEXCOORD_0");
     if ((!nrm.empty() && nrm.size() != pos.size()) || (!uv.empty() && uv.size() / 2 != n))
         fail(where + ": NORMAL or TEXCOORD_0 has another count than POSITION's " + std::to_string(n));
     r.all_normals = r.all_normals && !nrm.empty();
@@ -288,7 +373,8 @@ void add_primitive(Reader &r, const tinygltf::Primitive &p, const Mat4 &world, c
         r.uvs.push_back(uv.empty() ? 0.0f : float(t[0] * u0 + t[1] * v0 + t[2]));
         r.uvs.push_back(uv.empty() ? 0.0f : float(1.0 - (t[3] * u0 + t[4] * v0 + t[5])));
     }
-    std::vector<uint32_t> idx = read_indices(r, p.indices, n);
+    if (draco == p.extensions.end())
+        idx = read_indices(r, p.indices, n);
     // A mirroring transform turns the winding; the triangles are turned back.
     const bool flip = det < 0;
     auto triangle = [&](uint32_t i0, uint32_t i1, uint32_t i2) {
@@ -377,11 +463,18 @@ std::string short_last_read(std::string message)
     return message;
 }
 
+// What a file's geometry needs before TinyGLTF reads it.
+struct Compression {
+    bool meshopt = false; // decoded first (EXT_meshopt_compression)
+    bool draco = false;   // its primitives' index accessors dropped (KHR_draco_mesh_compression)
+};
+
 // Parses the file; with `images` its pictures are decoded too (for the
-// base colour).
-// A file compressed with meshopt is decoded first and read from memory as a
-// GLB (sam_mesh_gltf_meshopt.h), its images found beside it.
-bool load(const char *path, bool images, bool meshopt, tinygltf::Model &model, std::string &message)
+// base colour). A compressed file is made readable first
+// (sam_mesh_gltf_meshopt.h, sam_mesh_gltf_draco.h) and read from memory,
+// its buffers and images found beside it.
+
+bool load(const char *path, bool images, Compression compression, tinygltf::Model &model, std::string &message)
 {
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_whole_file,
@@ -390,19 +483,31 @@ bool load(const char *path, bool images, bool meshopt, tinygltf::Model &model, s
         loader.SetImageLoader(skip_image, nullptr);
     std::string err, warn;
     bool ok;
-    if (meshopt) {
-        std::vector<unsigned char> file, glb;
+    if (compression.meshopt || compression.draco) {
+        std::vector<unsigned char> file;
         if (!read_whole_file(&file, &err, path, nullptr)) {
             message = sam_mesh_one_line(err);
             return false;
         }
-        if (!sam_mesh_gltf_meshopt_decode(path, file.data(), file.size(), glb, message)) {
-            message = "its meshopt-compressed geometry (EXT_meshopt_compression): " + message;
+        if (compression.meshopt) {
+            std::vector<unsigned char> glb;
+            if (!sam_mesh_gltf_meshopt_decode(path, file.data(), file.size(), glb, message)) {
+                message = "its meshopt-compressed geometry (EXT_meshopt_compression): " + message;
+                return false;
+            }
+            file.swap(glb);
+        }
+        if (compression.draco && !sam_mesh_gltf_draco_unindex(file, message)) {
+            message = "its Draco-compressed geometry (KHR_draco_mesh_compression): " + message;
             return false;
         }
         const char *slash = std::strrchr(path, '/');
         const std::string dir = slash ? std::string(path, size_t(slash - path)) : ".";
-        ok = loader.LoadBinaryFromMemory(&model, &err, &warn, glb.data(), unsigned(glb.size()), dir);
+        if (file.size() >= 4 && !std::memcmp(file.data(), "glTF", 4))
+            ok = loader.LoadBinaryFromMemory(&model, &err, &warn, file.data(), unsigned(file.size()), dir);
+        else
+            ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char *>(file.data()),
+                                            unsigned(file.size()), dir);
     } else {
         ok = sam_path_has_extension(path, ".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                                                   : loader.LoadASCIIFromFile(&model, &err, &warn, path);
@@ -411,10 +516,6 @@ bool load(const char *path, bool images, bool meshopt, tinygltf::Model &model, s
     return ok;
 }
 
-// The compressions a file requires that this reader does not decode, named
-// ("" when none; *meshopt set when its meshopt is to be decoded).
-// TinyGLTF refused a meshopt-compressed file with a message about buffer
-// sizes, which told a user nothing.
 // The file's JSON ("" when it cannot be read): a .gltf whole, of a .glb
 // only its JSON chunk, not the buffers and textures after it.
 std::string json_of(const char *path)
@@ -440,44 +541,46 @@ std::string json_of(const char *path)
     return json;
 }
 
-std::string undecoded_compression(const char *path, bool *meshopt)
+// The compressions a file requires that this reader does not decode, named
+// ("" when none), and in `compression` what the others need. TinyGLTF
+// refused a meshopt-compressed file with a message about buffer sizes, which
+// told a user nothing.
+std::string undecoded_compression(const char *path, Compression *compression)
 {
-    *meshopt = false;
+    *compression = Compression{};
     const std::string json = json_of(path);
     std::string found;
     std::unique_ptr<cJSON, decltype(&cJSON_Delete)> root(cJSON_ParseWithLength(json.data(), json.size()),
                                                          cJSON_Delete);
-    const cJSON *required = cJSON_GetObjectItemCaseSensitive(root.get(), "extensionsRequired");
     const cJSON *name;
-    cJSON_ArrayForEach(name, required)
+    cJSON_ArrayForEach(name, cJSON_GetObjectItemCaseSensitive(root.get(), "extensionsRequired"))
     {
-        static const char *const compressions[] = {"KHR_draco_mesh_compression", "EXT_meshopt_compression",
-                                                   "KHR_meshopt_compression"};
-        for (const char *c : compressions) {
-            if (!cJSON_IsString(name) || std::strcmp(name->valuestring, c))
-                continue;
-            if (!std::strcmp(c, "EXT_meshopt_compression"))
-                *meshopt = true;
-            else
-                found += (found.empty() ? "" : ", ") + std::string(c);
-        }
+        if (!cJSON_IsString(name))
+            continue;
+        if (!std::strcmp(name->valuestring, "EXT_meshopt_compression"))
+            compression->meshopt = true;
+        else if (!std::strcmp(name->valuestring, "KHR_meshopt_compression"))
+            found += (found.empty() ? "" : ", ") + std::string(name->valuestring);
     }
+    // Draco data beside uncompressed geometry is decoded too: its index
+    // accessors have buffer views, but need none.
+    cJSON_ArrayForEach(name, cJSON_GetObjectItemCaseSensitive(root.get(), "extensionsUsed"))
+        compression->draco |= cJSON_IsString(name) && !std::strcmp(name->valuestring, "KHR_draco_mesh_compression");
     return found;
 }
 
 sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
 {
-    bool meshopt;
-    const std::string compressed = undecoded_compression(path, &meshopt);
+    Compression compression;
+    const std::string compressed = undecoded_compression(path, &compression);
     if (!compressed.empty())
         return sam_fail(err, SAM_ERR_UNSUPPORTED,
                         "%s: its geometry is compressed (%s, required), which this reader does not decode; export "
-                        "it without it (gltfpack's -c and -cc are decoded; Blender's glTF exporter with compression "
-                        "off)",
+                        "it without it (EXT_meshopt_compression, gltfpack's -c and -cc, and Draco are decoded)",
                         path, compressed.c_str());
     tinygltf::Model model;
     std::string message;
-    if (!load(path, false, meshopt, model, message))
+    if (!load(path, false, compression, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: not a readable glTF file: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
     Reader r{model, path, {}, {}, {}, {}};
@@ -520,11 +623,11 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
 // The first base-colour texture among the default scene's materials.
 sam_status read_base_color(const char *path, sam_image *image, float factor[4], sam_error *err)
 {
-    bool meshopt;
-    undecoded_compression(path, &meshopt);
+    Compression compression;
+    undecoded_compression(path, &compression);
     tinygltf::Model model;
     std::string message;
-    if (!load(path, true, meshopt, model, message))
+    if (!load(path, true, compression, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: its textures cannot be read: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
     for (const tinygltf::Material &mat : model.materials) {
