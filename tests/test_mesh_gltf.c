@@ -248,6 +248,19 @@ static void test_glb_and_truncation(void **state)
         assert_true(st != SAM_OK);
         assert_non_null(strstr(err.message, "tetra.glb"));
     }
+    /* A binary chunk whose length counts its own 8-byte head: TinyGLTF
+     * 2.7 took it and read 8 bytes past the file's end. */
+    uint8_t *longer = malloc(20 + padded + 12);
+    assert_non_null(longer);
+    memcpy(longer, file, 20 + padded);
+    const uint32_t total = (uint32_t)(20 + padded + 12), chunk[3] = {12, 0x004E4942u, 0};
+    memcpy(longer + 8, &total, 4);
+    memcpy(longer + 20 + padded, chunk, sizeof chunk);
+    sam_test_write_file(glb, longer, 20 + padded + 12);
+    assert_int_equal(sam_mesh_load(glb, &m, NULL, &err), SAM_ERR_FORMAT);
+    assert_non_null(strstr(err.message, "tetra.glb: not a readable glTF file: the chunk after the JSON, 12 bytes"));
+    assert_non_null(strstr(err.message, "runs past the GLB's length"));
+    free(longer);
     free(file);
     free(text);
 }

@@ -95,7 +95,8 @@ PY
 # and a .gltf with its .bin beside it, of the ear with normals of its own
 # (Draco numbers them before the positions) load with the OBJ's counts and
 # normals and render its picture. Damaged Draco data, and an accessor whose
-# type is not the data's, are refused in one line naming the primitive.
+# type or count is not the data's, are refused in one line naming the
+# primitive.
 command -v draco_transcoder > /dev/null || fail "draco_transcoder is missing (scripts/deps.sh installs it)"
 python3 - "$tmp/ear.obj" "$tmp/normals.obj" <<'PY' || fail "writing normals"
 import math, sys
@@ -131,7 +132,8 @@ for f in draco.glb beside/draco.gltf; do
   echo "OBJ against Draco $f: $db dB"
   python3 -c "import sys; sys.exit(0 if float('$db') >= 35 else 1)" || fail "$f renders another picture ($db dB)"
 done
-python3 - "$tmp/draco.glb" "$tmp/draco_damaged.glb" "$tmp/draco_retyped.glb" <<'PY' || fail "damaging the Draco .glb"
+python3 - "$tmp/draco.glb" "$tmp/draco_damaged.glb" "$tmp/draco_retyped.glb" "$tmp/draco_recounted.glb" <<'PY' \
+  || fail "damaging the Draco .glb"
 import json, struct, sys
 d = bytearray(open(sys.argv[1], "rb").read())
 n = struct.unpack_from("<I", d, 12)[0]
@@ -142,13 +144,19 @@ at = 20 + ((n + 3) & ~3) + 8 + view.get("byteOffset", 0)
 damaged = bytearray(d)
 damaged[at + 16:at + view["byteLength"]] = bytes(view["byteLength"] - 16)  # all but its header zeroed
 open(sys.argv[2], "wb").write(damaged)
-j["accessors"][p["attributes"]["TEXCOORD_0"]]["componentType"] = 5123  # UVs said to be unsigned shorts
-text = json.dumps(j).encode()
-text += b" " * (-len(text) % 4)
-rest = d[20 + ((n + 3) & ~3):]
-open(sys.argv[3], "wb").write(d[:8] + struct.pack("<III", 20 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest)
+def write(path, j):
+    text = json.dumps(j).encode()
+    text += b" " * (-len(text) % 4)
+    rest = d[20 + ((n + 3) & ~3):]
+    open(path, "wb").write(d[:8] + struct.pack("<III", 20 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest)
+uv = j["accessors"][p["attributes"]["TEXCOORD_0"]]
+uv["componentType"] = 5123  # UVs said to be unsigned shorts
+write(sys.argv[3], j)
+uv["componentType"] = 5126
+j["accessors"][p["attributes"]["NORMAL"]]["count"] = 100  # fewer normals than points
+write(sys.argv[4], j)
 PY
-for f in draco_damaged draco_retyped; do
+for f in draco_damaged draco_retyped draco_recounted; do
   "$bin/sam_render" "$tmp/$f.glb" -o "$tmp/$f.png" --size-mm 60 > "$tmp/$f.txt" 2>&1 && fail "$f.glb rendered"
   [ "$(wc -l < "$tmp/$f.txt")" -eq 1 ] && grep -q "$f.glb: mesh 0 primitive 0 (KHR_draco_mesh_compression)" \
     "$tmp/$f.txt" || fail "$f.glb: $(cat "$tmp/$f.txt")"
@@ -156,6 +164,8 @@ for f in draco_damaged draco_retyped; do
 done
 grep -q "does not decode" "$tmp/draco_damaged.txt" || fail "damaged Draco data: $(cat "$tmp/draco_damaged.txt")"
 grep -q "component type 5123" "$tmp/draco_retyped.txt" || fail "retyped UVs: $(cat "$tmp/draco_retyped.txt")"
+grep -q "(NORMAL) has 100 elements, the Draco data of buffer view [0-9]* 384 points" "$tmp/draco_recounted.txt" \
+  || fail "recounted normals: $(cat "$tmp/draco_recounted.txt")"
 # A missing texture is a warning, not a failure.
 rm "$tmp/checker.png"
 "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/untextured.png" --size-mm 60 --size 64x48 --no-cache 2> "$tmp/missing.txt" \

@@ -20,6 +20,7 @@
 #include "../io/sam_image_internal.h"
 #include "sam_mesh_cpp.hpp"
 #include "sam_mesh_gltf_draco.h"
+#include "sam_mesh_gltf_glb.h"
 #include "sam_mesh_gltf_meshopt.h"
 
 namespace {
@@ -263,9 +264,10 @@ std::array<double, 6> uv_transform(const tinygltf::Model &model, const tinygltf:
 }
 
 // A primitive's geometry from its KHR_draco_mesh_compression object `ext`:
-// POSITION, and NORMAL and TEXCOORD_0 where both the primitive and the
-// extension name them, as the primitive's accessors say they are stored;
-// the triangles' corners into `idx`.
+// its triangles' corners into `idx`, and of POSITION, NORMAL and
+// TEXCOORD_0, those the primitive has, from the Draco data where the
+// extension numbers them (as the primitive's accessors say they are
+// stored), as usual from their accessors where it does not.
 template <class Attribute>
 void read_draco(const Reader &r, const tinygltf::Value &ext, Attribute attribute, std::vector<float> &pos,
                 std::vector<float> &nrm, std::vector<float> &uv, std::vector<uint32_t> &idx, const std::string &where)
@@ -285,36 +287,50 @@ void read_draco(const Reader &r, const tinygltf::Value &ext, Attribute attribute
     if (v.byteLength > data.size() || v.byteOffset > data.size() - v.byteLength)
         fail(at + ": buffer view " + std::to_string(view) + " (" + std::to_string(v.byteLength) + " bytes at " +
              std::to_string(v.byteOffset) + ") does not fit its " + std::to_string(data.size()) + "-byte buffer");
+    // An attribute to take from the Draco data.
+    struct Compressed {
+        std::vector<float> *into;
+        const tinygltf::Accessor *accessor;
+        std::string where;
+    };
     static const char *const names[] = {"POSITION", "NORMAL", "TEXCOORD_0"};
     static const int components[] = {3, 3, 2};
     std::vector<float> *const into[] = {&pos, &nrm, &uv};
     std::vector<SamDracoWant> want;
-    std::vector<std::vector<float> *> targets;
-    std::vector<const tinygltf::Accessor *> accessors;
-    std::vector<std::string> wheres;
+    std::vector<Compressed> compressed;
     for (int k = 0; k < 3; ++k) {
-        const tinygltf::Value &id = ids.Get(names[k]);
-        if (attribute(names[k]) < 0 || !id.IsInt()) {
-            if (k == 0)
-                fail(at + ": no POSITION among its attributes");
+        if (attribute(names[k]) < 0)
+            continue;
+        if (!ids.Has(names[k])) {
+            *into[k] = read_floats(r, attribute(names[k]), components[k], names[k]);
             continue;
         }
-        std::string name;
-        accessors.push_back(&accessor(r, attribute(names[k]), components[k], names[k], name));
-        wheres.push_back(name);
-        targets.push_back(into[k]);
-        want.push_back({names[k], id.Get<int>(), accessors.back()->componentType, components[k]});
+        if (!ids.Get(names[k]).IsInt())
+            fail(at + ": the Draco attribute number of " + names[k] + " is not an integer");
+        Compressed c{into[k], nullptr, ""};
+        c.accessor = &accessor(r, attribute(names[k]), components[k], names[k], c.where);
+        compressed.push_back(c);
+        want.push_back({names[k], ids.Get(names[k]).Get<int>(), c.accessor->componentType, components[k]});
     }
     SamDracoMesh mesh;
     std::string message;
     if (!sam_mesh_gltf_draco_decode(data.data() + v.byteOffset, v.byteLength, want, mesh, message))
         fail(at + ", buffer view " + std::to_string(view) + ": " + message);
     for (size_t w = 0; w < want.size(); ++w) {
+        const Compressed &c = compressed[w];
+        if (c.accessor->count != mesh.points)
+            fail(at + ": " + c.where + " has " + std::to_string(c.accessor->count) +
+                 " elements, the Draco data of buffer view " + std::to_string(view) + " " +
+                 std::to_string(mesh.points) + " points");
         const int size = tinygltf::GetComponentSizeInBytes(uint32_t(want[w].component_type));
-        *targets[w] = to_floats(mesh.attributes[w].data(), mesh.points, uint64_t(size) * uint64_t(want[w].components),
-                                want[w].component_type, accessors[w]->normalized, want[w].components, wheres[w]);
+        *c.into = to_floats(mesh.attributes[w].data(), mesh.points, uint64_t(size) * uint64_t(want[w].components),
+                            want[w].component_type, c.accessor->normalized, want[w].components, c.where);
     }
     idx = std::move(mesh.corners);
+    // Attributes read as usual index the same points.
+    if (pos.size() / 3 != mesh.points)
+        fail(at + ": POSITION has " + std::to_string(pos.size() / 3) + " elements, the Draco data " +
+             std::to_string(mesh.points) + " points");
 }
 
 // One primitive's triangles into the soup, transformed by `world`.
@@ -470,10 +486,10 @@ struct Compression {
 };
 
 // Parses the file; with `images` its pictures are decoded too (for the
-// base colour). A compressed file is made readable first
-// (sam_mesh_gltf_meshopt.h, sam_mesh_gltf_draco.h) and read from memory,
-// its buffers and images found beside it.
-
+// base colour). Its bytes are read here and given to TinyGLTF, a GLB's
+// chunks checked first (sam_glb_check); a compressed file is then made
+// readable (sam_mesh_gltf_meshopt.h, sam_mesh_gltf_draco.h), as a GLB
+// whose chunks are whole. Its buffers and images are found beside it.
 bool load(const char *path, bool images, Compression compression, tinygltf::Model &model, std::string &message)
 {
     tinygltf::TinyGLTF loader;
@@ -482,36 +498,39 @@ bool load(const char *path, bool images, Compression compression, tinygltf::Mode
     if (!images)
         loader.SetImageLoader(skip_image, nullptr);
     std::string err, warn;
-    bool ok;
-    if (compression.meshopt || compression.draco) {
-        std::vector<unsigned char> file;
-        if (!read_whole_file(&file, &err, path, nullptr)) {
-            message = sam_mesh_one_line(err);
-            return false;
-        }
-        if (compression.meshopt) {
-            std::vector<unsigned char> glb;
-            if (!sam_mesh_gltf_meshopt_decode(path, file.data(), file.size(), glb, message)) {
-                message = "its meshopt-compressed geometry (EXT_meshopt_compression): " + message;
-                return false;
-            }
-            file.swap(glb);
-        }
-        if (compression.draco && !sam_mesh_gltf_draco_unindex(file, message)) {
-            message = "its Draco-compressed geometry (KHR_draco_mesh_compression): " + message;
-            return false;
-        }
-        const char *slash = std::strrchr(path, '/');
-        const std::string dir = slash ? std::string(path, size_t(slash - path)) : ".";
-        if (file.size() >= 4 && !std::memcmp(file.data(), "glTF", 4))
-            ok = loader.LoadBinaryFromMemory(&model, &err, &warn, file.data(), unsigned(file.size()), dir);
-        else
-            ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char *>(file.data()),
-                                            unsigned(file.size()), dir);
-    } else {
-        ok = sam_path_has_extension(path, ".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                                  : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    std::vector<unsigned char> file;
+    if (!read_whole_file(&file, &err, path, nullptr)) {
+        message = sam_mesh_one_line(err);
+        return false;
     }
+    // The file's own chunks, before any rewrite keeps them, so the
+    // message gives the file's numbers.
+    if (sam_glb_is(file.data(), file.size())) {
+        message = sam_glb_check(file.data(), file.size());
+        if (!message.empty())
+            return false;
+    }
+    if (compression.meshopt) {
+        std::vector<unsigned char> glb;
+        if (!sam_mesh_gltf_meshopt_decode(path, file.data(), file.size(), glb, message)) {
+            message = "its meshopt-compressed geometry (EXT_meshopt_compression): " + message;
+            return false;
+        }
+        file.swap(glb);
+    }
+    if (compression.draco && !sam_mesh_gltf_draco_unindex(file, message)) {
+        message = "its Draco-compressed geometry (KHR_draco_mesh_compression): " + message;
+        return false;
+    }
+    // A .glb goes to the binary reader whatever it holds (which names a
+    // wrong magic); decoded data is a GLB when it begins as one.
+    const bool glb = compression.meshopt || compression.draco ? sam_glb_is(file.data(), file.size())
+                                                              : sam_path_has_extension(path, ".glb");
+    const char *slash = std::strrchr(path, '/');
+    const std::string dir = slash ? std::string(path, size_t(slash - path)) : ".";
+    const bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, file.data(), unsigned(file.size()), dir)
+                        : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char *>(file.data()),
+                                                     unsigned(file.size()), dir);
     message = short_last_read(sam_mesh_one_line(err.empty() ? warn : err));
     return ok;
 }
@@ -562,10 +581,12 @@ std::string undecoded_compression(const char *path, Compression *compression)
         else if (!std::strcmp(name->valuestring, "KHR_meshopt_compression"))
             found += (found.empty() ? "" : ", ") + std::string(name->valuestring);
     }
-    // Draco data beside uncompressed geometry is decoded too: its index
-    // accessors have buffer views, but need none.
-    cJSON_ArrayForEach(name, cJSON_GetObjectItemCaseSensitive(root.get(), "extensionsUsed"))
-        compression->draco |= cJSON_IsString(name) && !std::strcmp(name->valuestring, "KHR_draco_mesh_compression");
+    // Draco data beside uncompressed geometry is decoded too (its index
+    // accessors have buffer views, but need none); a file that names it
+    // required but not used is looked at all the same.
+    for (const char *list : {"extensionsUsed", "extensionsRequired"})
+        cJSON_ArrayForEach(name, cJSON_GetObjectItemCaseSensitive(root.get(), list))
+            compression->draco |= cJSON_IsString(name) && !std::strcmp(name->valuestring, "KHR_draco_mesh_compression");
     return found;
 }
 

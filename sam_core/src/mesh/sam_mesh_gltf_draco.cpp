@@ -3,25 +3,18 @@
 // gives is checked before it is read: the bytes come from the file.
 #include "sam_mesh_gltf_draco.h"
 
+#include "sam_mesh_gltf_glb.h"
+
 #include <cjson/cJSON.h>
 #include <draco/compression/decode.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 
 namespace {
 
-uint32_t get_u32(const uint8_t *p)
-{
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
-void set_u32(uint8_t *p, uint32_t v)
-{
-    for (int i = 0; i < 4; ++i)
-        p[i] = uint8_t(v >> (8 * i));
-}
 
 const char *draco_type_name(draco::DataType t)
 {
@@ -139,15 +132,14 @@ bool sam_mesh_gltf_draco_decode(const uint8_t *data, size_t size, const std::vec
 
 bool sam_mesh_gltf_draco_unindex(std::vector<uint8_t> &file, std::string &message)
 {
-    const bool glb = file.size() >= 4 && !std::memcmp(file.data(), "glTF", 4);
+    const bool glb = sam_glb_is(file.data(), file.size());
     size_t json_at = 0, json_size = file.size();
     if (glb) {
-        if (file.size() < 20 || get_u32(file.data() + 16) != 0x4E4F534Au || get_u32(file.data() + 12) > file.size() - 20) {
-            message = "a GLB without a whole JSON chunk first";
+        if (const char *why = sam_glb_json(file.data(), file.size(), &json_size)) {
+            message = why;
             return false;
         }
         json_at = 20;
-        json_size = get_u32(file.data() + 12);
     }
     std::unique_ptr<cJSON, decltype(&cJSON_Delete)> root(
         cJSON_ParseWithLength(reinterpret_cast<const char *>(file.data()) + json_at, json_size), cJSON_Delete);
@@ -155,14 +147,19 @@ bool sam_mesh_gltf_draco_unindex(std::vector<uint8_t> &file, std::string &messag
         message = "its JSON is not a glTF object";
         return false;
     }
-    const cJSON *mesh;
+    const cJSON *accessors = cJSON_GetObjectItemCaseSensitive(root.get(), "accessors"), *mesh;
     cJSON_ArrayForEach(mesh, cJSON_GetObjectItemCaseSensitive(root.get(), "meshes"))
     {
         cJSON *primitive;
         cJSON_ArrayForEach(primitive, cJSON_GetObjectItemCaseSensitive(mesh, "primitives"))
         {
+            // Only what TinyGLTF refuses goes: where the Draco data has
+            // uncompressed data beside it, its indices have a view and stay.
             const cJSON *ext = cJSON_GetObjectItemCaseSensitive(primitive, "extensions");
-            if (cJSON_IsObject(primitive) && cJSON_GetObjectItemCaseSensitive(ext, "KHR_draco_mesh_compression"))
+            const cJSON *indices = cJSON_GetObjectItemCaseSensitive(primitive, "indices");
+            const cJSON *index = cJSON_IsNumber(indices) ? cJSON_GetArrayItem(accessors, indices->valueint) : nullptr;
+            if (cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(ext, "KHR_draco_mesh_compression")) &&
+                cJSON_IsObject(index) && !cJSON_HasObjectItem(index, "bufferView"))
                 cJSON_DeleteItemFromObjectCaseSensitive(primitive, "indices");
         }
     }
@@ -174,20 +171,22 @@ bool sam_mesh_gltf_draco_unindex(std::vector<uint8_t> &file, std::string &messag
         file.assign(json.begin(), json.end());
         return true;
     }
+    // The chunks after the JSON, up to the length the header gives.
     json.resize((json.size() + 3) & ~size_t(3), ' ');
-    const size_t rest = 20 + ((json_size + 3) & ~size_t(3));
-    std::vector<uint8_t> out(20);
-    std::memcpy(out.data(), file.data(), 12);
-    set_u32(out.data() + 12, uint32_t(json.size()));
-    set_u32(out.data() + 16, 0x4E4F534Au);
+    const size_t rest = 20 + json_size, end = std::min(size_t(sam_glb_u32(file.data() + 8)), file.size());
+    std::vector<uint8_t> out(file.begin(), file.begin() + 8);
+    sam_glb_put_u32(out, 0);
+    sam_glb_put_u32(out, uint32_t(json.size()));
+    sam_glb_put_u32(out, SAM_GLB_JSON);
     out.insert(out.end(), json.begin(), json.end());
-    if (rest < file.size())
-        out.insert(out.end(), file.begin() + std::ptrdiff_t(rest), file.end());
+    if (rest < end)
+        out.insert(out.end(), file.begin() + std::ptrdiff_t(rest), file.begin() + std::ptrdiff_t(end));
     if (out.size() > UINT32_MAX) {
         message = "the GLB would pass 4 GiB";
         return false;
     }
-    set_u32(out.data() + 8, uint32_t(out.size()));
+    for (int i = 0; i < 4; ++i)
+        out[8 + size_t(i)] = uint8_t(out.size() >> (8 * i));
     file = std::move(out);
     return true;
 }

@@ -35,18 +35,19 @@ struct SamDracoMesh {
 // Decodes the `size` bytes at `data` (a KHR_draco_mesh_compression
 // buffer view) into `out`, with the attributes `want` names. False with
 // `message` (one phrase) when the bytes do not decode, they hold a point
-// cloud, a corner names no point, or an attribute is missing or its
-// component count or stored type is not its accessor's. Throws
+// cloud, a corner names no point, or an attribute is missing, its
+// component count or stored type is not its accessor's, or a point's value
+// is missing or lies outside the attribute's data. Throws
 // std::bad_alloc when out of memory (the callers guard).
 bool sam_mesh_gltf_draco_decode(const uint8_t *data, size_t size, const std::vector<SamDracoWant> &want,
                                 SamDracoMesh &out, std::string &message);
 
 // Rewrites `file` (a GLB, or a .gltf's JSON) for TinyGLTF 2.7, which
 // refuses an index accessor without a buffer view, as Draco-compressed
-// primitives have: their `indices` go (their corners come from the Draco
+// primitives have: such `indices` go (the corners come from the Draco
 // data). The GLB's chunks after the JSON are kept as they are. False with
-// `message` when its GLB layout or JSON cannot be read. Throws
-// std::bad_alloc when out of memory.
+// `message` when its GLB layout or JSON cannot be read or the GLB would
+// pass 4 GiB. Throws std::bad_alloc when out of memory.
 bool sam_mesh_gltf_draco_unindex(std::vector<uint8_t> &file, std::string &message);
 
 #endif

@@ -3,6 +3,7 @@
 #include "sam_mesh_gltf_meshopt.h"
 
 #include "sam/sam_common.h"
+#include "sam_mesh_gltf_glb.h"
 
 #include <cjson/cJSON.h>
 #include <meshoptimizer.h>
@@ -18,17 +19,6 @@
 namespace {
 
 const char *const kExtension = "EXT_meshopt_compression";
-
-uint32_t get_u32(const uint8_t *p)
-{
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
-void put_u32(std::vector<uint8_t> &out, uint32_t v)
-{
-    for (int i = 0; i < 4; ++i)
-        out.push_back(uint8_t(v >> (8 * i)));
-}
 
 // A whole non-negative number under `key` of `object`, `fallback` when
 // the key is absent; -1 when it is there but no such number.
@@ -266,18 +256,15 @@ bool sam_mesh_gltf_meshopt_decode(const char *path, const uint8_t *data, size_t 
     size_t json_size = size;
     const uint8_t *bin = nullptr;
     size_t bin_size = 0;
-    if (size >= 4 && !std::memcmp(data, "glTF", 4)) {
-        if (size < 20 || get_u32(data + 16) != 0x4E4F534Au)
-            return refuse("a GLB without a JSON chunk first");
-        json_size = get_u32(data + 12);
-        if (json_size > size - 20)
-            return refuse("its JSON chunk runs past the end of the file");
+    if (sam_glb_is(data, size)) {
+        if (const char *why = sam_glb_json(data, size, &json_size))
+            return refuse(why);
         json += 20;
-        const size_t bin_at = 20 + ((json_size + 3) & ~size_t(3));
-        if (bin_at + 8 <= size && get_u32(data + bin_at + 4) == 0x004E4942u &&
-            get_u32(data + bin_at) <= size - bin_at - 8) {
+        const size_t bin_at = 20 + json_size;
+        if (bin_at + 8 <= size && sam_glb_u32(data + bin_at + 4) == SAM_GLB_BIN &&
+            sam_glb_u32(data + bin_at) <= size - bin_at - 8) {
             bin = data + bin_at + 8;
-            bin_size = get_u32(data + bin_at);
+            bin_size = sam_glb_u32(data + bin_at);
         }
     }
     d.root = cJSON_ParseWithLength(json, json_size);
@@ -324,13 +311,13 @@ bool sam_mesh_gltf_meshopt_decode(const char *path, const uint8_t *data, size_t 
     glb.clear();
     glb.reserve(28 + padded.size() + d.out.size());
     glb.insert(glb.end(), {'g', 'l', 'T', 'F'});
-    put_u32(glb, 2);
-    put_u32(glb, uint32_t(28 + padded.size() + d.out.size()));
-    put_u32(glb, uint32_t(padded.size()));
-    put_u32(glb, 0x4E4F534Au);
+    sam_glb_put_u32(glb, 2);
+    sam_glb_put_u32(glb, uint32_t(28 + padded.size() + d.out.size()));
+    sam_glb_put_u32(glb, uint32_t(padded.size()));
+    sam_glb_put_u32(glb, SAM_GLB_JSON);
     glb.insert(glb.end(), padded.begin(), padded.end());
-    put_u32(glb, uint32_t(d.out.size()));
-    put_u32(glb, 0x004E4942u);
+    sam_glb_put_u32(glb, uint32_t(d.out.size()));
+    sam_glb_put_u32(glb, SAM_GLB_BIN);
     glb.insert(glb.end(), d.out.begin(), d.out.end());
     return true;
 }
