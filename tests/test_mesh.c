@@ -1530,6 +1530,48 @@ static void test_obj_texture_name_after_options(void **state)
     }
 }
 
+/* The runtime reads one albedo map at every part's UVs: an OBJ whose
+ * materials name other textures than the first says how many. */
+static void test_obj_other_materials_textures(void **state)
+{
+    (void)state;
+    sam_error err;
+    char path[512], png[512], mtl[512], note[1200];
+    sam_image image;
+    assert_int_equal(sam_image_create(&image, 2, 2, 3, &err), SAM_OK);
+    for (uint32_t k = 0; k < 12; ++k)
+        image.pixels[k] = 0.5f;
+    assert_int_equal(sam_image_write_png(sam_test_tmp_path(png, sizeof png, "skin.png"), &image, SAM_PNG_SRGB, &err),
+                     SAM_OK);
+    sam_image_destroy(&image);
+    write_tmp(mtl, sizeof mtl, "materials.mtl",
+              "newmtl skin\nmap_Kd skin.png\nnewmtl eyes\nmap_Kd eyes.png\nnewmtl teeth\nKd 1 1 1\n"
+              "newmtl lips\nmap_Kd skin.png\nnewmtl nails\nmap_Kd nails.png\nnewmtl unused\nmap_Kd unused.png\n");
+    static const struct {
+        const char *uses; /* usemtl lines */
+        const char *tail; /* what the note must end with */
+    } cases[] = {
+        {"usemtl skin\n", "materials.obj)"},
+        {"usemtl skin\nusemtl lips\nusemtl teeth\n", "materials.obj)"},
+        {"usemtl skin\nusemtl eyes\nusemtl skin\n",
+         "materials.obj; 1 other texture of its materials not read: their parts show this one at their UVs)"},
+        {"usemtl skin\nusemtl eyes\nusemtl lips\nusemtl nails\nusemtl eyes\n",
+         "materials.obj; 2 other textures of its materials not read: their parts show this one at their UVs)"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char obj[2048];
+        snprintf(obj, sizeof obj, "mtllib materials.mtl\n%s%s", cases[i].uses, cube_obj);
+        write_tmp(path, sizeof path, "materials.obj", obj);
+        assert_int_equal(sam_mesh_load_albedo(path, &image, note, sizeof note, &err), SAM_OK);
+        if (!image.pixels)
+            fail_msg("case %zu: no texture (%s)", i, note);
+        sam_image_destroy(&image);
+        const size_t n = strlen(note), t = strlen(cases[i].tail);
+        if (n < t || strcmp(note + n - t, cases[i].tail) || !strstr(note, "/skin.png (map_Kd of"))
+            fail_msg("case %zu: the note '%s' does not end with '%s'", i, note, cases[i].tail);
+    }
+}
+
 /* MeshLab and Metashape name a PLY's texture in a header comment
  * ("comment TextureFile NAME", the name's blanks its own); a PLY without
  * one brings no texture and no note. */
@@ -1575,6 +1617,7 @@ int main(void)
         cmocka_unit_test(test_rewritten_off_keeps_its_layout),
         cmocka_unit_test(test_ply_as_other_tools_write_it),
         cmocka_unit_test(test_ply_texture_file),
+        cmocka_unit_test(test_obj_other_materials_textures),
         cmocka_unit_test(test_obj_as_other_tools_write_it),
         cmocka_unit_test(test_body_leaves_out_loose_specks),
         cmocka_unit_test(test_open_sheet_rings_and_fan_areas),

@@ -166,6 +166,19 @@ grep -q "does not decode" "$tmp/draco_damaged.txt" || fail "damaged Draco data: 
 grep -q "component type 5123" "$tmp/draco_retyped.txt" || fail "retyped UVs: $(cat "$tmp/draco_retyped.txt")"
 grep -q "(NORMAL) has 100 elements, the Draco data of buffer view [0-9]* 384 points" "$tmp/draco_recounted.txt" \
   || fail "recounted normals: $(cat "$tmp/draco_recounted.txt")"
+# One albedo map is read at every part's UVs: a file whose materials have
+# two textures says so, as an OBJ and as gltfpack's GLB of it.
+png checker "$tmp/checker2.png" 32
+awk 'BEGIN { f = 0 } /^f / && f++ == 200 { print "usemtl other" } { print }' "$tmp/ear.obj" > "$tmp/two.obj"
+printf 'newmtl skin\nKd 1 1 1\nmap_Kd checker.png\nnewmtl other\nKd 1 1 1\nmap_Kd checker2.png\n' > "$tmp/ear.mtl"
+(cd "$tmp" && gltfpack -i two.obj -o two.glb -noq > /dev/null 2>&1) || fail "gltfpack two.obj"
+for f in two.obj two.glb; do
+  render $f two_${f##*.}
+  grep -q "albedo map: .*$f[ ;(]*1 other texture of its materials not read: their parts show this one at their UVs)" \
+    "$tmp/two_${f##*.}.txt" \
+    || fail "$f: the other texture is not named: $(cat "$tmp/two_${f##*.}.txt")"
+done
+printf 'newmtl skin\nKd 1 1 1\nmap_Kd checker.png\n' > "$tmp/ear.mtl"
 # A missing texture is a warning, not a failure.
 rm "$tmp/checker.png"
 "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/untextured.png" --size-mm 60 --size 64x48 --no-cache 2> "$tmp/missing.txt" \

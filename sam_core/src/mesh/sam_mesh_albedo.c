@@ -90,50 +90,89 @@ static void beside_file(const char *beside, const char *name, char *out, size_t 
         snprintf(out, n, "%.*s/%s", (int)(slash - beside), beside, name);
 }
 
-/* The texture an OBJ's first used material names (map_Kd), into `texture`;
+/* The materials an OBJ's usemtl lines name, each once, in first-use order,
+ * and the first map_Kd of each (its MTL's). Past MATERIALS_COUNTED names
+ * the rest go uncounted: the count only tells a user that textures were
+ * left out. */
+enum { MATERIALS_COUNTED = 256 };
+typedef struct obj_materials {
+    char name[MATERIALS_COUNTED][512];
+    char map[MATERIALS_COUNTED][512];
+    size_t count;
+} obj_materials;
+
+static void material_add(obj_materials *m, const char *name)
+{
+    for (size_t i = 0; i < m->count; ++i)
+        if (!strcmp(m->name[i], name))
+            return;
+    if (m->count < MATERIALS_COUNTED)
+        snprintf(m->name[m->count++], sizeof m->name[0], "%s", name);
+}
+
+/* The texture an OBJ's first used material names (map_Kd), into `texture`,
+ * and in *others how many other textures its other used materials name;
  * "" with a note when there is none to read. */
-static sam_status obj_texture(const char *path, char *texture, size_t n, char *note, size_t note_size,
-                              sam_error *err)
+static sam_status obj_texture(const char *path, char *texture, size_t n, uint32_t *others, char *note,
+                              size_t note_size, sam_error *err)
 {
     texture[0] = '\0';
+    *others = 0;
     uint8_t *text;
     size_t size;
     sam_status st = sam_read_file(path, &text, &size, err);
     if (st != SAM_OK)
         return st;
-    char mtllib[512] = "", material[512] = "", line_value[512];
+    obj_materials *used = calloc(1, sizeof *used);
+    if (!used) {
+        free(text);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    char mtllib[512] = "", line_value[512];
     for (const char *line = (const char *)text; line && line < (const char *)text + size;) {
         if (!mtllib[0] && keyword_value(line, "mtllib", 1, line_value, sizeof line_value))
             snprintf(mtllib, sizeof mtllib, "%s", line_value);
-        if (!material[0] && keyword_value(line, "usemtl", 1, line_value, sizeof line_value))
-            snprintf(material, sizeof material, "%s", line_value);
+        if (keyword_value(line, "usemtl", 1, line_value, sizeof line_value))
+            material_add(used, line_value);
         const char *next = memchr(line, '\n', (size_t)((const char *)text + size - line));
         line = next ? next + 1 : NULL;
     }
     free(text);
-    if (!mtllib[0])
-        return SAM_OK;
     char mtl[1024];
     beside_file(path, mtllib, mtl, sizeof mtl);
-    if (sam_read_file(mtl, &text, &size, NULL) != SAM_OK) {
-        snprintf(note, note_size, "%s names the material library %s, which cannot be read", path, mtl);
+    if (!mtllib[0] || sam_read_file(mtl, &text, &size, NULL) != SAM_OK) {
+        if (mtllib[0])
+            snprintf(note, note_size, "%s names the material library %s, which cannot be read", path, mtl);
+        free(used);
         return SAM_OK;
     }
-    /* The first map_Kd of the material the OBJ uses first (any material's
-     * when it uses none by name). */
-    int inside = !material[0];
-    char map[512] = "";
-    for (const char *line = (const char *)text; line && line < (const char *)text + size && !map[0];) {
-        if (keyword_value(line, "newmtl", 1, line_value, sizeof line_value))
-            inside = !material[0] || strcmp(line_value, material) == 0;
-        else if (inside && keyword_value(line, "map_Kd", 1, line_value, sizeof line_value))
-            snprintf(map, sizeof map, "%s", map_file_name(line_value));
+    /* The first map_Kd of each used material; of any material when the
+     * OBJ uses none by name. */
+    size_t at = used->count ? SIZE_MAX : 0;
+    for (const char *line = (const char *)text; line && line < (const char *)text + size;) {
+        if (keyword_value(line, "newmtl", 1, line_value, sizeof line_value)) {
+            if (used->count) {
+                at = SIZE_MAX;
+                for (size_t i = 0; i < used->count && at == SIZE_MAX; ++i)
+                    at = strcmp(used->name[i], line_value) ? SIZE_MAX : i;
+            }
+        } else if (at != SIZE_MAX && !used->map[at][0] &&
+                   keyword_value(line, "map_Kd", 1, line_value, sizeof line_value)) {
+            snprintf(used->map[at], sizeof used->map[0], "%s", map_file_name(line_value));
+        }
         const char *next = memchr(line, '\n', (size_t)((const char *)text + size - line));
         line = next ? next + 1 : NULL;
     }
     free(text);
-    if (map[0])
-        beside_file(mtl, map, texture, n);
+    if (used->map[0][0])
+        beside_file(mtl, used->map[0], texture, n);
+    for (size_t i = 1; i < used->count; ++i) {
+        int seen = !used->map[i][0] || !strcmp(used->map[i], used->map[0]);
+        for (size_t j = 1; j < i && !seen; ++j)
+            seen = !strcmp(used->map[i], used->map[j]);
+        *others += (uint32_t)!seen;
+    }
+    free(used);
     return SAM_OK;
 }
 
@@ -169,16 +208,29 @@ static sam_status ply_texture(const char *path, char *texture, size_t n, sam_err
     return SAM_OK;
 }
 
+/* What a note adds, after `lead`, when a file's materials name `others`
+ * more textures: one map is all the runtime reads, at every part's UVs. */
+static const char *others_note(uint32_t others, const char *lead, char *buf, size_t n)
+{
+    if (!others)
+        return "";
+    snprintf(buf, n, "%s%u other texture%s of its materials not read: their parts show this one at their UVs", lead,
+             others, others == 1 ? "" : "s");
+    return buf;
+}
+
 sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, size_t note_size, sam_error *err)
 {
+    char buf[128];
     if (!path || !image || !note || !note_size)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "mesh albedo: NULL argument");
     memset(image, 0, sizeof *image);
     note[0] = '\0';
     if (sam_path_has_extension(path, ".gltf") || sam_path_has_extension(path, ".glb")) {
         float factor[4];
+        uint32_t others;
         sam_error gltf_err;
-        sam_status st = sam_mesh_gltf_base_color(path, image, factor, &gltf_err);
+        sam_status st = sam_mesh_gltf_base_color(path, image, factor, &others, &gltf_err);
         if (st == SAM_ERR_UNSUPPORTED || st == SAM_ERR_FORMAT) {
             snprintf(note, note_size, "%s", gltf_err.message);
             return SAM_OK;
@@ -189,14 +241,16 @@ sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, 
             for (uint32_t c = 0; c < 3; ++c)
                 image->pixels[i * image->channels + c] *= factor[c];
         if (image->pixels)
-            snprintf(note, note_size, "the base colour texture of %s", path);
+            snprintf(note, note_size, "the base colour texture of %s%s%s", path, others_note(others, " (", buf, sizeof buf),
+                     others ? ")" : "");
         return SAM_OK;
     }
     const int obj = sam_path_has_extension(path, ".obj"), ply = sam_path_has_extension(path, ".ply");
     if (!obj && !ply)
         return SAM_OK;
     char texture[1024];
-    sam_status st = obj ? obj_texture(path, texture, sizeof texture, note, note_size, err)
+    uint32_t others = 0;
+    sam_status st = obj ? obj_texture(path, texture, sizeof texture, &others, note, note_size, err)
                         : ply_texture(path, texture, sizeof texture, err);
     if (st != SAM_OK || !texture[0])
         return st;
@@ -204,6 +258,7 @@ sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, 
     if (sam_image_read_picture(texture, image, SAM_PNG_SRGB, &read_err) != SAM_OK)
         snprintf(note, note_size, "%s: the texture it names cannot be used: %s", path, read_err.message);
     else
-        snprintf(note, note_size, "%s (%s of %s)", texture, obj ? "map_Kd" : "TextureFile", path);
+        snprintf(note, note_size, "%s (%s of %s%s)", texture, obj ? "map_Kd" : "TextureFile", path,
+                 others_note(others, "; ", buf, sizeof buf));
     return SAM_OK;
 }

@@ -641,8 +641,38 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
     return SAM_OK;
 }
 
+// The image that base-colour texture `info` reads; -1 for none.
+int base_color_source(const tinygltf::Model &model, const tinygltf::TextureInfo &info)
+{
+    const int t = info.index;
+    if (t < 0 || size_t(t) >= model.textures.size())
+        return -1;
+    const int source = model.textures[size_t(t)].source;
+    return source >= 0 && size_t(source) < model.images.size() ? source : -1;
+}
+
+// How many images other than `source` the base colours of the materials
+// that mesh primitives use read.
+uint32_t other_base_colors(const tinygltf::Model &model, int source)
+{
+    std::vector<bool> used(model.materials.size()), counted(model.images.size());
+    for (const tinygltf::Mesh &mesh : model.meshes)
+        for (const tinygltf::Primitive &p : mesh.primitives)
+            if (p.material >= 0 && size_t(p.material) < used.size())
+                used[size_t(p.material)] = true;
+    uint32_t others = 0;
+    for (size_t m = 0; m < model.materials.size(); ++m) {
+        const int s = used[m] ? base_color_source(model, model.materials[m].pbrMetallicRoughness.baseColorTexture) : -1;
+        if (s >= 0 && s != source && !counted[size_t(s)]) {
+            counted[size_t(s)] = true;
+            ++others;
+        }
+    }
+    return others;
+}
+
 // The first base-colour texture among the default scene's materials.
-sam_status read_base_color(const char *path, sam_image *image, float factor[4], sam_error *err)
+sam_status read_base_color(const char *path, sam_image *image, float factor[4], uint32_t *others, sam_error *err)
 {
     Compression compression;
     undecoded_compression(path, &compression);
@@ -653,11 +683,8 @@ sam_status read_base_color(const char *path, sam_image *image, float factor[4], 
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
     for (const tinygltf::Material &mat : model.materials) {
         const tinygltf::PbrMetallicRoughness &pbr = mat.pbrMetallicRoughness;
-        const int t = pbr.baseColorTexture.index;
-        if (t < 0 || size_t(t) >= model.textures.size())
-            continue;
-        const int source = model.textures[size_t(t)].source;
-        if (source < 0 || size_t(source) >= model.images.size())
+        const int source = base_color_source(model, pbr.baseColorTexture);
+        if (source < 0)
             continue;
         const tinygltf::Image &img = model.images[size_t(source)];
         if (img.bits != 8 || (img.component != 3 && img.component != 4) || img.width <= 0 || img.height <= 0 ||
@@ -668,6 +695,7 @@ sam_status read_base_color(const char *path, sam_image *image, float factor[4], 
                             path, source, img.width, img.height, img.component, img.bits);
         for (int c = 0; c < 4; ++c)
             factor[c] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[size_t(c)]) : 1.0f;
+        *others = other_base_colors(model, source);
         return sam_image_from_bytes(image, img.image.data(), uint32_t(img.width), uint32_t(img.height),
                                     uint32_t(img.component), SAM_PNG_SRGB, err);
     }
@@ -685,12 +713,14 @@ extern "C" sam_status sam_mesh_gltf_read(const char *path, sam_mesh_soup *soup, 
     return st;
 }
 
-extern "C" sam_status sam_mesh_gltf_base_color(const char *path, sam_image *image, float factor[4], sam_error *err)
+extern "C" sam_status sam_mesh_gltf_base_color(const char *path, sam_image *image, float factor[4], uint32_t *others,
+                                               sam_error *err)
 {
-    if (!path || !image || !factor)
+    if (!path || !image || !factor || !others)
         return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "glTF base colour: NULL argument");
     std::memset(image, 0, sizeof *image);
     for (int c = 0; c < 4; ++c)
         factor[c] = 1.0f;
-    return sam_mesh_guarded(path, "TinyGLTF", err, [&] { return read_base_color(path, image, factor, err); });
+    *others = 0;
+    return sam_mesh_guarded(path, "TinyGLTF", err, [&] { return read_base_color(path, image, factor, others, err); });
 }
