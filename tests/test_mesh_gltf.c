@@ -265,6 +265,47 @@ static void test_glb_and_truncation(void **state)
     free(text);
 }
 
+/* A tetrahedron draco_transcoder compressed with Draco (tests/data): it
+ * loads, every truncated prefix is refused naming the file, and with any
+ * byte of its Draco data flipped it loads or is refused, never more. */
+static void test_draco_truncated_and_flipped(void **state)
+{
+    (void)state;
+    uint8_t *file;
+    size_t size;
+    sam_error err;
+    assert_int_equal(sam_read_file(SAM_TEST_DATA_DIR "/tetra_draco.glb", &file, &size, &err), SAM_OK);
+    char glb[512];
+    sam_test_tmp_path(glb, sizeof glb, "draco.glb");
+    sam_test_write_file(glb, file, size);
+    sam_mesh m;
+    load_ok(glb, &m);
+    assert_int_equal(m.triangle_count, 4);
+    sam_mesh_destroy(&m);
+    for (size_t n = 0; n < size; n += 5) {
+        sam_test_write_file(glb, file, n);
+        assert_true(sam_mesh_load(glb, &m, NULL, &err) != SAM_OK);
+        assert_non_null(strstr(err.message, "draco.glb"));
+    }
+    /* The binary chunk, which holds the Draco data, follows the JSON. */
+    uint32_t json;
+    memcpy(&json, file + 12, 4);
+    size_t loaded = 0;
+    for (size_t at = 20 + json + 8; at < size; ++at) {
+        file[at] ^= 0xFF;
+        sam_test_write_file(glb, file, size);
+        if (sam_mesh_load(glb, &m, NULL, &err) == SAM_OK) {
+            loaded++;
+            sam_mesh_destroy(&m);
+        } else {
+            assert_non_null(strstr(err.message, "draco.glb"));
+        }
+        file[at] ^= 0xFF;
+    }
+    print_message("draco: %zu of %zu flipped bytes still loaded\n", loaded, size - (20 + json + 8));
+    free(file);
+}
+
 /* A .gltf cut inside its embedded buffer: the JSON parser quotes what it
  * last read (the base64 so far); the message keeps a short head of it. */
 static void test_truncated_buffer_message_is_short(void **state)
@@ -360,6 +401,7 @@ int main(void)
         cmocka_unit_test(test_bad_references),
         cmocka_unit_test(test_truncated_buffer_message_is_short),
         cmocka_unit_test(test_glb_and_truncation),
+        cmocka_unit_test(test_draco_truncated_and_flipped),
         cmocka_unit_test(test_buffer_naming_a_directory),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
