@@ -1,5 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -204,6 +205,75 @@ static void test_same_cube_in_every_format(void **state)
         assert_float_equal(total, 6.0, 1e-5);
         assert_rings_match_triangles(&m);
         sam_mesh_destroy(&m);
+    }
+}
+
+/* Loads from several threads at once, each going through the files in
+ * its own order so that the same format's reader is asked at once: every
+ * load gives what it gives alone. OpenMesh's readers keep the state of the
+ * read under way, and its diagnostics are captured process-wide. */
+enum { LOAD_FILES = 4, LOAD_THREADS = 4, LOAD_ROUNDS = 25 };
+typedef struct load_job {
+    char path[LOAD_FILES][512];
+    uint32_t triangles[LOAD_FILES], vertices[LOAD_FILES];
+    int start, failures;
+} load_job;
+
+static void *load_in_turn(void *arg)
+{
+    load_job *job = arg;
+    for (int r = 0; r < LOAD_ROUNDS; ++r)
+        for (int k = 0; k < LOAD_FILES; ++k) {
+            const int f = (job->start + k + r) % LOAD_FILES;
+            sam_mesh m;
+            sam_error err;
+            if (sam_mesh_load(job->path[f], &m, NULL, &err) != SAM_OK) {
+                job->failures++;
+                continue;
+            }
+            job->failures += m.triangle_count != job->triangles[f] || m.vertex_count != job->vertices[f];
+            sam_mesh_destroy(&m);
+        }
+    return NULL;
+}
+
+static void test_loads_from_several_threads(void **state)
+{
+    (void)state;
+    static const char *texts[LOAD_FILES] = {
+        NULL, /* cube_obj */
+        "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+        "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 3 7 6 2\n4 0 4 7 3\n4 1 2 6 5\n",
+        "NOFF\n4 4 0\n0 0 0 0 0 -1\n1 0 0 0 0 -1\n0 1 0 0 0 -1\n0 0 1 0 0 1\n"
+        "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+    };
+    static const char *names[LOAD_FILES] = {"threads.obj", "threads.off", "threads_normals.off", "threads.ply"};
+    load_job jobs[LOAD_THREADS];
+    for (int f = 0; f < LOAD_FILES; ++f) {
+        write_tmp(jobs[0].path[f], sizeof jobs[0].path[f], names[f], texts[f] ? texts[f] : cube_obj);
+        sam_mesh m;
+        sam_error err;
+        if (sam_mesh_load(jobs[0].path[f], &m, NULL, &err) != SAM_OK)
+            fail_msg("%s alone: %s", names[f], err.message);
+        jobs[0].triangles[f] = m.triangle_count;
+        jobs[0].vertices[f] = m.vertex_count;
+        sam_mesh_destroy(&m);
+    }
+    pthread_t threads[LOAD_THREADS];
+    for (int t = 0; t < LOAD_THREADS; ++t) {
+        jobs[t] = jobs[0];
+        jobs[t].start = t;
+        jobs[t].failures = 0;
+        assert_int_equal(pthread_create(&threads[t], NULL, load_in_turn, &jobs[t]), 0);
+    }
+    for (int t = 0; t < LOAD_THREADS; ++t) {
+        assert_int_equal(pthread_join(threads[t], NULL), 0);
+        if (jobs[t].failures)
+            fail_msg("thread %d: %d of %d loads differed from the load alone", t, jobs[t].failures,
+                     LOAD_ROUNDS * LOAD_FILES);
     }
 }
 
@@ -1613,6 +1683,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cube_obj_with_uv_seams),
         cmocka_unit_test(test_same_cube_in_every_format),
+        cmocka_unit_test(test_loads_from_several_threads),
         cmocka_unit_test(test_off_as_other_tools_write_it),
         cmocka_unit_test(test_rewritten_off_keeps_its_layout),
         cmocka_unit_test(test_ply_as_other_tools_write_it),

@@ -26,9 +26,13 @@
  * Coordinates that are not finite, indices out of range and files with no
  * usable triangle are errors.
  *
- * The caller owns a sam_mesh and frees it with sam_mesh_destroy. Loading is
- * not thread-safe (OpenMesh's diagnostic streams are process-wide); the
- * computations on a loaded mesh are.
+ * The caller owns a sam_mesh and frees it with sam_mesh_destroy. Loads may
+ * run on several threads at once: OBJ, PLY, OFF and STL reads (OpenMesh's
+ * readers keep the state of the read under way) take turns on one
+ * process-wide lock, glTF reads run side by side. While an OpenMesh read
+ * runs, std::cerr's buffer is swapped to capture its diagnostics, so the
+ * host's own writes to std::cerr in that time land in the load's message.
+ * The computations on a loaded mesh are thread-safe.
  */
 #ifndef SAM_MESH_H
 #define SAM_MESH_H

@@ -12,6 +12,7 @@
 
 #include <cerrno>
 #include <iostream>
+#include <mutex>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -164,8 +165,9 @@ private:
 // up in our error message instead of on stderr. OpenMesh's omerr() is a
 // process-wide multiplexer feeding std::cerr; reconnecting its targets leaks
 // (its disconnect never frees the target), so instead std::cerr's buffer is
-// swapped for a string buffer and restored afterwards. Both are process-wide,
-// which is why loads are not thread-safe.
+// swapped for a string buffer and restored afterwards. Both are process-wide:
+// reads take openmesh_read_lock, and a host's own writes to std::cerr
+// during a read land in that read's message.
 class DiagnosticCapture {
 public:
     DiagnosticCapture()
@@ -196,6 +198,16 @@ private:
     std::streambuf *saved_;
     bool log_was_enabled_, out_was_enabled_;
 };
+
+// One OpenMesh read at a time in the process: its readers are singletons
+// of its IOManager that keep the state of the read under way (the OFF
+// reader's layout, the OBJ reader's material path), and the capture above
+// swaps std::cerr's buffer. The one global here, for libraries' globals.
+std::mutex &openmesh_read_lock()
+{
+    static std::mutex lock;
+    return lock;
+}
 
 // A file written again by the preflight, held in a private temporary file
 // for as long as OpenMesh reads it. Not a stream: OpenMesh's OFF reader
@@ -280,6 +292,7 @@ sam_status read_soup(const char *path, const char *text, size_t text_size, const
     bool ok;
     std::string diagnostics;
     {
+        std::lock_guard<std::mutex> one_at_a_time(openmesh_read_lock());
         DiagnosticCapture capture;
         ok = IO::IOManager().read(text ? rewritten.path() : std::string(path), importer, options);
         diagnostics = capture.text();
