@@ -179,6 +179,21 @@ for f in two.obj two.glb; do
     || fail "$f: the other texture is not named: $(cat "$tmp/two_${f##*.}.txt")"
 done
 printf 'newmtl skin\nKd 1 1 1\nmap_Kd checker.png\n' > "$tmp/ear.mtl"
+# A base colour of 8-bit grey or 16-bit RGB (which glTF's PNG allows) is
+# read as the OBJ reads the same PNG: the same picture.
+for kind in grey rgb16; do
+  png checker "$tmp/checker_$kind.png" 64 $kind
+  sed "s/checker.png/checker_$kind.png/" "$tmp/ear.mtl" > "$tmp/$kind.mtl"
+  sed "s/ear.mtl/$kind.mtl/" "$tmp/ear.obj" > "$tmp/$kind.obj"
+  (cd "$tmp" && gltfpack -i $kind.obj -o $kind.glb -noq > /dev/null 2>&1) || fail "gltfpack $kind.obj"
+  render $kind.obj ${kind}_obj
+  render $kind.glb ${kind}_glb
+  grep -q "albedo map: the base colour texture of .*$kind.glb, 64x64" "$tmp/${kind}_glb.txt" \
+    || fail "$kind.glb: its texture was not read: $(cat "$tmp/${kind}_glb.txt")"
+  db=$(png psnr "$tmp/${kind}_obj.png" "$tmp/${kind}_glb.png")
+  echo "$kind texture, OBJ against GLB: $db dB"
+  python3 -c "import sys; sys.exit(0 if float('$db') >= 35 else 1)" || fail "$kind.glb renders another picture ($db dB)"
+done
 # A missing texture is a warning, not a failure.
 rm "$tmp/checker.png"
 "$bin/sam_render" "$tmp/ear.obj" -o "$tmp/untextured.png" --size-mm 60 --size 64x48 --no-cache 2> "$tmp/missing.txt" \

@@ -687,17 +687,31 @@ sam_status read_base_color(const char *path, sam_image *image, float factor[4], 
         if (source < 0)
             continue;
         const tinygltf::Image &img = model.images[size_t(source)];
-        if (img.bits != 8 || (img.component != 3 && img.component != 4) || img.width <= 0 || img.height <= 0 ||
-            img.image.size() != size_t(img.width) * size_t(img.height) * size_t(img.component))
+        const size_t pixels = img.width > 0 && img.height > 0 ? size_t(img.width) * size_t(img.height) : 0;
+        const size_t bytes = size_t(img.bits / 8);
+        if ((img.bits != 8 && img.bits != 16) || img.component < 1 || img.component > 4 || !pixels ||
+            img.image.size() != pixels * size_t(img.component) * bytes)
             return sam_fail(err, SAM_ERR_UNSUPPORTED,
-                            "%s: base-colour image %d is %d x %d with %d channels of %d bits (8-bit RGB or RGBA "
-                            "expected)",
+                            "%s: base-colour image %d is %d x %d with %d channels of %d bits (8 or 16 bits of grey, "
+                            "grey and alpha, RGB or RGBA expected)",
                             path, source, img.width, img.height, img.component, img.bits);
+        // As RGB or RGBA of 8 bits: grey spread to the three colours, 16
+        // bits cut to their high byte (an albedo needs no more).
+        const size_t from = size_t(img.component), to = from < 3 ? from + 2 : from;
+        std::vector<uint8_t> rgba(pixels * to);
+        for (size_t i = 0; i < pixels; ++i)
+            for (size_t c = 0; c < to; ++c) {
+                const size_t k = from >= 3 ? c : c < 3 ? 0 : 1; // the source channel
+                const unsigned char *v = img.image.data() + (i * from + k) * bytes;
+                uint16_t wide = 0;
+                std::memcpy(&wide, v, 2 * (bytes == 2));
+                rgba[i * to + c] = bytes == 2 ? uint8_t(wide >> 8) : *v;
+            }
         for (int c = 0; c < 4; ++c)
             factor[c] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[size_t(c)]) : 1.0f;
         *others = other_base_colors(model, source);
-        return sam_image_from_bytes(image, img.image.data(), uint32_t(img.width), uint32_t(img.height),
-                                    uint32_t(img.component), SAM_PNG_SRGB, err);
+        return sam_image_from_bytes(image, rgba.data(), uint32_t(img.width), uint32_t(img.height), uint32_t(to),
+                                    SAM_PNG_SRGB, err);
     }
     return SAM_OK;
 }

@@ -81,12 +81,17 @@ def main():
         obj = [i for i, p in enumerate(b) if p != b[0] or a[i] != b[0]]
         print(sum(1 for i in obj if lum(a[i]) >= lum(b[i]) + level), len(obj))
     elif cmd == "checker":
-        size = int(sys.argv[3])
-        rows = b"".join(b"\x00" + b"".join(bytes((230, 60, 40) if (x // 8 + y // 8) % 2 else (240, 230, 200))
-                                             for x in range(size)) for y in range(size))
+        # "checker PATH SIZE [KIND]": 8-bit RGB, or KIND grey (8-bit grey)
+        # or rgb16 (16-bit RGB, each value's byte twice).
+        size, kind = int(sys.argv[3]), sys.argv[4] if len(sys.argv) > 4 else "rgb"
+        pick = lambda x, y: (230, 60, 40) if (x // 8 + y // 8) % 2 else (240, 230, 200)
+        pixel = {"rgb": lambda p: bytes(p), "grey": lambda p: bytes((p[1],)),
+                 "rgb16": lambda p: bytes(v for c in p for v in (c, c))}[kind]
+        depth, colour = {"rgb": (8, 2), "grey": (8, 0), "rgb16": (16, 2)}[kind]
+        rows = b"".join(b"\x00" + b"".join(pixel(pick(x, y)) for x in range(size)) for y in range(size))
         chunk = lambda kind, d: struct.pack(">I", len(d)) + kind + d + struct.pack(">I", zlib.crc32(kind + d))
         with open(sys.argv[2], "wb") as f:
-            f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 2, 0, 0, 0)) +
+            f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, depth, colour, 0, 0, 0)) +
                     chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
     elif cmd == "count":
         want, tol = [int(v) for v in sys.argv[3:6]], int(sys.argv[6])
