@@ -1627,6 +1627,9 @@ static void test_obj_other_materials_textures(void **state)
          "materials.obj; 1 other texture of its materials not read: their parts show this one at their UVs)"},
         {"usemtl skin\nusemtl eyes\nusemtl lips\nusemtl nails\nusemtl eyes\n",
          "materials.obj; 2 other textures of its materials not read: their parts show this one at their UVs)"},
+        /* A colour-only material first: the first used one with a map. */
+        {"usemtl teeth\nusemtl skin\nusemtl eyes\n",
+         "materials.obj; 1 other texture of its materials not read: their parts show this one at their UVs)"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         char obj[2048];

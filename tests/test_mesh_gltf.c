@@ -266,7 +266,7 @@ static void test_glb_and_truncation(void **state)
 }
 
 /* A tetrahedron draco_transcoder compressed with Draco (tests/data): it
- * loads, every truncated prefix is refused naming the file, and with any
+ * loads, every fifth truncated prefix is refused naming the file, and with any
  * byte of its Draco data flipped it loads or is refused, never more. */
 static void test_draco_truncated_and_flipped(void **state)
 {

@@ -313,7 +313,7 @@ sam_status sam_app_stage_scene(const char *mesh_path, const char *material, cons
      * say which, as every assumption is said. One that cannot be used is its
      * warning. */
     sam_image albedo;
-    char texture[600];
+    char texture[2304]; /* a texture path, the mesh's, and a count of other textures */
     sam_error albedo_err;
     if (st == SAM_OK && sam_mesh_load_albedo(mesh_path, &albedo, texture, sizeof texture, &albedo_err) == SAM_OK &&
         albedo.pixels)

@@ -112,7 +112,7 @@ int main(int argc, char **argv)
      * line; only a companion file in the way (without --force) stops. */
     sam_image albedo = {0};
     sam_error albedo_err;
-    char texture[1200] = "", mtl[4096] = "", png[4096] = "";
+    char texture[2304] = "", mtl[4096] = "", png[4096] = "";
     const int obj = !sam_app_has_extension(out_path, ".ply");
     int carry = 0;
     if (sam_mesh_load_albedo(mesh_path, &albedo, texture, sizeof texture, &albedo_err) != SAM_OK)

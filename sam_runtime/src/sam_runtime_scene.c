@@ -54,7 +54,7 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
         if ((st = sam_image_read_picture(source, &map, SAM_PNG_SRGB, err)) != SAM_OK)
             return st;
     } else if (scene->mesh_path) {
-        char note[600];
+        char note[2304]; /* as sam_app_stage.c's */
         if ((st = sam_mesh_load_albedo(scene->mesh_path, &map, note, sizeof note, err)) != SAM_OK)
             return st;
         if (note[0] && !map.pixels)

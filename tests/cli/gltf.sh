@@ -179,8 +179,8 @@ for f in two.obj two.glb; do
     || fail "$f: the other texture is not named: $(cat "$tmp/two_${f##*.}.txt")"
 done
 printf 'newmtl skin\nKd 1 1 1\nmap_Kd checker.png\n' > "$tmp/ear.mtl"
-# A base colour of 8-bit grey or 16-bit RGB (which glTF's PNG allows) is
-# read as the OBJ reads the same PNG: the same picture.
+# A base colour of 8-bit grey (TinyGLTF gives it as RGBA) or 16-bit RGB (cut to
+# 8 bits) is read as the OBJ reads the same PNG: the same picture.
 for kind in grey rgb16; do
   png checker "$tmp/checker_$kind.png" 64 $kind
   sed "s/checker.png/checker_$kind.png/" "$tmp/ear.mtl" > "$tmp/$kind.mtl"

@@ -30,8 +30,9 @@
  * run on several threads at once: OBJ, PLY, OFF and STL reads (OpenMesh's
  * readers keep the state of the read under way) take turns on one
  * process-wide lock, glTF reads run side by side. While an OpenMesh read
- * runs, std::cerr's buffer is swapped to capture its diagnostics, so the
- * host's own writes to std::cerr in that time land in the load's message.
+ * runs, std::cerr's buffer is swapped to capture its diagnostics: the host
+ * must not write to std::cerr from another thread during such a load (a
+ * data race on that buffer).
  * The computations on a loaded mesh are thread-safe.
  */
 #ifndef SAM_MESH_H
@@ -125,13 +126,16 @@ sam_status sam_mesh_load(const char *path, sam_mesh *mesh, sam_mesh_report *repo
 sam_status sam_mesh_create(const sam_mesh_input *input, sam_mesh *mesh, sam_mesh_report *report,
                            sam_error *err);
 
-/* The albedo texture a mesh file brings along: an OBJ's first used
- * material's map_Kd (through its mtllib; PNG, JPEG or TGA), a PLY's
- * "comment TextureFile NAME" header line (MeshLab's and Metashape's), or a
- * glTF's first base-colour texture times its baseColorFactor. A linear image in
- * `image` (caller destroys; zeroed when the file brings none). `note`
- * (note_size bytes, > 0) names the texture when `image` holds one (for the
- * tools' list of what they assumed); a texture the file names but that
+/* The albedo texture a mesh file brings along: the map_Kd of an OBJ's
+ * first used material that has one (through its mtllib; PNG, JPEG or TGA),
+ * a PLY's "comment TextureFile NAME" header line (MeshLab's and
+ * Metashape's), or the base-colour texture of a glTF's first used material
+ * that has one, times its baseColorFactor. A linear image in `image`
+ * (caller destroys; zeroed when the file brings none). `note` (note_size
+ * bytes, > 0; 2 KiB hold any) names the texture when `image` holds one (for
+ * the tools' list of what they assumed), and how many other textures the
+ * file's used materials name: one map is read at every part's UVs, so
+ * their parts show this one. A texture the file names but that
  * cannot be used is no error: `image` is then empty and `note` says why,
  * for a warning; "" when the file names none.
  * Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_IO (the mesh file cannot be

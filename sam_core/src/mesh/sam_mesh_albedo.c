@@ -93,26 +93,40 @@ static void beside_file(const char *beside, const char *name, char *out, size_t 
 /* The materials an OBJ's usemtl lines name, each once, in first-use order,
  * and the first map_Kd of each (its MTL's). Past MATERIALS_COUNTED names
  * the rest go uncounted: the count only tells a user that textures were
- * left out. */
+ * left out. Names are told apart by a hash first: an OBJ may switch
+ * material at every face. */
 enum { MATERIALS_COUNTED = 256 };
 typedef struct obj_materials {
     char name[MATERIALS_COUNTED][512];
     char map[MATERIALS_COUNTED][512];
+    uint32_t hash[MATERIALS_COUNTED];
     size_t count;
 } obj_materials;
 
-static void material_add(obj_materials *m, const char *name)
+static uint32_t name_hash(const char *s)
 {
-    for (size_t i = 0; i < m->count; ++i)
-        if (!strcmp(m->name[i], name))
-            return;
-    if (m->count < MATERIALS_COUNTED)
-        snprintf(m->name[m->count++], sizeof m->name[0], "%s", name);
+    uint32_t h = 2166136261u; /* FNV-1a */
+    for (; *s; ++s)
+        h = (h ^ (uint8_t)*s) * 16777619u;
+    return h;
 }
 
-/* The texture an OBJ's first used material names (map_Kd), into `texture`,
- * and in *others how many other textures its other used materials name;
- * "" with a note when there is none to read. */
+static void material_add(obj_materials *m, const char *name)
+{
+    const uint32_t h = name_hash(name);
+    for (size_t i = 0; i < m->count; ++i)
+        if (m->hash[i] == h && !strcmp(m->name[i], name))
+            return;
+    if (m->count < MATERIALS_COUNTED) {
+        m->hash[m->count] = h;
+        snprintf(m->name[m->count++], sizeof m->name[0], "%s", name);
+    }
+}
+
+/* The texture (map_Kd) of the first material an OBJ uses that names one,
+ * into `texture`, and in *others how many other textures its other used
+ * materials name; "" with a note when there is none to read. A colour-only
+ * material often comes first (an exporter's default). */
 static sam_status obj_texture(const char *path, char *texture, size_t n, uint32_t *others, char *note,
                               size_t note_size, sam_error *err)
 {
@@ -152,9 +166,10 @@ static sam_status obj_texture(const char *path, char *texture, size_t n, uint32_
     for (const char *line = (const char *)text; line && line < (const char *)text + size;) {
         if (keyword_value(line, "newmtl", 1, line_value, sizeof line_value)) {
             if (used->count) {
+                const uint32_t h = name_hash(line_value);
                 at = SIZE_MAX;
                 for (size_t i = 0; i < used->count && at == SIZE_MAX; ++i)
-                    at = strcmp(used->name[i], line_value) ? SIZE_MAX : i;
+                    at = used->hash[i] == h && !strcmp(used->name[i], line_value) ? i : SIZE_MAX;
             }
         } else if (at != SIZE_MAX && !used->map[at][0] &&
                    keyword_value(line, "map_Kd", 1, line_value, sizeof line_value)) {
@@ -164,11 +179,15 @@ static sam_status obj_texture(const char *path, char *texture, size_t n, uint32_
         line = next ? next + 1 : NULL;
     }
     free(text);
-    if (used->map[0][0])
-        beside_file(mtl, used->map[0], texture, n);
-    for (size_t i = 1; i < used->count; ++i) {
-        int seen = !used->map[i][0] || !strcmp(used->map[i], used->map[0]);
-        for (size_t j = 1; j < i && !seen; ++j)
+    const size_t materials = used->count ? used->count : 1;
+    size_t first = 0;
+    while (first < materials && !used->map[first][0])
+        ++first;
+    if (first < materials)
+        beside_file(mtl, used->map[first], texture, n);
+    for (size_t i = first + 1; i < materials; ++i) {
+        int seen = !used->map[i][0] || !strcmp(used->map[i], used->map[first]);
+        for (size_t j = first + 1; j < i && !seen; ++j)
             seen = !strcmp(used->map[i], used->map[j]);
         *others += (uint32_t)!seen;
     }

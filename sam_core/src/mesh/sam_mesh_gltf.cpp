@@ -671,7 +671,8 @@ uint32_t other_base_colors(const tinygltf::Model &model, int source)
     return others;
 }
 
-// The first base-colour texture among the default scene's materials.
+// The base-colour texture of the first material the meshes' primitives
+// use that has one (of any material when none does).
 sam_status read_base_color(const char *path, sam_image *image, float factor[4], uint32_t *others, sam_error *err)
 {
     Compression compression;
@@ -681,37 +682,49 @@ sam_status read_base_color(const char *path, sam_image *image, float factor[4], 
     if (!load(path, true, compression, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: its textures cannot be read: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
-    for (const tinygltf::Material &mat : model.materials) {
-        const tinygltf::PbrMetallicRoughness &pbr = mat.pbrMetallicRoughness;
+    // Materials in the order the primitives first use them, then the rest.
+    std::vector<size_t> order;
+    std::vector<bool> listed(model.materials.size());
+    for (const tinygltf::Mesh &mesh : model.meshes)
+        for (const tinygltf::Primitive &p : mesh.primitives)
+            if (p.material >= 0 && size_t(p.material) < listed.size() && !listed[size_t(p.material)]) {
+                listed[size_t(p.material)] = true;
+                order.push_back(size_t(p.material));
+            }
+    for (size_t m = 0; m < listed.size(); ++m)
+        if (!listed[m])
+            order.push_back(m);
+    for (size_t m : order) {
+        const tinygltf::PbrMetallicRoughness &pbr = model.materials[m].pbrMetallicRoughness;
         const int source = base_color_source(model, pbr.baseColorTexture);
         if (source < 0)
             continue;
+        // TinyGLTF gives every 8- or 16-bit image as RGBA (its default of
+        // not keeping an image's own channels).
         const tinygltf::Image &img = model.images[size_t(source)];
         const size_t pixels = img.width > 0 && img.height > 0 ? size_t(img.width) * size_t(img.height) : 0;
-        const size_t bytes = size_t(img.bits / 8);
-        if ((img.bits != 8 && img.bits != 16) || img.component < 1 || img.component > 4 || !pixels ||
-            img.image.size() != pixels * size_t(img.component) * bytes)
+        const size_t bytes = size_t(img.bits / 8), channels = size_t(img.component);
+        if ((img.bits != 8 && img.bits != 16) || (channels != 3 && channels != 4) || !pixels ||
+            img.image.size() != pixels * channels * bytes)
             return sam_fail(err, SAM_ERR_UNSUPPORTED,
-                            "%s: base-colour image %d is %d x %d with %d channels of %d bits (8 or 16 bits of grey, "
-                            "grey and alpha, RGB or RGBA expected)",
+                            "%s: base-colour image %d is %d x %d with %d channels of %d bits (8 or 16 bits of RGB or "
+                            "RGBA expected)",
                             path, source, img.width, img.height, img.component, img.bits);
-        // As RGB or RGBA of 8 bits: grey spread to the three colours, 16
-        // bits cut to their high byte (an albedo needs no more).
-        const size_t from = size_t(img.component), to = from < 3 ? from + 2 : from;
-        std::vector<uint8_t> rgba(pixels * to);
-        for (size_t i = 0; i < pixels; ++i)
-            for (size_t c = 0; c < to; ++c) {
-                const size_t k = from >= 3 ? c : c < 3 ? 0 : 1; // the source channel
-                const unsigned char *v = img.image.data() + (i * from + k) * bytes;
-                uint16_t wide = 0;
-                std::memcpy(&wide, v, 2 * (bytes == 2));
-                rgba[i * to + c] = bytes == 2 ? uint8_t(wide >> 8) : *v;
+        // 16 bits cut to their high byte: an albedo needs no more.
+        std::vector<uint8_t> narrow;
+        if (bytes == 2) {
+            narrow.resize(pixels * channels);
+            for (size_t i = 0; i < narrow.size(); ++i) {
+                uint16_t wide;
+                std::memcpy(&wide, img.image.data() + 2 * i, 2);
+                narrow[i] = uint8_t(wide >> 8);
             }
+        }
         for (int c = 0; c < 4; ++c)
             factor[c] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[size_t(c)]) : 1.0f;
         *others = other_base_colors(model, source);
-        return sam_image_from_bytes(image, rgba.data(), uint32_t(img.width), uint32_t(img.height), uint32_t(to),
-                                    SAM_PNG_SRGB, err);
+        return sam_image_from_bytes(image, bytes == 2 ? narrow.data() : img.image.data(), uint32_t(img.width),
+                                    uint32_t(img.height), uint32_t(channels), SAM_PNG_SRGB, err);
     }
     return SAM_OK;
 }

@@ -166,8 +166,8 @@ private:
 // process-wide multiplexer feeding std::cerr; reconnecting its targets leaks
 // (its disconnect never frees the target), so instead std::cerr's buffer is
 // swapped for a string buffer and restored afterwards. Both are process-wide:
-// reads take openmesh_read_lock, and a host's own writes to std::cerr
-// during a read land in that read's message.
+// reads take openmesh_read_lock, and a host must not write to std::cerr
+// from another thread during a read (sam_mesh.h).
 class DiagnosticCapture {
 public:
     DiagnosticCapture()
