@@ -178,6 +178,32 @@ for f in two.obj two.glb; do
     "$tmp/two_${f##*.}.txt" \
     || fail "$f: the other texture is not named: $(cat "$tmp/two_${f##*.}.txt")"
 done
+# The texture read is the first used material's that has one: with the
+# first material's texture taken away, the second's (32x32), and with no
+# primitive using the first, the same.
+python3 - "$tmp/two.glb" "$tmp/two_first_plain.glb" "$tmp/two_first_unused.glb" <<'PY' || fail "editing two.glb"
+import json, struct, sys
+d = open(sys.argv[1], "rb").read()
+n = struct.unpack_from("<I", d, 12)[0]
+def write(path, j):
+    text = json.dumps(j).encode()
+    text += b" " * (-len(text) % 4)
+    rest = d[20 + ((n + 3) & ~3):]
+    open(path, "wb").write(d[:8] + struct.pack("<III", 20 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest)
+j = json.loads(d[20:20 + n])
+del j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]
+write(sys.argv[2], j)
+j = json.loads(d[20:20 + n])
+for mesh in j["meshes"]:
+    for p in mesh["primitives"]:
+        p["material"] = 1
+write(sys.argv[3], j)
+PY
+for f in two_first_plain two_first_unused; do
+  render $f.glb $f
+  grep -q "albedo map: the base colour texture of .*$f.glb, 32x32" "$tmp/$f.txt" \
+    || fail "$f.glb: not the used material's texture: $(cat "$tmp/$f.txt")"
+done
 printf 'newmtl skin\nKd 1 1 1\nmap_Kd checker.png\n' > "$tmp/ear.mtl"
 # A base colour of 8-bit grey (TinyGLTF gives it as RGBA) or 16-bit RGB (cut to
 # 8 bits) is read as the OBJ reads the same PNG: the same picture.
