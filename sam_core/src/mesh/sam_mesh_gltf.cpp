@@ -9,7 +9,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -479,30 +478,66 @@ std::string short_last_read(std::string message)
     return message;
 }
 
-// What a file's geometry needs before TinyGLTF reads it.
-struct Compression {
-    bool meshopt = false; // decoded first (EXT_meshopt_compression)
-    bool draco = false;   // its primitives' index accessors dropped (KHR_draco_mesh_compression)
+// A glTF file's bytes, read once, and what its geometry needs before
+// TinyGLTF reads them.
+struct Source {
+    std::vector<unsigned char> bytes;
+    bool meshopt = false;  // decoded first (EXT_meshopt_compression)
+    bool draco = false;    // its primitives' index accessors dropped (KHR_draco_mesh_compression)
+    std::string undecoded; // the compressions it requires that this reader does not decode, named
 };
 
-// Parses the file; with `images` its pictures are decoded too (for the
-// base colour). Its bytes are read here and given to TinyGLTF, a GLB's
-// chunks checked first (sam_glb_check); a compressed file is then made
-// readable (sam_mesh_gltf_meshopt.h, sam_mesh_gltf_draco.h), as a GLB
-// whose chunks are whole. Its buffers and images are found beside it.
-bool load(const char *path, bool images, Compression compression, tinygltf::Model &model, std::string &message)
+// Reads `path` into `s` and names its compressions from its JSON (a .gltf
+// whole, of a .glb its JSON chunk). False with `message` when the file
+// cannot be read. TinyGLTF refused a meshopt-compressed file with a message
+// about buffer sizes, which told a user nothing.
+bool read_source(const char *path, Source &s, std::string &message)
+{
+    std::string err;
+    if (!read_whole_file(&s.bytes, &err, path, nullptr)) {
+        message = sam_mesh_one_line(err);
+        return false;
+    }
+    const char *json = reinterpret_cast<const char *>(s.bytes.data());
+    size_t length = s.bytes.size();
+    if (sam_path_has_extension(path, ".glb")) {
+        // Header (magic, version, length), then the JSON chunk's length and type.
+        length = s.bytes.size() < 20 ? 0 : std::min(size_t(sam_glb_u32(s.bytes.data() + 12)), s.bytes.size() - 20);
+        json += 20 * (length > 0);
+    }
+    std::unique_ptr<cJSON, decltype(&cJSON_Delete)> root(cJSON_ParseWithLength(json, length), cJSON_Delete);
+    const cJSON *name;
+    cJSON_ArrayForEach(name, cJSON_GetObjectItemCaseSensitive(root.get(), "extensionsRequired"))
+    {
+        if (!cJSON_IsString(name))
+            continue;
+        if (!std::strcmp(name->valuestring, "EXT_meshopt_compression"))
+            s.meshopt = true;
+        else if (!std::strcmp(name->valuestring, "KHR_meshopt_compression"))
+            s.undecoded += (s.undecoded.empty() ? "" : ", ") + std::string(name->valuestring);
+    }
+    // Draco data beside uncompressed geometry is decoded too (its index
+    // accessors have buffer views, but need none); a file that names it
+    // required but not used is looked at all the same.
+    for (const char *list : {"extensionsUsed", "extensionsRequired"})
+        cJSON_ArrayForEach(name, cJSON_GetObjectItemCaseSensitive(root.get(), list))
+            s.draco |= cJSON_IsString(name) && !std::strcmp(name->valuestring, "KHR_draco_mesh_compression");
+    return true;
+}
+
+// Parses the file read into `s` (its bytes are used up); with `images` its
+// pictures are decoded too (for the base colour). A GLB's chunks are
+// checked first (sam_glb_check); a compressed file is then made readable
+// (sam_mesh_gltf_meshopt.h, sam_mesh_gltf_draco.h), as a GLB whose chunks
+// are whole. Its buffers and images are found beside `path`.
+bool load(const char *path, bool images, Source &s, tinygltf::Model &model, std::string &message)
 {
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_whole_file,
                            &tinygltf::WriteWholeFile, nullptr});
     if (!images)
         loader.SetImageLoader(skip_image, nullptr);
-    std::string err, warn;
-    std::vector<unsigned char> file;
-    if (!read_whole_file(&file, &err, path, nullptr)) {
-        message = sam_mesh_one_line(err);
-        return false;
-    }
+    std::vector<unsigned char> &file = s.bytes;
     // The file's own chunks, before any rewrite keeps them, so the
     // message gives the file's numbers.
     if (sam_glb_is(file.data(), file.size())) {
@@ -510,7 +545,7 @@ bool load(const char *path, bool images, Compression compression, tinygltf::Mode
         if (!message.empty())
             return false;
     }
-    if (compression.meshopt) {
+    if (s.meshopt) {
         std::vector<unsigned char> glb;
         if (!sam_mesh_gltf_meshopt_decode(path, file.data(), file.size(), glb, message)) {
             message = "its meshopt-compressed geometry (EXT_meshopt_compression): " + message;
@@ -518,16 +553,16 @@ bool load(const char *path, bool images, Compression compression, tinygltf::Mode
         }
         file.swap(glb);
     }
-    if (compression.draco && !sam_mesh_gltf_draco_unindex(file, message)) {
+    if (s.draco && !sam_mesh_gltf_draco_unindex(file, message)) {
         message = "its Draco-compressed geometry (KHR_draco_mesh_compression): " + message;
         return false;
     }
     // A .glb goes to the binary reader whatever it holds (which names a
     // wrong magic); decoded data is a GLB when it begins as one.
-    const bool glb = compression.meshopt || compression.draco ? sam_glb_is(file.data(), file.size())
-                                                              : sam_path_has_extension(path, ".glb");
+    const bool glb = s.meshopt || s.draco ? sam_glb_is(file.data(), file.size()) : sam_path_has_extension(path, ".glb");
     const char *slash = std::strrchr(path, '/');
     const std::string dir = slash ? std::string(path, size_t(slash - path)) : ".";
+    std::string err, warn;
     const bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, file.data(), unsigned(file.size()), dir)
                         : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char *>(file.data()),
                                                      unsigned(file.size()), dir);
@@ -535,73 +570,18 @@ bool load(const char *path, bool images, Compression compression, tinygltf::Mode
     return ok;
 }
 
-// The file's JSON ("" when it cannot be read): a .gltf whole, of a .glb
-// only its JSON chunk, not the buffers and textures after it.
-std::string json_of(const char *path)
-{
-    std::unique_ptr<FILE, decltype(&std::fclose)> fp(std::fopen(path, "rb"), std::fclose);
-    if (!fp)
-        return "";
-    size_t length = SIZE_MAX;
-    if (sam_path_has_extension(path, ".glb")) {
-        // Header (magic, version, length), then the JSON chunk's length and type.
-        uint8_t header[20];
-        uint32_t chunk;
-        if (std::fread(header, 1, sizeof header, fp.get()) != sizeof header)
-            return "";
-        std::memcpy(&chunk, header + 12, 4);
-        length = chunk;
-    }
-    std::string json;
-    char block[65536];
-    for (size_t got; json.size() < length && (got = std::fread(block, 1, std::min(sizeof block, length - json.size()),
-                                                                fp.get())) > 0;)
-        json.append(block, got);
-    return json;
-}
-
-// The compressions a file requires that this reader does not decode, named
-// ("" when none), and in `compression` what the others need. TinyGLTF
-// refused a meshopt-compressed file with a message about buffer sizes, which
-// told a user nothing.
-std::string undecoded_compression(const char *path, Compression *compression)
-{
-    *compression = Compression{};
-    const std::string json = json_of(path);
-    std::string found;
-    std::unique_ptr<cJSON, decltype(&cJSON_Delete)> root(cJSON_ParseWithLength(json.data(), json.size()),
-                                                         cJSON_Delete);
-    const cJSON *name;
-    cJSON_ArrayForEach(name, cJSON_GetObjectItemCaseSensitive(root.get(), "extensionsRequired"))
-    {
-        if (!cJSON_IsString(name))
-            continue;
-        if (!std::strcmp(name->valuestring, "EXT_meshopt_compression"))
-            compression->meshopt = true;
-        else if (!std::strcmp(name->valuestring, "KHR_meshopt_compression"))
-            found += (found.empty() ? "" : ", ") + std::string(name->valuestring);
-    }
-    // Draco data beside uncompressed geometry is decoded too (its index
-    // accessors have buffer views, but need none); a file that names it
-    // required but not used is looked at all the same.
-    for (const char *list : {"extensionsUsed", "extensionsRequired"})
-        cJSON_ArrayForEach(name, cJSON_GetObjectItemCaseSensitive(root.get(), list))
-            compression->draco |= cJSON_IsString(name) && !std::strcmp(name->valuestring, "KHR_draco_mesh_compression");
-    return found;
-}
-
 sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
 {
-    Compression compression;
-    const std::string compressed = undecoded_compression(path, &compression);
-    if (!compressed.empty())
+    Source source;
+    tinygltf::Model model;
+    std::string message;
+    const bool read = read_source(path, source, message);
+    if (read && !source.undecoded.empty())
         return sam_fail(err, SAM_ERR_UNSUPPORTED,
                         "%s: its geometry is compressed (%s, required), which this reader does not decode; export "
                         "it without it (EXT_meshopt_compression, gltfpack's -c and -cc, and Draco are decoded)",
-                        path, compressed.c_str());
-    tinygltf::Model model;
-    std::string message;
-    if (!load(path, false, compression, model, message))
+                        path, source.undecoded.c_str());
+    if (!read || !load(path, false, source, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: not a readable glTF file: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
     Reader r{model, path, {}, {}, {}, {}};
@@ -651,18 +631,28 @@ int base_color_source(const tinygltf::Model &model, const tinygltf::TextureInfo 
     return source >= 0 && size_t(source) < model.images.size() ? source : -1;
 }
 
-// How many images other than `source` the base colours of the materials
-// that mesh primitives use read.
-uint32_t other_base_colors(const tinygltf::Model &model, int source)
+// The materials the meshes' primitives use, each once, in first-use order.
+std::vector<size_t> used_materials(const tinygltf::Model &model)
 {
-    std::vector<bool> used(model.materials.size()), counted(model.images.size());
+    std::vector<size_t> used;
+    std::vector<bool> listed(model.materials.size());
     for (const tinygltf::Mesh &mesh : model.meshes)
         for (const tinygltf::Primitive &p : mesh.primitives)
-            if (p.material >= 0 && size_t(p.material) < used.size())
-                used[size_t(p.material)] = true;
+            if (p.material >= 0 && size_t(p.material) < listed.size() && !listed[size_t(p.material)]) {
+                listed[size_t(p.material)] = true;
+                used.push_back(size_t(p.material));
+            }
+    return used;
+}
+
+// How many images other than `source` the base colours of the `used`
+// materials read.
+uint32_t other_base_colors(const tinygltf::Model &model, const std::vector<size_t> &used, int source)
+{
+    std::vector<bool> counted(model.images.size());
     uint32_t others = 0;
-    for (size_t m = 0; m < model.materials.size(); ++m) {
-        const int s = used[m] ? base_color_source(model, model.materials[m].pbrMetallicRoughness.baseColorTexture) : -1;
+    for (size_t m : used) {
+        const int s = base_color_source(model, model.materials[m].pbrMetallicRoughness.baseColorTexture);
         if (s >= 0 && s != source && !counted[size_t(s)]) {
             counted[size_t(s)] = true;
             ++others;
@@ -675,22 +665,18 @@ uint32_t other_base_colors(const tinygltf::Model &model, int source)
 // use that has one (of any material when none does).
 sam_status read_base_color(const char *path, sam_image *image, float factor[4], uint32_t *others, sam_error *err)
 {
-    Compression compression;
-    undecoded_compression(path, &compression);
+    Source source;
     tinygltf::Model model;
     std::string message;
-    if (!load(path, true, compression, model, message))
+    if (!read_source(path, source, message) || !load(path, true, source, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: its textures cannot be read: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
     // Materials in the order the primitives first use them, then the rest.
-    std::vector<size_t> order;
+    const std::vector<size_t> used = used_materials(model);
+    std::vector<size_t> order = used;
     std::vector<bool> listed(model.materials.size());
-    for (const tinygltf::Mesh &mesh : model.meshes)
-        for (const tinygltf::Primitive &p : mesh.primitives)
-            if (p.material >= 0 && size_t(p.material) < listed.size() && !listed[size_t(p.material)]) {
-                listed[size_t(p.material)] = true;
-                order.push_back(size_t(p.material));
-            }
+    for (size_t m : used)
+        listed[m] = true;
     for (size_t m = 0; m < listed.size(); ++m)
         if (!listed[m])
             order.push_back(m);
@@ -722,7 +708,7 @@ sam_status read_base_color(const char *path, sam_image *image, float factor[4], 
         }
         for (int c = 0; c < 4; ++c)
             factor[c] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[size_t(c)]) : 1.0f;
-        *others = other_base_colors(model, source);
+        *others = other_base_colors(model, used, source);
         return sam_image_from_bytes(image, bytes == 2 ? narrow.data() : img.image.data(), uint32_t(img.width),
                                     uint32_t(img.height), uint32_t(channels), SAM_PNG_SRGB, err);
     }

@@ -15,7 +15,6 @@
 
 namespace {
 
-
 const char *draco_type_name(draco::DataType t)
 {
     static const char *const names[] = {"no type", "int8",   "uint8",   "int16",   "uint16", "int32",
@@ -166,27 +165,21 @@ bool sam_mesh_gltf_draco_unindex(std::vector<uint8_t> &file, std::string &messag
     std::unique_ptr<char, decltype(&cJSON_free)> text(cJSON_PrintUnformatted(root.get()), cJSON_free);
     if (!text)
         throw std::bad_alloc();
-    std::string json(text.get());
+    const std::string json(text.get());
     if (!glb) {
         file.assign(json.begin(), json.end());
         return true;
     }
     // The chunks after the JSON, up to the length the header gives.
-    json.resize((json.size() + 3) & ~size_t(3), ' ');
     const size_t rest = 20 + json_size, end = std::min(size_t(sam_glb_u32(file.data() + 8)), file.size());
-    std::vector<uint8_t> out(file.begin(), file.begin() + 8);
-    sam_glb_put_u32(out, 0);
-    sam_glb_put_u32(out, uint32_t(json.size()));
-    sam_glb_put_u32(out, SAM_GLB_JSON);
-    out.insert(out.end(), json.begin(), json.end());
+    std::vector<uint8_t> out;
+    sam_glb_start(out, sam_glb_u32(file.data() + 4), json);
     if (rest < end)
         out.insert(out.end(), file.begin() + std::ptrdiff_t(rest), file.begin() + std::ptrdiff_t(end));
-    if (out.size() > UINT32_MAX) {
+    if (!sam_glb_finish(out)) {
         message = "the GLB would pass 4 GiB";
         return false;
     }
-    for (int i = 0; i < 4; ++i)
-        out[8 + size_t(i)] = uint8_t(out.size() >> (8 * i));
     file = std::move(out);
     return true;
 }

@@ -29,6 +29,33 @@ inline void sam_glb_put_u32(std::vector<uint8_t> &out, uint32_t v)
         out.push_back(uint8_t(v >> (8 * i)));
 }
 
+// Starts a GLB in `out` (emptied, its capacity kept): the header of
+// version `version`, its length left for sam_glb_finish, and `json` as its
+// JSON chunk, padded with spaces to 4 bytes. The chunks after it are the
+// caller's to append.
+inline void sam_glb_start(std::vector<uint8_t> &out, uint32_t version, std::string json)
+{
+    json.resize((json.size() + 3) & ~size_t(3), ' ');
+    static const uint8_t magic[4] = {'g', 'l', 'T', 'F'};
+    out.assign(magic, magic + 4);
+    sam_glb_put_u32(out, version);
+    sam_glb_put_u32(out, 0);
+    sam_glb_put_u32(out, uint32_t(json.size()));
+    sam_glb_put_u32(out, SAM_GLB_JSON);
+    out.insert(out.end(), json.begin(), json.end());
+}
+
+// Writes the length of the GLB in `out` into its header; false when it
+// passes the 4 GiB the field holds.
+inline bool sam_glb_finish(std::vector<uint8_t> &out)
+{
+    if (out.size() > UINT32_MAX)
+        return false;
+    for (int i = 0; i < 4; ++i)
+        out[8 + size_t(i)] = uint8_t(out.size() >> (8 * i));
+    return true;
+}
+
 // Whether the `size` bytes at `data` begin as a GLB does.
 inline bool sam_glb_is(const uint8_t *data, size_t size)
 {

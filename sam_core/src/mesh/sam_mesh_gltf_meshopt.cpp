@@ -306,18 +306,13 @@ bool sam_mesh_gltf_meshopt_decode(const char *path, const uint8_t *data, size_t 
     std::unique_ptr<char, decltype(&cJSON_free)> printed(cJSON_PrintUnformatted(d.root), cJSON_free);
     if (!printed)
         return refuse("out of memory writing its JSON again");
-    std::string padded(printed.get());
-    padded.resize((padded.size() + 3) & ~size_t(3), ' ');
-    glb.clear();
-    glb.reserve(28 + padded.size() + d.out.size());
-    glb.insert(glb.end(), {'g', 'l', 'T', 'F'});
-    sam_glb_put_u32(glb, 2);
-    sam_glb_put_u32(glb, uint32_t(28 + padded.size() + d.out.size()));
-    sam_glb_put_u32(glb, uint32_t(padded.size()));
-    sam_glb_put_u32(glb, SAM_GLB_JSON);
-    glb.insert(glb.end(), padded.begin(), padded.end());
+    const std::string text(printed.get());
+    glb.reserve(28 + text.size() + 3 + d.out.size());
+    sam_glb_start(glb, 2, text);
     sam_glb_put_u32(glb, uint32_t(d.out.size()));
     sam_glb_put_u32(glb, SAM_GLB_BIN);
     glb.insert(glb.end(), d.out.begin(), d.out.end());
+    if (!sam_glb_finish(glb))
+        return refuse("its decoded GLB would pass 4 GiB");
     return true;
 }

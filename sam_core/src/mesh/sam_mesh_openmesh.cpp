@@ -11,11 +11,11 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <iostream>
-#include <mutex>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iostream>
+#include <mutex>
 #include <new>
 #include <sstream>
 #include <string>

@@ -61,10 +61,10 @@ sam_status sam_mesh_gltf_read(const char *path, sam_mesh_soup *soup, sam_error *
 /* The base-colour texture of a glTF file's first material its primitives
  * use that has one (of any material when none does), as a linear image
  * (sRGB decoded; 16 bits cut to 8; `image` zeroed when no material has
- * one), its
- * baseColorFactor in factor[4] (1s without), and in *others how many other
- * images the base colours of the materials its primitives use read (one
- * albedo map is all the runtime takes: their parts show this one). Errors:
+ * one), its baseColorFactor in factor[4] (1s without), and in *others how
+ * many other images the base colours of the materials its primitives use
+ * read (one albedo map is all the runtime takes: their parts show this
+ * one). Errors:
  * SAM_ERR_FORMAT (an unreadable file), SAM_ERR_UNSUPPORTED (an image that
  * is not RGB or RGBA of 8 or 16 bits), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_mesh_gltf_base_color(const char *path, sam_image *image, float factor[4], uint32_t *others,
