@@ -2,7 +2,8 @@
  * libFuzzer target for the mesh loader. OpenMesh and TinyGLTF read from
  * files, so each input is written to a private temporary file; its first
  * byte picks the extension (and so the reader: 0 OBJ, 1 PLY, 2 OFF, 3 STL,
- * 4 glTF, 5 GLB, modulo 6) and the rest is the content.
+ * 4 glTF, 5 GLB, modulo 6) and the rest is the content. The albedo reader
+ * takes the same file: a glTF's embedded images reach stb_image through it.
  */
 #include "fuzz_input_file.h"
 
@@ -34,6 +35,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (sam_mesh_solidify(&mesh, (float)(0.01 * sam_mesh_diagonal(&mesh)), &solid, NULL, &err) == SAM_OK)
             sam_shape_mesh_destroy(&solid);
         sam_mesh_destroy(&mesh);
+    }
+    sam_image albedo;
+    char note[2304];
+    if (sam_mesh_load_albedo(path, &albedo, note, sizeof note, &err) == SAM_OK) {
+        if (albedo.pixels && (albedo.width == 0 || albedo.height == 0))
+            abort();
+        sam_image_destroy(&albedo);
     }
     remove(path);
     return 0;
