@@ -392,6 +392,44 @@ static void test_texture_transform(void **state)
     sam_mesh_destroy(&m);
 }
 
+/* An image whose buffer view runs past its buffer: TinyGLTF 2.7 handed
+ * stb_image the bytes past the buffer's end (an over-read under ASan,
+ * found by fuzz_mesh); the texture is now refused with a note, and the
+ * geometry still loads. */
+static void test_image_view_past_buffer(void **state)
+{
+    (void)state;
+    char data[256], json[4096], path[512], note[2304];
+    base64((const uint8_t *)&k_tetra, sizeof k_tetra, data);
+    snprintf(json, sizeof json,
+             "{\"asset\": {\"version\": \"2.0\"}, %s \"nodes\": [{\"mesh\": 0}],"
+             "\"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1}, \"indices\": 2,"
+             " \"material\": 0}]}],"
+             "\"materials\": [{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}],"
+             "\"textures\": [{\"source\": 0}], \"images\": [{\"bufferView\": 3, \"mimeType\": \"image/png\"}],"
+             "\"buffers\": [{\"byteLength\": %zu, \"uri\": \"data:application/octet-stream;base64,%s\"}],"
+             "\"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},"
+             " {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 32},"
+             " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12},"
+             " {\"buffer\": 0, \"byteOffset\": 88, \"byteLength\": 4000}],"
+             "\"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\","
+             " \"min\": [0, 0, 0], \"max\": [1, 1, 1]},"
+             " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
+             " {\"bufferView\": 2, \"componentType\": 5121, \"count\": 12, \"type\": \"SCALAR\"}]}",
+             k_scene, sizeof k_tetra, data);
+    sam_test_write_text(sam_test_tmp_path(path, sizeof path, "image_past.gltf"), json);
+    sam_image image;
+    sam_error err;
+    assert_int_equal(sam_mesh_load_albedo(path, &image, note, sizeof note, &err), SAM_OK);
+    printf("%s\n", note);
+    assert_null(image.pixels);
+    assert_non_null(strstr(note, "buffer view 3 (4000 bytes at 88) runs past its 92-byte buffer"));
+    sam_mesh m;
+    load_ok(path, &m);
+    sam_mesh_destroy(&m);
+    remove(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -403,6 +441,7 @@ int main(void)
         cmocka_unit_test(test_glb_and_truncation),
         cmocka_unit_test(test_draco_truncated_and_flipped),
         cmocka_unit_test(test_buffer_naming_a_directory),
+        cmocka_unit_test(test_image_view_past_buffer),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

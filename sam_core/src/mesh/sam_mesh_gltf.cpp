@@ -443,6 +443,29 @@ bool skip_image(tinygltf::Image *, const int, std::string *, std::string *, int,
     return true;
 }
 
+// TinyGLTF's own image loader, for images whose buffer view fits its
+// buffer: TinyGLTF 2.7 hands stb_image a view's bytes without checking
+// that they lie in the buffer, and read past it (found by fuzz/fuzz_mesh).
+// `model` is the model being read, whose buffers and views come first.
+bool checked_image(tinygltf::Image *image, const int index, std::string *err, std::string *warn, int width, int height,
+                   const unsigned char *bytes, int size, void *model)
+{
+    const tinygltf::Model &m = *static_cast<const tinygltf::Model *>(model);
+    if (image->bufferView >= 0) {
+        // TinyGLTF found the view and its buffer before calling.
+        const tinygltf::BufferView &v = m.bufferViews[size_t(image->bufferView)];
+        const size_t have = m.buffers[size_t(v.buffer)].data.size();
+        if (v.byteOffset > have || v.byteLength > have - v.byteOffset) {
+            if (err)
+                *err += "image " + std::to_string(index) + ": buffer view " + std::to_string(image->bufferView) +
+                        " (" + std::to_string(v.byteLength) + " bytes at " + std::to_string(v.byteOffset) +
+                        ") runs past its " + std::to_string(have) + "-byte buffer";
+            return false;
+        }
+    }
+    return tinygltf::LoadImageData(image, index, err, warn, width, height, bytes, size, nullptr);
+}
+
 // Every file TinyGLTF reads (the .gltf or .glb, its buffers and images)
 // goes through sam_read_file, which reads regular files only: TinyGLTF's own
 // reader opened a buffer URI that named a directory and sized its buffer
@@ -535,7 +558,9 @@ bool load(const char *path, bool images, Source &s, tinygltf::Model &model, std:
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_whole_file,
                            &tinygltf::WriteWholeFile, nullptr});
-    if (!images)
+    if (images)
+        loader.SetImageLoader(checked_image, &model);
+    else
         loader.SetImageLoader(skip_image, nullptr);
     std::vector<unsigned char> &file = s.bytes;
     // The file's own chunks, before any rewrite keeps them, so the
