@@ -2,8 +2,9 @@
  * libFuzzer target for the mesh loader. OpenMesh and TinyGLTF read from
  * files, so each input is written to a private temporary file; its first
  * byte picks the extension (and so the reader: 0 OBJ, 1 PLY, 2 OFF, 3 STL,
- * 4 glTF, 5 GLB, modulo 6) and the rest is the content. The albedo reader
- * takes the same file: a glTF's embedded images reach stb_image through it.
+ * 4 glTF, 5 GLB, modulo 6) and the rest is the content. The albedo and
+ * vertex colour readers take the same file: a glTF's embedded images reach
+ * stb_image through the first; every colour must come out in [0, 1].
  */
 #include "fuzz_input_file.h"
 
@@ -42,6 +43,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (albedo.pixels && (albedo.width == 0 || albedo.height == 0))
             abort();
         sam_image_destroy(&albedo);
+    }
+    float *colors = NULL;
+    uint32_t color_count = 0;
+    if (sam_mesh_load_vertex_colors(path, &colors, &color_count, note, sizeof note, &err) == SAM_OK) {
+        for (size_t i = 0; i < 3 * (size_t)color_count; ++i)
+            if (!(colors[i] >= 0.0f && colors[i] <= 1.0f))
+                abort();
+        free(colors);
     }
     remove(path);
     return 0;

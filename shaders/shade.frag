@@ -40,6 +40,7 @@ layout(location = 2) out vec4 o_specular;
 in float v_depth;
 in float v_curvature;
 in vec2 v_uv;
+in vec3 v_color;         // the vertex colour, white without one
 
 // Texture-space diffusion: the blurred entering light, read at the UV in
 // the atlas's used corner (u_atlas_scale = used side / texture side).
@@ -140,7 +141,7 @@ void main()
         o_specular = vec4(0.0);
         return;
     }
-    vec3 albedo = surface_albedo(v_uv);
+    vec3 albedo = surface_albedo(v_uv, v_color);
     bool blurred = u_split != 0 || u_texture_space != 0;
     // L_d at this pixel, as the irradiance pass computes it at the vertices
     // (lights times rho_dt(N.L), shadowed, and the environment), and the

@@ -6,6 +6,7 @@
 layout(location = 0) in vec4 a_position;
 layout(location = 1) in vec4 a_normal;
 layout(location = 2) in vec2 a_uv;
+layout(location = 3) in vec4 a_color; // the vertex colour, or white (sam_runtime_bind_albedo)
 
 layout(std430, binding = SAM_B_TRANSLUCENCY) readonly buffer Translucency { vec4 translucency[]; };
 layout(std430, binding = SAM_B_CURVATURE) readonly buffer Curvature { float curvature[]; };
@@ -21,6 +22,7 @@ out vec3 v_translucency;
 out float v_depth;
 out float v_curvature;       // 1/mm
 out vec2 v_uv;
+out vec3 v_color;
 
 void main()
 {
@@ -31,5 +33,6 @@ void main()
     v_depth = dot(a_position.xyz - u_eye, u_forward);
     v_curvature = curvature[gl_VertexID];
     v_uv = a_uv;
+    v_color = a_color.rgb;
     gl_Position = u_view_proj * vec4(a_position.xyz, 1.0);
 }

@@ -12,6 +12,7 @@ in vec3 v_normal;
 in vec3 v_front;
 in vec3 v_translucency;
 in vec2 v_uv;
+in vec3 v_color;
 in float v_facing;
 in float v_cull_cos;
 
@@ -37,7 +38,7 @@ void main()
         return;
     }
     vec3 entering = v_front + technique_translucency(v_translucency, v_world, n);
-    o_entering = vec4(entering * sqrt(surface_albedo(v_uv)), 1.0);
+    o_entering = vec4(entering * sqrt(surface_albedo(v_uv, v_color)), 1.0);
     // The triangle, for the blur's walks across seams (tsd_cross.glsl):
     // exact in a float below 2^24 triangles, and the walks are off above.
     o_stretch = vec4(stretch, float(gl_PrimitiveID + 1), 1.0);

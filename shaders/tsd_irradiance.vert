@@ -5,6 +5,7 @@
 layout(location = 0) in vec4 a_position;
 layout(location = 1) in vec4 a_normal;
 layout(location = 2) in vec2 a_uv;
+layout(location = 3) in vec4 a_color; // the vertex colour, or white (sam_runtime_bind_albedo)
 
 layout(std430, binding = SAM_B_IRRADIANCE) readonly buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = SAM_B_TRANSLUCENCY) readonly buffer Translucency { vec4 translucency[]; };
@@ -24,6 +25,7 @@ out vec3 v_normal;
 out vec3 v_front;            // R_total L_d where the view shows front light
 out vec3 v_translucency;     // the per-vertex T
 out vec2 v_uv;
+out vec3 v_color;
 out float v_facing;          // cosine between the normal and the direction to the eye
 out float v_cull_cos;        // texels facing the eye less than this are culled
 out float gl_ClipDistance[4];
@@ -35,6 +37,7 @@ void main()
     v_translucency = translucency[gl_VertexID].rgb;
     v_front = u_front != 0 ? irradiance[gl_VertexID].rgb * u_total_reflectance : vec3(0.0);
     v_uv = a_uv;
+    v_color = a_color.rgb;
     v_facing = dot(normalize(a_normal.xyz), normalize(u_eye - a_position.xyz));
     // On a surface of curvature k, a texel an angle a past the silhouette
     // lies a / k of surface away from it: keep what the blur can reach.

@@ -435,6 +435,36 @@ static void test_optimizations_match(void **state)
     samfile_free(&d);
 }
 
+/* The worst relative difference of two 96 x 96 renders' RGB. */
+static double worst_relative(const sam_image *plain, const sam_image *other)
+{
+    double worst = 0;
+    for (size_t i = 0; i < 96 * 96; ++i)
+        for (int c = 0; c < 3; ++c)
+            worst = fmax(worst, fabs(plain->pixels[4 * i + c] - other->pixels[4 * i + c]) /
+                                    fmax(plain->pixels[4 * i + c], 1e-6));
+    return worst;
+}
+
+/* Under uniform light, an albedo of 0.25 on the plane's z > 0 half (the
+ * image's bottom) and 0.9 on the other comes out at that ratio away from
+ * the edge, without diffusion and in texture space. */
+static void assert_two_tone(sam_runtime *rt, sam_render_view *view, const char *what)
+{
+    for (int mode = 0; mode <= 3; mode += 3) {
+        sam_image img;
+        view->diffusion = mode;
+        render(rt, view, &img);
+        /* The plane spans 40 mm over about 79 pixels; rows 20 and 76 are
+         * 14 mm from the edge, beyond the skin profile's reach. */
+        double top = img.pixels[4 * (20 * 96 + 48)], bottom = img.pixels[4 * (76 * 96 + 48)];
+        printf("diffusion %d: two-tone %s, bottom / top %.4f (albedo ratio 0.25 / 0.9 = %.4f)\n", mode, what,
+               bottom / top, 0.25 / 0.9);
+        assert_true(fabs(bottom / top - 0.25 / 0.9) < 0.01 * 0.25 / 0.9);
+        sam_image_destroy(&img);
+    }
+}
+
 /* d'Eon Sec. 5.3: sqrt(albedo) before the blur and after it. A constant
  * map gives the picture of the same uniform albedo in every mode, and
  * under uniform light a two-tone map comes out at its own albedo away
@@ -463,11 +493,7 @@ static void test_albedo_map(void **state)
         view.albedo[0] = view.albedo[1] = view.albedo[2] = 1.0f;
         assert_int_equal(sam_runtime_set_albedo_map(rt, &map, &err), SAM_OK);
         render(rt, &view, &mapped);
-        double worst = 0;
-        for (size_t i = 0; i < 96 * 96; ++i)
-            for (int c = 0; c < 3; ++c)
-                worst = fmax(worst, fabs(plain.pixels[4 * i + c] - mapped.pixels[4 * i + c]) /
-                                        fmax(plain.pixels[4 * i + c], 1e-6));
+        const double worst = worst_relative(&plain, &mapped);
         printf("diffusion %d: constant albedo map vs uniform albedo, worst relative difference %.2e\n", mode, worst);
         assert_true(worst < 1e-5);
         sam_image_destroy(&plain);
@@ -479,18 +505,71 @@ static void test_albedo_map(void **state)
             map.pixels[y * 8 * 3 + i] = 0.25f;
     assert_int_equal(sam_runtime_set_albedo_map(rt, &map, &err), SAM_OK);
     sam_image_destroy(&map);
-    for (int mode = 0; mode <= 3; mode += 3) {
-        sam_image img;
+    assert_two_tone(rt, &view, "map");
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+/* Vertex colours multiply the albedo as a map does: constant ones give the
+ * picture of that uniform albedo in every mode, and a two-tone colouring
+ * by position comes out at its own albedo away from the edge, given in
+ * the source mesh's order where the map has SRCV (here the vertices
+ * reversed). A count that is not the source mesh's is refused. */
+static void test_vertex_colors(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = lit_plane(UV_UNIT, &profile, &d);
+    sam_error err;
+    sam_render_view view;
+    look(&view, 96, 40.0f, (float[3]){0, 40, 0.01f}, (float[3]){0, 0, 0}, (float[3]){0, 0, -1});
+    const float tone[3] = {0.9f, 0.5f, 0.3f};
+    const uint32_t nv = d.vertex_count;
+    float *rgb = malloc((size_t)nv * 3 * sizeof *rgb);
+    assert_non_null(rgb);
+    for (uint32_t v = 0; v < nv; ++v)
+        memcpy(rgb + 3 * v, tone, sizeof tone);
+    assert_int_equal(sam_runtime_set_vertex_colors(rt, rgb, nv - 1, &err), SAM_ERR_INVALID_ARGUMENT);
+    printf("%s\n", err.message);
+    for (int mode = 0; mode <= 3; ++mode) {
+        sam_image plain, colored;
         view.diffusion = mode;
-        render(rt, &view, &img);
-        /* The plane spans 40 mm over about 79 pixels; rows 20 and 76 are
-         * 14 mm from the edge, beyond the skin profile's reach. */
-        double top = img.pixels[4 * (20 * 96 + 48)], bottom = img.pixels[4 * (76 * 96 + 48)];
-        printf("diffusion %d: two-tone map, bottom / top %.4f (albedo ratio 0.25 / 0.9 = %.4f)\n", mode,
-               bottom / top, 0.25 / 0.9);
-        assert_true(fabs(bottom / top - 0.25 / 0.9) < 0.01 * 0.25 / 0.9);
-        sam_image_destroy(&img);
+        memcpy(view.albedo, tone, sizeof tone);
+        assert_int_equal(sam_runtime_set_vertex_colors(rt, NULL, 0, &err), SAM_OK);
+        render(rt, &view, &plain);
+        view.albedo[0] = view.albedo[1] = view.albedo[2] = 1.0f;
+        assert_int_equal(sam_runtime_set_vertex_colors(rt, rgb, nv, &err), SAM_OK);
+        render(rt, &view, &colored);
+        const double worst = worst_relative(&plain, &colored);
+        printf("diffusion %d: constant vertex colours vs uniform albedo, worst relative difference %.2e\n", mode,
+               worst);
+        assert_true(worst < 1e-5);
+        sam_image_destroy(&plain);
+        sam_image_destroy(&colored);
     }
+    sam_runtime_destroy(rt);
+
+    /* The same plane as built from a mesh whose vertices came in reverse. */
+    d.source_vertex_count = nv;
+    d.vertex_source = malloc((size_t)nv * sizeof *d.vertex_source);
+    d.source_vertex = malloc((size_t)nv * sizeof *d.source_vertex);
+    assert_true(d.vertex_source && d.source_vertex);
+    for (uint32_t v = 0; v < nv; ++v)
+        d.vertex_source[v] = d.source_vertex[v] = nv - 1 - v;
+    if (sam_runtime_create(&d, &profile, 1.0f, &rt, &err) != SAM_OK)
+        fail_msg("%s", err.message);
+    sam_light l = directional(0, -1, 0, 1.0f);
+    assert_int_equal(sam_runtime_set_lights(rt, &l, 1, &err), SAM_OK);
+    assert_int_equal(sam_runtime_set_surface(rt, 0.3f, 0.0f, &err), SAM_OK);
+    assert_int_equal(sam_runtime_irradiance(rt, &err), SAM_OK);
+    /* z > 0 (the image's bottom) dark, in the source order. */
+    for (uint32_t v = 0; v < nv; ++v)
+        for (int c = 0; c < 3; ++c)
+            rgb[3 * (nv - 1 - v) + (uint32_t)c] = d.positions[3 * v + 2] > 0 ? 0.25f : 0.9f;
+    assert_int_equal(sam_runtime_set_vertex_colors(rt, rgb, nv, &err), SAM_OK);
+    assert_two_tone(rt, &view, "vertex colours");
+    free(rgb);
     sam_runtime_destroy(rt);
     samfile_free(&d);
 }
@@ -735,6 +814,7 @@ int main(void)
         cmocka_unit_test(test_spot_across_a_seam),
         cmocka_unit_test(test_optimizations_match),
         cmocka_unit_test(test_albedo_map),
+        cmocka_unit_test(test_vertex_colors),
         cmocka_unit_test(test_overlapping_uvs_refused),
         cmocka_unit_test(test_uvs_past_the_square),
         cmocka_unit_test(test_tiled_albedo_repeats),

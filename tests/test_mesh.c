@@ -1681,6 +1681,116 @@ static void test_ply_texture_file(void **state)
     assert_string_equal(note, "");
 }
 
+/* Vertex colours of PLY and OBJ files, sRGB-decoded to linear, one per
+ * file vertex: a PLY's red, green and blue of any type (bytes, big-endian
+ * shorts named diffuse_*, floats clamped), an OBJ's on every v line (0..1,
+ * or bytes when a value passes 1). None for a file without them, or an
+ * OBJ with one v line short of them. */
+static void test_vertex_colors(void **state)
+{
+    (void)state;
+    static const char *const faces = "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n";
+    static const struct {
+        const char *name, *text;
+        int expect; /* 0 none, 1 the colours below */
+    } cases[] = {
+        {"colors.ply",
+         "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+         "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 4\n"
+         "property list uchar int vertex_indices\nend_header\n"
+         "0 0 0 255 128 0\n1 0 0 0 255 128\n0 1 0 128 0 255\n0 0 1 255 255 255\n",
+         1},
+        {"colors_float.ply",
+         "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+         "property float red\nproperty float green\nproperty float blue\nproperty float alpha\nelement face 4\n"
+         "property list uchar int vertex_indices\nend_header\n"
+         "0 0 0 1.5 0.50196 -1 0.5\n1 0 0 0 1 0.50196 0.5\n0 1 0 0.50196 0 1 0.5\n0 0 1 1 1 1 0.5\n",
+         1},
+        {"colors.obj",
+         "v 0 0 0 1 0.50196 0\nv 1 0 0 0 1 0.50196\nv 0 1 0 0.50196 0 1\nv 0 0 1 1 1 1\n"
+         "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n",
+         1},
+        {"colors_bytes.obj",
+         "v 0 0 0 255 128 0\nv 1 0 0 0 255 128\nv 0 1 0 128 0 255\nv 0 0 1 255 255 255\n"
+         "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n",
+         1},
+        {"colors_short.obj",
+         "v 0 0 0 1 0.5 0\nv 1 0 0\nv 0 1 0 0.5 0 1\nv 0 0 1 1 1 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n", 0},
+        {"plain.ply",
+         "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n",
+         0},
+    };
+    const float half = sam_srgb_to_linear(128.0f / 255.0f);
+    const float want[12] = {1, half, 0, 0, 1, half, half, 0, 1, 1, 1, 1};
+    char path[512], note[256], text[1024];
+    sam_error err;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        const int ply = strstr(cases[i].name, ".ply") != NULL;
+        snprintf(text, sizeof text, "%s%s", cases[i].text, ply ? faces : "");
+        write_tmp(path, sizeof path, cases[i].name, text);
+        float *rgb = NULL;
+        uint32_t count = 7;
+        assert_int_equal(sam_mesh_load_vertex_colors(path, &rgb, &count, note, sizeof note, &err), SAM_OK);
+        printf("%s: %u colours, note \"%s\"\n", cases[i].name, count, note);
+        if (!cases[i].expect) {
+            assert_null(rgb);
+            assert_int_equal(count, 0);
+            assert_string_equal(note, "");
+        } else {
+            assert_int_equal(count, 4);
+            for (int k = 0; k < 12; ++k)
+                assert_float_equal(rgb[k], want[k], 2e-5f);
+            assert_non_null(strstr(note, cases[i].name));
+        }
+        free(rgb);
+        remove(path);
+    }
+    /* Big-endian shorts named diffuse_red...: 65535 is 1, 0 is 0. */
+    const char *head = "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                       "property float z\nproperty ushort diffuse_red\nproperty ushort diffuse_green\n"
+                       "property ushort diffuse_blue\nelement face 4\nproperty list uchar int vertex_indices\n"
+                       "end_header\n";
+    unsigned char buf[1024];
+    size_t n = strlen(head);
+    memcpy(buf, head, n);
+    static const float xyz[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (int v = 0; v < 4; ++v) {
+        for (int k = 0; k < 3; ++k) {
+            uint32_t bits;
+            memcpy(&bits, &xyz[3 * v + k], 4);
+            for (int b = 3; b >= 0; --b)
+                buf[n++] = (unsigned char)(bits >> (8 * b));
+        }
+        for (int k = 0; k < 3; ++k) {
+            const uint16_t c = (v + k) % 2 ? 65535 : 0;
+            buf[n++] = (unsigned char)(c >> 8), buf[n++] = (unsigned char)c;
+        }
+    }
+    static const int corners[4][3] = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+    for (int f = 0; f < 4; ++f) {
+        buf[n++] = 3;
+        for (int k = 0; k < 3; ++k)
+            buf[n++] = 0, buf[n++] = 0, buf[n++] = 0, buf[n++] = (unsigned char)corners[f][k];
+    }
+    sam_test_write_file(sam_test_tmp_path(path, sizeof path, "colors_be.ply"), buf, n);
+    float *rgb = NULL;
+    uint32_t count = 0;
+    assert_int_equal(sam_mesh_load_vertex_colors(path, &rgb, &count, note, sizeof note, &err), SAM_OK);
+    assert_int_equal(count, 4);
+    for (int v = 0; v < 4; ++v)
+        for (int k = 0; k < 3; ++k) {
+            const float expected = (v + k) % 2 ? 1.0f : 0.0f;
+            assert_float_equal(rgb[3 * v + k], expected, 0.0f);
+        }
+    free(rgb);
+    sam_mesh m;
+    sam_mesh_report report;
+    assert_int_equal(sam_mesh_load(path, &m, &report, &err), SAM_OK);
+    sam_mesh_destroy(&m);
+    remove(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1692,6 +1802,7 @@ int main(void)
         cmocka_unit_test(test_ply_as_other_tools_write_it),
         cmocka_unit_test(test_ply_texture_file),
         cmocka_unit_test(test_obj_other_materials_textures),
+        cmocka_unit_test(test_vertex_colors),
         cmocka_unit_test(test_obj_as_other_tools_write_it),
         cmocka_unit_test(test_body_leaves_out_loose_specks),
         cmocka_unit_test(test_open_sheet_rings_and_fan_areas),

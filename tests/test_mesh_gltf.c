@@ -392,6 +392,57 @@ static void test_texture_transform(void **state)
     sam_mesh_destroy(&m);
 }
 
+/* COLOR_0 as it is (glTF's colours are linear), white on a primitive
+ * without it, in the soup's order (the file's vertices, primitive by
+ * primitive: sam_mesh.source_of_render's); a count unlike POSITION's is
+ * refused, naming it. */
+static void test_vertex_colors(void **state)
+{
+    (void)state;
+    char data[256], json[4096], path[512], note[256];
+    base64((const uint8_t *)&k_tetra, sizeof k_tetra, data);
+    static const char *const colour[] = {"\"VEC3\", \"count\": 4", "\"VEC4\", \"count\": 3"};
+    for (int bad = 0; bad < 2; ++bad) {
+        snprintf(json, sizeof json,
+                 "{\"asset\": {\"version\": \"2.0\"}, %s \"nodes\": [{\"mesh\": 0}],"
+                 "\"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"COLOR_0\": 3}, \"indices\": 2},"
+                 " {\"attributes\": {\"POSITION\": 0}, \"indices\": 2}]}],"
+                 "\"buffers\": [{\"byteLength\": %zu, \"uri\": \"data:application/octet-stream;base64,%s\"}],"
+                 "\"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},"
+                 " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12}],"
+                 "\"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\","
+                 " \"min\": [0, 0, 0], \"max\": [1, 1, 1]}, {\"bufferView\": 0, \"componentType\": 5126, \"count\": 4,"
+                 " \"type\": \"VEC3\"}, {\"bufferView\": 1, \"componentType\": 5121, \"count\": 12, \"type\": \"SCALAR\"},"
+                 " {\"bufferView\": 0, \"componentType\": 5126, \"type\": %s}]}",
+                 k_scene, sizeof k_tetra, data, colour[bad]);
+        sam_test_write_text(sam_test_tmp_path(path, sizeof path, "colors.gltf"), json);
+        float *rgb = NULL;
+        uint32_t count = 0;
+        sam_error err;
+        const sam_status st = sam_mesh_load_vertex_colors(path, &rgb, &count, note, sizeof note, &err);
+        if (bad) {
+            printf("%s\n", err.message);
+            assert_int_equal(st, SAM_ERR_FORMAT);
+            assert_non_null(strstr(err.message, "COLOR_0 has another count than POSITION's 4"));
+            assert_null(rgb);
+            continue;
+        }
+        assert_int_equal(st, SAM_OK);
+        assert_string_equal(note, "the COLOR_0 of colors.gltf");
+        assert_int_equal(count, 8);
+        for (int k = 0; k < 12; ++k) {
+            assert_float_equal(rgb[k], k_tetra.positions[k], 0.0f);
+            assert_float_equal(rgb[12 + k], 1.0f, 0.0f);
+        }
+        sam_mesh m;
+        load_ok(path, &m);
+        assert_int_equal(m.source_count, count);
+        sam_mesh_destroy(&m);
+        free(rgb);
+    }
+    remove(path);
+}
+
 /* An image whose buffer view runs past its buffer: TinyGLTF 2.7 handed
  * stb_image the bytes past the buffer's end (an over-read under ASan,
  * found by fuzz_mesh); the texture is now refused with a note, and the
@@ -441,6 +492,7 @@ int main(void)
         cmocka_unit_test(test_glb_and_truncation),
         cmocka_unit_test(test_draco_truncated_and_flipped),
         cmocka_unit_test(test_buffer_naming_a_directory),
+        cmocka_unit_test(test_vertex_colors),
         cmocka_unit_test(test_image_view_past_buffer),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

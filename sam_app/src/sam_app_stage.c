@@ -321,6 +321,14 @@ sam_status sam_app_stage_scene(const char *mesh_path, const char *material, cons
              albedo.width, albedo.height);
     if (st == SAM_OK)
         sam_image_destroy(&albedo);
+    float *colors = NULL;
+    uint32_t color_count = 0;
+    if (st == SAM_OK &&
+        sam_mesh_load_vertex_colors(mesh_path, &colors, &color_count, texture, sizeof texture, &albedo_err) == SAM_OK &&
+        colors)
+        note(notes, "vertex colours: %s, %u vertices, times the albedo (a scene's \"vertex_colors\": false ignores "
+                    "them)", texture, color_count);
+    free(colors);
 done:
     free(ms.thin);
     sam_mesh_destroy(&mesh);

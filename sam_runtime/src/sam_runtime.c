@@ -192,7 +192,7 @@ static sam_status create(const samfile_data *sam, const sam_profile *profile, fl
     if ((st = upload_mesh(rt, sam, err)) == SAM_OK && (st = sam_profile_fit_gaussians(profile, &rt->fit, err)) == SAM_OK) {
         make_vertex_array(rt, sam->uvs != NULL);
         /* Each pass's own programs and state, in the header's step order. */
-        if ((st = sam_runtime_lights_create(rt, err)) == SAM_OK && (st = sam_runtime_surface_create(rt, err)) == SAM_OK &&
+        if ((st = sam_runtime_lights_create(rt, err)) == SAM_OK && (st = sam_runtime_surface_create(rt, sam, err)) == SAM_OK &&
             (st = sam_runtime_shadows_create(rt, err)) == SAM_OK && (st = sam_runtime_deform_create(rt, err)) == SAM_OK &&
             (st = sam_runtime_engine_create(rt, sam, err)) == SAM_OK &&
             (st = sam_runtime_irradiance_create(rt, err)) == SAM_OK &&

@@ -96,6 +96,11 @@ typedef struct sam_rt_surface {
     float roughness, rho_s, environment_rho_dt;
     float rho_table[RHO_SIZE * RHO_SIZE];
     GLuint albedo_tex;
+    GLuint color_buffer; /* vec4 per vertex, the vertex array's attribute 3; 0 without vertex colours */
+    /* The .sam's vertex_source (SRCV), the order vertex colours come in;
+     * NULL when the map has none (then they come in the map's order). */
+    uint32_t *vertex_source;
+    uint32_t source_count;
 } sam_rt_surface;
 
 /* sam_runtime_shadows.c */

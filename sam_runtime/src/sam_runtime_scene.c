@@ -15,6 +15,27 @@ static void set_warning(char *warning, size_t n, const char *text)
         snprintf(warning, n, "%s", text);
 }
 
+/* The mesh file's vertex colours, if it has any. Colours the map cannot
+ * take (a map built from another mesh than the scene names) are a
+ * warning, added to what `warning` holds, not an error. */
+static sam_status set_vertex_colors(sam_runtime *rt, const char *mesh_path, char *warning, size_t n, sam_error *err)
+{
+    float *rgb = NULL;
+    uint32_t count = 0;
+    char note[2304];
+    sam_status st = sam_mesh_load_vertex_colors(mesh_path, &rgb, &count, note, sizeof note, err);
+    sam_error why;
+    const sam_status set = st == SAM_OK && rgb ? sam_runtime_set_vertex_colors(rt, rgb, count, &why) : SAM_OK;
+    if (set == SAM_ERR_INVALID_ARGUMENT && warning && n) {
+        const size_t used = strlen(warning);
+        snprintf(warning + used, n - used, "%s%s ignored: %s", used ? "; " : "", note, why.message);
+    } else if (set != SAM_OK && set != SAM_ERR_INVALID_ARGUMENT) {
+        st = sam_fail(err, set, "%s", why.message);
+    }
+    free(rgb);
+    return st;
+}
+
 sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, float sh[9][3], int *has_environment,
                                    char *warning, size_t n, sam_error *err)
 {
@@ -69,6 +90,8 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
             st = SAM_OK;
     }
     sam_image_destroy(&map);
+    if (st == SAM_OK && scene->vertex_colors && scene->mesh_path)
+        st = set_vertex_colors(rt, scene->mesh_path, warning, n, err);
     return st;
 }
 

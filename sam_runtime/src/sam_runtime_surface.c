@@ -5,9 +5,17 @@
 #include "sam_runtime_gpu.h"
 #include "sam_runtime_surface.h"
 
-sam_status sam_runtime_surface_create(sam_runtime *rt, sam_error *err)
+sam_status sam_runtime_surface_create(sam_runtime *rt, const samfile_data *sam, sam_error *err)
 {
     sam_status st;
+    if (sam->vertex_source) {
+        const size_t bytes = (size_t)rt->vertex_count * sizeof *rt->surface.vertex_source;
+        if (!(rt->surface.vertex_source = malloc(bytes)))
+            return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for %u source vertices",
+                            rt->vertex_count);
+        memcpy(rt->surface.vertex_source, sam->vertex_source, bytes);
+        rt->surface.source_count = sam->source_vertex_count;
+    }
     if ((st = sam_brdf_rho_dt_table(RHO_SIZE, RHO_SIZE, SKIN_F0, SAM_BRDF_ROUGHNESS_MAX, rt->surface.rho_table, err)) !=
             SAM_OK ||
         (st = sam_runtime_upload(rt, SAM_B_RHO_DT, rt->surface.rho_table, sizeof rt->surface.rho_table, err)) !=
@@ -21,6 +29,11 @@ void sam_runtime_surface_destroy(sam_runtime *rt)
     if (rt->surface.albedo_tex)
         glDeleteTextures(1, &rt->surface.albedo_tex);
     rt->surface.albedo_tex = 0;
+    if (rt->surface.color_buffer)
+        glDeleteBuffers(1, &rt->surface.color_buffer);
+    rt->surface.color_buffer = 0;
+    free(rt->surface.vertex_source);
+    rt->surface.vertex_source = NULL;
 }
 
 float sam_runtime_rho_dt(const sam_runtime *rt, float n_dot_l)
@@ -97,8 +110,57 @@ sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam
     return SAM_OK;
 }
 
+sam_status sam_runtime_set_vertex_colors(sam_runtime *rt, const float *rgb, uint32_t count, sam_error *err)
+{
+    if (!rt)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: NULL runtime");
+    const uint32_t want = rt->surface.vertex_source ? rt->surface.source_count : rt->vertex_count;
+    if (rgb && count != want)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT,
+                        "runtime: %u vertex colours for a map whose mesh has %u vertices (%s)", count, want,
+                        rt->surface.vertex_source ? "the source mesh's, which the map's SRCV names"
+                                                  : "the map's own: it has no SRCV");
+    glBindVertexArray(rt->vao);
+    if (!rgb) {
+        glDisableVertexAttribArray(3);
+        glBindVertexArray(0);
+        if (rt->surface.color_buffer)
+            glDeleteBuffers(1, &rt->surface.color_buffer);
+        rt->surface.color_buffer = 0;
+        return SAM_OK;
+    }
+    const size_t nv = rt->vertex_count;
+    float *rgba = malloc(nv * 4 * sizeof *rgba);
+    if (!rgba) {
+        glBindVertexArray(0);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for %zu vertex colours", nv);
+    }
+    for (size_t v = 0; v < nv; ++v) {
+        const size_t from = rt->surface.vertex_source ? rt->surface.vertex_source[v] : v;
+        for (int k = 0; k < 3; ++k) {
+            const float x = rgb[3 * from + (size_t)k];
+            rgba[4 * v + (size_t)k] = x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; /* NaN to 0 */
+        }
+        rgba[4 * v + 3] = 1.0f;
+    }
+    if (!rt->surface.color_buffer)
+        glGenBuffers(1, &rt->surface.color_buffer);
+    glBindBuffer(GL_ARRAY_BUFFER, rt->surface.color_buffer);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * 4 * sizeof *rgba), rgba, GL_STATIC_DRAW);
+    free(rgba);
+    glEnableVertexAttribArray(3);
+    glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), NULL);
+    glBindVertexArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    if (glGetError() != GL_NO_ERROR)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not store %zu vertex colours", nv);
+    return SAM_OK;
+}
+
 void sam_runtime_bind_albedo(const sam_runtime *rt, GLuint p)
 {
+    if (!rt->surface.color_buffer)
+        glVertexAttrib4f(3, 1.0f, 1.0f, 1.0f, 1.0f);
     glActiveTexture(GL_TEXTURE0 + UNIT_ALBEDO);
     glBindTexture(GL_TEXTURE_2D, rt->surface.albedo_tex);
     glActiveTexture(GL_TEXTURE0);

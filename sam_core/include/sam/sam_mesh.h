@@ -142,6 +142,21 @@ sam_status sam_mesh_create(const sam_mesh_input *input, sam_mesh *mesh, sam_mesh
  * read), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, size_t note_size, sam_error *err);
 
+/* The colours a mesh file gives its vertices: a PLY's red, green and
+ * blue (or diffuse_red...; sRGB-encoded, any integer type scaled by its
+ * largest value), an OBJ's "v x y z r g b" on every vertex line (0..1, or
+ * 0..255 when a value passes 1; sRGB-encoded), a glTF's COLOR_0 (linear;
+ * white on primitives without it). OFF and STL colours are not read.
+ * Linear RGB, one per vertex of the file in its order (the order of
+ * sam_mesh.source_of_render's values and of a .sam's SRCV): *count
+ * vertices, 3 * *count floats in *rgb (caller frees); *rgb NULL and
+ * *count 0 when the file has none. `note` (note_size bytes, > 0) names
+ * them when there are some ("the vertex colours of NAME"), else "".
+ * Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_IO, SAM_ERR_FORMAT (a file
+ * sam_mesh_load would refuse too), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_load_vertex_colors(const char *path, float **rgb, uint32_t *count, char *note, size_t note_size,
+                                       sam_error *err);
+
 /* 1 when `path` ends in an extension sam_mesh_load reads (.obj, .ply,
  * .off, .stl, .gltf, .glb; case-insensitive), else 0. */
 int sam_mesh_is_mesh_path(const char *path);

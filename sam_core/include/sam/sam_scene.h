@@ -20,6 +20,8 @@
  *   "albedo": [r, g, b]            each in [0, 1]; default [0.8, 0.8, 0.8]
  *   "albedo_map": "skin.png"       optional sRGB PNG, JPEG or TGA at the mesh's UVs; the
  *        albedo multiplies it (d'Eon Sec. 5.3: sqrt before and after scattering)
+ *   "vertex_colors": true          default true: the mesh file's vertex colours
+ *        (sam_mesh_load_vertex_colors) multiply the albedo too; false ignores them
  *   "lights": [light, ...]         default none; at most SAM_SCENE_MAX_LIGHTS
  *   "environment": {"map": "sky.exr", "intensity": 1.0, "rotation_deg": 0.0}
  *        optional; "map" required inside it (a latitude-longitude EXR),
@@ -173,6 +175,7 @@ typedef struct sam_scene {
 
     float albedo[3]; /* each in [0, 1] */
     char *albedo_map; /* absolute path of an sRGB PNG, JPEG or TGA read at the mesh's UVs (times albedo), or NULL */
+    int vertex_colors; /* 1: the mesh file's vertex colours multiply the albedo (default); 0: ignored */
 
     sam_light *lights; /* light_count entries */
     size_t light_count;

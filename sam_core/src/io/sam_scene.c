@@ -104,6 +104,7 @@ void sam_scene_init(sam_scene *scene)
     memset(scene, 0, sizeof *scene);
     scene->scale_kind = SAM_SCALE_FROM_SAM;
     scene->albedo[0] = scene->albedo[1] = scene->albedo[2] = 0.8f;
+    scene->vertex_colors = 1;
     scene->environment.intensity = 1.0f;
     scene->camera.up[1] = 1.0f;
     scene->camera.target[2] = -1.0f;
@@ -341,7 +342,7 @@ static sam_status parse_root(const sam_scene_parser *p, const cJSON *root, sam_s
                                        "albedo",       "albedo_map", "lights",    "environment",
                                        "camera",       "resolution", "technique", "diffusion",
                                        "screen_space", "texture_space", "tonemap", "exposure",
-                                       "deformers",    "keyframes",  "samples_per_vertex"};
+                                       "deformers",    "keyframes",  "samples_per_vertex", "vertex_colors"};
     if (!cJSON_IsObject(root))
         return sam_fail(p->json.err, SAM_ERR_FORMAT, "%s: expected a JSON object, found %s", p->json.name,
                         SAM_JSON_DESCRIBE(root));
@@ -395,6 +396,9 @@ static sam_status parse_root(const sam_scene_parser *p, const cJSON *root, sam_s
     }
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "albedo_map")) &&
         (st = sam_scene_get_file(p, v, "albedo_map", &scene->albedo_map)) != SAM_OK)
+        return st;
+    if ((v = cJSON_GetObjectItemCaseSensitive(root, "vertex_colors")) &&
+        (st = sam_json_bool(&p->json, v, "vertex_colors", &scene->vertex_colors)) != SAM_OK)
         return st;
     if ((v = cJSON_GetObjectItemCaseSensitive(root, "lights")) &&
         (st = sam_scene_parse_lights(p, v, scene)) != SAM_OK)

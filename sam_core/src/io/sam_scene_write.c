@@ -139,6 +139,8 @@ static cJSON *scene_item(builder *b, const sam_scene *s)
     add(b, root, "albedo", vec3_item(b, s->albedo));
     if (s->albedo_map)
         add_path(b, root, "albedo_map", s->albedo_map);
+    if (!s->vertex_colors)
+        add(b, root, "vertex_colors", cJSON_CreateBool(0));
     cJSON *lights = cJSON_CreateArray();
     for (size_t i = 0; i < s->light_count; ++i)
         append(b, lights, light_item(b, &s->lights[i]));

@@ -1,6 +1,6 @@
 // glTF 2.0 (.gltf, .glb) through TinyGLTF behind C functions
 // (sam_mesh_soup.h): the triangles of every mesh primitive in the default
-// scene with their node transforms applied, TEXCOORD_0, and the
+// scene with their node transforms applied, TEXCOORD_0, COLOR_0, and the
 // base-colour texture. No exception crosses into C.
 #include <cjson/cJSON.h>
 #include <tiny_gltf.h>
@@ -29,9 +29,9 @@ namespace {
 struct Reader {
     const tinygltf::Model &model;
     const char *path;
-    std::vector<float> positions, normals, uvs;
+    std::vector<float> positions, normals, uvs, colors;
     std::vector<uint32_t> corners;
-    bool all_normals = true, all_uvs = true;
+    bool all_normals = true, all_uvs = true, any_colors = false;
     uint32_t skipped_primitives = 0; // points and lines
 };
 
@@ -144,6 +144,18 @@ std::vector<float> read_floats(const Reader &r, int index, int want, const char 
              " bytes past offset " + std::to_string(a.byteOffset) + " of buffer view " +
              std::to_string(a.bufferView) + ", which has " + std::to_string(v.byteLength));
     return to_floats(data.data() + start, a.count, uint64_t(stride), a.componentType, a.normalized, want, where);
+}
+
+// COLOR_0's components, RGB or RGBA (glTF allows both); a primitive
+// without it gives 0.
+int color_components(const Reader &r, int index)
+{
+    if (index < 0)
+        return 0;
+    if (size_t(index) >= r.model.accessors.size())
+        fail("COLOR_0: accessor " + std::to_string(index) + " does not exist (" +
+             std::to_string(r.model.accessors.size()) + " accessors)");
+    return r.model.accessors[size_t(index)].type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
 }
 
 // The index accessor of a primitive, or 0..vertices-1 without one.
@@ -263,13 +275,15 @@ std::array<double, 6> uv_transform(const tinygltf::Model &model, const tinygltf:
 }
 
 // A primitive's geometry from its KHR_draco_mesh_compression object `ext`:
-// its triangles' corners into `idx`, and of POSITION, NORMAL and
-// TEXCOORD_0, those the primitive has, from the Draco data where the
-// extension numbers them (as the primitive's accessors say they are
-// stored), as usual from their accessors where it does not.
+// its triangles' corners into `idx`, and of POSITION, NORMAL, TEXCOORD_0
+// and COLOR_0 (`color_count` components), those the primitive has, from
+// the Draco data where the extension numbers them (as the primitive's
+// accessors say they are stored), as usual from their accessors where it
+// does not.
 template <class Attribute>
 void read_draco(const Reader &r, const tinygltf::Value &ext, Attribute attribute, std::vector<float> &pos,
-                std::vector<float> &nrm, std::vector<float> &uv, std::vector<uint32_t> &idx, const std::string &where)
+                std::vector<float> &nrm, std::vector<float> &uv, std::vector<float> &col, int color_count,
+                std::vector<uint32_t> &idx, const std::string &where)
 {
     const tinygltf::Model &m = r.model;
     const std::string at = where + " (KHR_draco_mesh_compression)";
@@ -292,12 +306,12 @@ void read_draco(const Reader &r, const tinygltf::Value &ext, Attribute attribute
         const tinygltf::Accessor *accessor;
         std::string where;
     };
-    static const char *const names[] = {"POSITION", "NORMAL", "TEXCOORD_0"};
-    static const int components[] = {3, 3, 2};
-    std::vector<float> *const into[] = {&pos, &nrm, &uv};
+    static const char *const names[] = {"POSITION", "NORMAL", "TEXCOORD_0", "COLOR_0"};
+    const int components[] = {3, 3, 2, color_count};
+    std::vector<float> *const into[] = {&pos, &nrm, &uv, &col};
     std::vector<SamDracoWant> want;
     std::vector<Compressed> compressed;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 4; ++k) {
         if (attribute(names[k]) < 0)
             continue;
         if (!ids.Has(names[k])) {
@@ -346,26 +360,40 @@ void add_primitive(Reader &r, const tinygltf::Primitive &p, const Mat4 &world, c
     };
     if (attribute("POSITION") < 0)
         fail(where + ": no POSITION attribute");
-    std::vector<float> pos, nrm, uv;
+    std::vector<float> pos, nrm, uv, col;
     std::vector<uint32_t> idx;
+    const int color_count = color_components(r, attribute("COLOR_0"));
     const auto draco = p.extensions.find("KHR_draco_mesh_compression");
     if (draco != p.extensions.end()) {
         if (p.mode != TINYGLTF_MODE_TRIANGLES)
             fail(where + ": Draco-compressed triangles in mode " + std::to_string(p.mode) +
                  " (only 4, a list, is read)");
-        read_draco(r, draco->second, attribute, pos, nrm, uv, idx, where);
+        read_draco(r, draco->second, attribute, pos, nrm, uv, col, color_count, idx, where);
     } else {
         pos = read_floats(r, attribute("POSITION"), 3, "POSITION");
         if (attribute("NORMAL") >= 0)
             nrm = read_floats(r, attribute("NORMAL"), 3, "NORMAL");
         if (attribute("TEXCOORD_0") >= 0)
             uv = read_floats(r, attribute("TEXCOORD_0"), 2, "TEXCOORD_0");
+        if (color_count)
+            col = read_floats(r, attribute("COLOR_0"), color_count, "COLOR_0");
     }
     const size_t n = pos.size() / 3, base = r.positions.size() / 3;
     if (base + n > UINT32_MAX / 4)
         fail(where + ": more vertices than 32-bit indices reach");
-    if ((!nrm.empty() && nrm.size() != pos.size()) || (!uv.empty() && uv.size() / 2 != n))
-        fail(where + ": NORMAL or TEXCOORD_0 has another count than POSITION's " + std::to_string(n));
+    if ((!nrm.empty() && nrm.size() != pos.size()) || (!uv.empty() && uv.size() / 2 != n) ||
+        (color_count && col.size() / size_t(color_count) != n))
+        fail(where + ": NORMAL, TEXCOORD_0 or COLOR_0 has another count than POSITION's " + std::to_string(n));
+    // A primitive without COLOR_0 is white, as glTF says; its colours
+    // are linear, and alpha is no colour.
+    if (color_count && !r.any_colors) {
+        r.colors.assign(r.positions.size(), 1.0f);
+        r.any_colors = true;
+    }
+    for (size_t v = 0; r.any_colors && v < n; ++v)
+        for (int k = 0; k < 3; ++k)
+            r.colors.push_back(color_count ? std::fmin(std::fmax(col[size_t(color_count) * v + size_t(k)], 0.0f), 1.0f)
+                                           : 1.0f);
     r.all_normals = r.all_normals && !nrm.empty();
     r.all_uvs = r.all_uvs && !uv.empty();
     // Normals go through the inverse transpose of the upper 3 x 3.
@@ -609,7 +637,7 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
     if (!read || !load(path, false, source, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: not a readable glTF file: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
-    Reader r{model, path, {}, {}, {}, {}};
+    Reader r{model, path, {}, {}, {}, {}, {}};
     try {
         const Mat4 identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
         if (!model.scenes.empty()) {
@@ -641,6 +669,7 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
     soup->positions = sam_mesh_copy_out(r.positions);
     soup->normals = r.all_normals ? sam_mesh_copy_out(r.normals) : nullptr;
     soup->uvs = r.all_uvs ? sam_mesh_copy_out(r.uvs) : nullptr;
+    soup->colors = r.any_colors ? sam_mesh_copy_out(r.colors) : nullptr;
     soup->face_offsets = sam_mesh_copy_out(offsets);
     soup->corners = sam_mesh_copy_out(r.corners);
     return SAM_OK;

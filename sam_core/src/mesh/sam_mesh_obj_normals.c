@@ -44,6 +44,8 @@ void sam_mesh_expect_free(sam_mesh_expect *expect)
     drop(expect, &unused);
     free(expect->rewritten);
     free(expect->corner_uvs);
+    free(expect->vertex_colors);
+    expect->vertex_colors = NULL;
     expect->rewritten = NULL;
     expect->rewritten_size = 0;
     expect->corner_uvs = NULL;

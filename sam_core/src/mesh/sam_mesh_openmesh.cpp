@@ -355,5 +355,6 @@ extern "C" void sam_mesh_soup_free(sam_mesh_soup *soup)
     std::free(soup->corners);
     std::free(soup->corner_uvs);
     std::free(soup->corner_normals);
+    std::free(soup->colors);
     std::memset(soup, 0, sizeof *soup);
 }

@@ -109,6 +109,66 @@ static double read_value(ply_cursor *c, sam_mesh_ply_type t)
     }
 }
 
+/* The largest value of an integer type (1 for a float: taken as it is). */
+static double type_max(sam_mesh_ply_type t)
+{
+    switch (t) {
+    case SAM_MESH_PLY_INT8: return 127.0;
+    case SAM_MESH_PLY_UINT8: return 255.0;
+    case SAM_MESH_PLY_INT16: return 32767.0;
+    case SAM_MESH_PLY_UINT16: return 65535.0;
+    case SAM_MESH_PLY_INT32: return 2147483647.0;
+    case SAM_MESH_PLY_UINT32: return 4294967295.0;
+    default: return 1.0;
+    }
+}
+
+/* Which colour channel a vertex property holds: 0..2, or -1. */
+static int color_channel(const sam_mesh_ply_property *pr)
+{
+    static const char *const names[2][3] = {{"red", "green", "blue"}, {"diffuse_red", "diffuse_green", "diffuse_blue"}};
+    for (int set = 0; set < 2 && !pr->is_list; ++set)
+        for (int k = 0; k < 3; ++k)
+            if (!strcmp(pr->name, names[set][k]))
+                return k;
+    return -1;
+}
+
+sam_status sam_mesh_ply_colors(const char *path, const char *data, size_t size, const sam_mesh_ply_header *h,
+                               float **rgb, sam_error *err)
+{
+    *rgb = NULL;
+    int vertex = -1, found = 0;
+    for (int e = 0; e < h->element_count && vertex < 0; ++e)
+        if (!strcmp(h->element[e].name, "vertex"))
+            vertex = e;
+    for (int k = 0; vertex >= 0 && k < h->element[vertex].property_count; ++k) {
+        const int ch = color_channel(&h->element[vertex].property[k]);
+        found |= ch >= 0 ? 1 << ch : 0;
+    }
+    if (found != 7 || !h->element[vertex].count)
+        return SAM_OK;
+    const sam_mesh_ply_element *el = &h->element[vertex];
+    float *out = malloc((size_t)el->count * 3 * sizeof *out);
+    if (!out)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %llu vertex colours", path, el->count);
+    ply_cursor c = {data + h->body, data + size, h->format};
+    for (int e = 0; e <= vertex; ++e)
+        for (unsigned long long i = 0; i < h->element[e].count; ++i)
+            for (int k = 0; k < h->element[e].property_count; ++k) {
+                const sam_mesh_ply_property *pr = &h->element[e].property[k];
+                const double n = pr->is_list ? read_value(&c, pr->count_type) : 1;
+                for (double j = 0; j < n; ++j) {
+                    const double x = read_value(&c, pr->value_type);
+                    const int ch = e == vertex ? color_channel(pr) : -1;
+                    if (ch >= 0)
+                        out[3 * i + (unsigned)ch] = (float)fmin(fmax(x / type_max(pr->value_type), 0.0), 1.0);
+                }
+            }
+    *rgb = out;
+    return SAM_OK;
+}
+
 static void put_u32(sam_text *out, uint32_t v)
 {
     const char b[4] = {(char)(v & 0xff), (char)(v >> 8 & 0xff), (char)(v >> 16 & 0xff), (char)(v >> 24 & 0xff)};

@@ -90,4 +90,13 @@ int sam_mesh_ply_misread(const sam_mesh_ply_header *header);
 sam_status sam_mesh_ply_rewrite(const char *path, const char *data, size_t size, const sam_mesh_ply_header *header,
                                 sam_text *out, float **corner_uvs, uint32_t *corner_uv_count, sam_error *err);
 
+/* The vertex element's red, green and blue (or diffuse_red, ...) of the
+ * file at `data` (`size` bytes, its header parsed into `header`, its body
+ * checked by the pre-check against it), each scaled to [0, 1] (an integer
+ * type by its largest value, a float clamped), 3 * vertex count floats
+ * into *rgb (the caller frees it). *rgb is NULL when the vertices have no
+ * such scalar properties. Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_ply_colors(const char *path, const char *data, size_t size, const sam_mesh_ply_header *header,
+                               float **rgb, sam_error *err);
+
 #endif

@@ -284,6 +284,8 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
                 if (sam_mesh_ply_misread(h))
                     st = rewrite_ply(path, data, size, h, expect, err);
             }
+            if (st == SAM_OK)
+                st = sam_mesh_ply_colors(path, data, size, h, &expect->vertex_colors, err);
             expect->known = st == SAM_OK;
             goto done;
         } else if (count == 3 && sam_mesh_token_is(tok[0], len[0], "element")) {
@@ -569,6 +571,60 @@ static float token_float(const char *tok, int len)
     return strtof(buf, NULL);
 }
 
+/* The colours of an OBJ's "v x y z r g b" lines (MeshLab's, ZBrush's and
+ * many scanners'), gathered into expect->vertex_colors (freed with it)
+ * while every vertex so far has one. */
+typedef struct obj_colors {
+    size_t cap; /* floats */
+    int ok;
+    float max;
+} obj_colors;
+
+/* Takes vertex `nv`'s colour from its line's tokens (`count` with the
+ * "v"); 0 when out of memory. */
+static int obj_color(obj_colors *c, sam_mesh_expect *e, unsigned long long nv, const char *const *tok,
+                     const int *len, int count)
+{
+    if (!c->ok)
+        return 1;
+    int numbers = count == 7;
+    for (int i = 4; numbers && i < 7; ++i)
+        numbers = sam_mesh_token_number(tok[i], len[i]) > 0;
+    if (!numbers) {
+        c->ok = 0;
+        return 1;
+    }
+    if (3 * (nv + 1) > c->cap) {
+        const size_t cap = c->cap ? 2 * c->cap : 3 * 1024;
+        float *grown = realloc(e->vertex_colors, cap * sizeof *grown);
+        if (!grown)
+            return 0;
+        e->vertex_colors = grown, c->cap = cap;
+    }
+    for (int k = 0; k < 3; ++k) {
+        const float x = token_float(tok[4 + k], len[4 + k]);
+        e->vertex_colors[3 * nv + (unsigned)k] = x;
+        c->max = x > c->max ? x : c->max;
+    }
+    return 1;
+}
+
+/* Keeps the colours when every one of the `nv` vertices has one, scaled to
+ * [0, 1] (values past 1 mean the file wrote bytes); drops them otherwise. */
+static void obj_colors_finish(const obj_colors *c, unsigned long long nv, sam_mesh_expect *e)
+{
+    if (!c->ok || !nv) {
+        free(e->vertex_colors);
+        e->vertex_colors = NULL;
+        return;
+    }
+    const float scale = c->max > 1.0f ? 1.0f / 255.0f : 1.0f;
+    for (size_t i = 0; i < 3 * nv; ++i) {
+        const float x = e->vertex_colors[i] * scale;
+        e->vertex_colors[i] = x > 1.0f ? 1.0f : x > 0.0f ? x : 0.0f;
+    }
+}
+
 static sam_status walk_obj(const char *path, const char *data, size_t size, sam_mesh_expect *expect, sam_error *err)
 {
     sam_status st = sam_mesh_check_text(path, "OBJ", data, size, err);
@@ -578,6 +634,7 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
     const char *line, *eol;
     unsigned long long nv = 0, nt = 0, nn = 0;
     sam_mesh_obj_gather g = {1, 0, 0, 0, 0, 0, 0};
+    obj_colors colors = {0, 1, 0.0f};
     while (sam_mesh_text_next_line(&c, &line, &eol)) {
         const char *tok[16];
         int len[16];
@@ -602,6 +659,8 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
                     return sam_fail(err, SAM_ERR_FORMAT, "%s: OBJ line %d: \"%.*s\" %s", path, c.line_no,
                                     len[i] < 40 ? len[i] : 40, tok[i], kind < 0 ? SAM_MESH_NOT_A_FLOAT : "is not a valid number");
             }
+            if (counter == &nv && !obj_color(&colors, expect, nv, tok, len, count))
+                return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's vertex colours", path);
             if (counter == &nn) {
                 const float v[3] = {token_float(tok[1], len[1]), token_float(tok[2], len[2]),
                                     token_float(tok[3], len[3])};
@@ -658,6 +717,7 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
             return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's corners", path);
     }
     sam_mesh_obj_gather_finish(expect, &g);
+    obj_colors_finish(&colors, nv, expect);
     expect->known = 1;
     expect->vertices = nv;
     expect->faces = expect->file_faces - expect->repeated_corner_faces;

@@ -25,6 +25,7 @@ typedef struct sam_mesh_soup {
     uint32_t *corners;      /* vertex index per face corner, < vertex_count */
     float *corner_uvs;      /* 2 * corner_count per-corner UVs (OBJ vt), or NULL */
     float *corner_normals;  /* 3 * corner_count per-corner normals (OBJ vn), or NULL; before `normals` */
+    float *colors;          /* 3 * vertex_count linear RGB in [0, 1] (glTF COLOR_0), or NULL */
 } sam_mesh_soup;
 
 /* Reads OBJ, PLY (ASCII/binary), OFF or STL through OpenMesh's readers into
@@ -49,7 +50,8 @@ void sam_mesh_soup_free(sam_mesh_soup *soup);
  * primitive reached from the default scene (every mesh once when the file
  * has no scene), node transforms applied (a mirroring one turns the
  * winding back), NORMAL when every primitive has it, TEXCOORD_0 with v
- * flipped to the project's (OBJ's) convention when every primitive has it.
+ * flipped to the project's (OBJ's) convention when every primitive has it,
+ * COLOR_0's RGB when any primitive has it (white where one has not).
  * Points and lines are skipped. Every accessor, buffer view, index and
  * node reference is checked against what the file holds before it is
  * read. Every exception is caught.
@@ -101,6 +103,10 @@ typedef struct sam_mesh_expect {
      * corners in file order. Owned; NULL when the file has none. */
     float *corner_uvs;
     uint32_t corner_uv_count;
+    /* The vertices' colours, as a PLY's red, green and blue or an OBJ's
+     * "v x y z r g b" give them (sRGB-encoded, scaled to [0, 1]): 3 *
+     * vertices floats. Owned; NULL when not every vertex has one. */
+    float *vertex_colors;
 } sam_mesh_expect;
 
 void sam_mesh_expect_free(sam_mesh_expect *expect);

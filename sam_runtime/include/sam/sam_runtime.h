@@ -525,6 +525,18 @@ sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *view, sam
  * larger than the GL's texture limit). */
 sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam_error *err);
 
+/* Sets the vertex colours (linear RGB, 3 * count floats, copied to the
+ * GPU) that multiply the albedo and its map in sam_runtime_render, or
+ * clears them with NULL. They come in the order of the mesh the map was
+ * built from (its file's vertices, or an engine's: the map's SRCV, as
+ * sam_mesh_load_vertex_colors gives them), count being that mesh's vertex
+ * count; a map without SRCV takes them in its own order, count its vertex
+ * count. Values are clamped to [0, 1]. The engine translucency buffer
+ * (sam_runtime_engine_translucency) does not hold them: an engine
+ * multiplies by its own colours. Errors: SAM_ERR_INVALID_ARGUMENT (a NULL
+ * runtime, another count), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_set_vertex_colors(sam_runtime *rt, const float *rgb, uint32_t count, sam_error *err);
+
 /* 1 when texture-space diffusion can run: the .sam has UVs whose charts,
  * moved into [0, 1]^2 when they reach past it (sam_uv_fit_atlas), do not
  * overlap (sam_uv_check at 1024^2). Otherwise 0, and `reason` (size n, may

@@ -26,10 +26,16 @@ extern "C" {
  * map on a mesh without UVs), else "".
  * Without an "albedo_map" the mesh file's own texture is used, if it
  * brings one (sam_mesh_load_albedo); one it names but that cannot be read
- * is a warning.
+ * is a warning. Unless "vertex_colors" is false, the mesh file's vertex
+ * colours are set too (sam_mesh_load_vertex_colors,
+ * sam_runtime_set_vertex_colors); colours of another vertex count than
+ * the map's mesh (a map without SRCV) are a warning, added after any
+ * other with "; ".
  * Errors: those of sam_image_read_exr / sam_image_read_picture (naming the
- * file), sam_mesh_load_albedo, sam_light_sh9_from_latlong, sam_runtime_set_lights,
- * sam_runtime_set_deformers and sam_runtime_set_albedo_map. */
+ * file), sam_mesh_load_albedo, sam_mesh_load_vertex_colors,
+ * sam_light_sh9_from_latlong, sam_runtime_set_lights,
+ * sam_runtime_set_deformers, sam_runtime_set_albedo_map and
+ * sam_runtime_set_vertex_colors (but its SAM_ERR_INVALID_ARGUMENT). */
 sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, float sh[9][3], int *has_environment,
                                    char *warning, size_t n, sam_error *err);
 
