@@ -2,9 +2,10 @@
  * libFuzzer target for the mesh loader. OpenMesh and TinyGLTF read from
  * files, so each input is written to a private temporary file; its first
  * byte picks the extension (and so the reader: 0 OBJ, 1 PLY, 2 OFF, 3 STL,
- * 4 glTF, 5 GLB, modulo 6) and the rest is the content. The albedo and
- * vertex colour readers take the same file: a glTF's embedded images reach
- * stb_image through the first; every colour must come out in [0, 1].
+ * 4 glTF, 5 GLB, modulo 6) and the rest is the content. The albedo, albedo
+ * maps and vertex colour readers take the same file: a glTF's embedded
+ * images reach stb_image through them; every face must read a map there
+ * is, every colour come out in [0, 1].
  */
 #include "fuzz_input_file.h"
 
@@ -43,6 +44,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (albedo.pixels && (albedo.width == 0 || albedo.height == 0))
             abort();
         sam_image_destroy(&albedo);
+    }
+    sam_albedo_maps maps;
+    if (sam_mesh_load_albedo_maps(path, &maps, note, sizeof note, &err) == SAM_OK) {
+        for (uint32_t f = 0; f < maps.face_count; ++f)
+            if (maps.face_map[f] >= maps.map_count && maps.face_map[f] != SAM_ALBEDO_NO_MAP)
+                abort();
+        sam_albedo_maps_destroy(&maps);
     }
     float *colors = NULL;
     uint32_t color_count = 0;

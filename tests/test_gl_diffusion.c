@@ -17,6 +17,7 @@
 #include <cmocka.h>
 
 #include "sam/sam_build.h"
+#include "sam/sam_mesh.h"
 #include "sam/sam_runtime.h"
 #include "sam_test.h"
 
@@ -447,9 +448,10 @@ static double worst_relative(const sam_image *plain, const sam_image *other)
 }
 
 /* Under uniform light, an albedo of 0.25 on the plane's z > 0 half (the
- * image's bottom) and 0.9 on the other comes out at that ratio away from
- * the edge, without diffusion and in texture space. */
-static void assert_two_tone(sam_runtime *rt, sam_render_view *view, const char *what)
+ * image's bottom) and 0.9 on the other comes out at their ratio away from
+ * the edge, without diffusion and in texture space; `ratio` is that of
+ * the values the albedo holds. */
+static void assert_two_tone(sam_runtime *rt, sam_render_view *view, const char *what, double ratio)
 {
     for (int mode = 0; mode <= 3; mode += 3) {
         sam_image img;
@@ -458,9 +460,8 @@ static void assert_two_tone(sam_runtime *rt, sam_render_view *view, const char *
         /* The plane spans 40 mm over about 79 pixels; rows 20 and 76 are
          * 14 mm from the edge, beyond the skin profile's reach. */
         double top = img.pixels[4 * (20 * 96 + 48)], bottom = img.pixels[4 * (76 * 96 + 48)];
-        printf("diffusion %d: two-tone %s, bottom / top %.4f (albedo ratio 0.25 / 0.9 = %.4f)\n", mode, what,
-               bottom / top, 0.25 / 0.9);
-        assert_true(fabs(bottom / top - 0.25 / 0.9) < 0.01 * 0.25 / 0.9);
+        printf("diffusion %d: two-tone %s, bottom / top %.4f (albedo ratio %.4f)\n", mode, what, bottom / top, ratio);
+        assert_true(fabs(bottom / top - ratio) < 0.01 * ratio);
         sam_image_destroy(&img);
     }
 }
@@ -505,7 +506,77 @@ static void test_albedo_map(void **state)
             map.pixels[y * 8 * 3 + i] = 0.25f;
     assert_int_equal(sam_runtime_set_albedo_map(rt, &map, &err), SAM_OK);
     sam_image_destroy(&map);
-    assert_two_tone(rt, &view, "map");
+    assert_two_tone(rt, &view, "map", 0.25 / 0.9);
+    sam_runtime_destroy(rt);
+    samfile_free(&d);
+}
+
+/* Several maps, each on its own triangles: maps of different sizes (one
+ * array layer each, resampled) come out at their own albedo away from the
+ * boundary between them; a map with no pixels, or a triangle reading
+ * none, is white; a triangle count or map index the runtime cannot take
+ * is refused; sam_runtime_set_albedo_map clears them. */
+static void test_albedo_maps(void **state)
+{
+    (void)state;
+    sam_profile profile;
+    samfile_data d;
+    sam_runtime *rt = lit_plane(UV_UNIT, &profile, &d);
+    sam_error err;
+    sam_render_view view;
+    look(&view, 96, 40.0f, (float[3]){0, 40, 0.01f}, (float[3]){0, 0, 0}, (float[3]){0, 0, -1});
+    sam_image maps[3];
+    const float tone[2] = {0.9f, 0.25f};
+    for (int m = 0; m < 2; ++m) {
+        assert_int_equal(sam_image_create(&maps[m], 8 >> (2 * m), 8 >> m, 3, &err), SAM_OK);
+        for (size_t i = 0; i < (size_t)maps[m].width * maps[m].height * 3; ++i)
+            maps[m].pixels[i] = tone[m];
+    }
+    memset(&maps[2], 0, sizeof maps[2]);
+    const uint32_t nt = d.triangle_count;
+    uint32_t *tri = malloc(nt * sizeof *tri);
+    assert_non_null(tri);
+    /* z > 0 (the image's bottom) reads map 1. */
+    for (uint32_t t = 0; t < nt; ++t) {
+        float z = 0;
+        for (int k = 0; k < 3; ++k)
+            z += d.positions[3 * d.triangles[3 * t + (uint32_t)k] + 2];
+        tri[t] = z > 0 ? 1 : 0;
+    }
+    assert_int_equal(sam_runtime_set_albedo_maps(rt, maps, 2, tri, nt - 1, &err), SAM_ERR_INVALID_ARGUMENT);
+    printf("%s\n", err.message);
+    tri[0] = 2;
+    assert_int_equal(sam_runtime_set_albedo_maps(rt, maps, 2, tri, nt, &err), SAM_ERR_INVALID_ARGUMENT);
+    printf("%s\n", err.message);
+    tri[0] = 0;
+    assert_int_equal(sam_runtime_set_albedo_maps(rt, maps, 2, tri, nt, &err), SAM_OK);
+    /* Held as sRGB bytes, as the 8-bit textures they come from. */
+    const double q9 = sam_srgb_to_linear(roundf(sam_linear_to_srgb(0.9f) * 255) / 255),
+                 q25 = sam_srgb_to_linear(roundf(sam_linear_to_srgb(0.25f) * 255) / 255);
+    assert_two_tone(rt, &view, "maps", q25 / q9);
+    /* The bottom white (no map, an empty map), the top 0.9: uniform 0.9
+     * from the view's albedo and a constant map below gives the same. */
+    for (int none = 0; none < 2; ++none) {
+        for (uint32_t t = 0; t < nt; ++t)
+            tri[t] = tri[t] ? (none ? SAM_ALBEDO_NO_MAP : 2) : 0;
+        assert_int_equal(sam_runtime_set_albedo_maps(rt, maps, 3, tri, nt, &err), SAM_OK);
+        sam_image img;
+        view.diffusion = 0;
+        render(rt, &view, &img);
+        const double top = img.pixels[4 * (20 * 96 + 48)], bottom = img.pixels[4 * (76 * 96 + 48)];
+        printf("%s: bottom / top %.4f (white / 0.9 as a byte = %.4f)\n", none ? "no map" : "an empty map",
+               bottom / top, 1 / q9);
+        assert_true(fabs(bottom / top - 1 / q9) < 0.01 / q9);
+        sam_image_destroy(&img);
+    }
+    assert_int_equal(sam_runtime_set_albedo_map(rt, NULL, &err), SAM_OK);
+    sam_image flat;
+    render(rt, &view, &flat);
+    assert_true(fabs(flat.pixels[4 * (76 * 96 + 48)] / flat.pixels[4 * (20 * 96 + 48)] - 1) < 1e-3);
+    sam_image_destroy(&flat);
+    for (int m = 0; m < 2; ++m)
+        sam_image_destroy(&maps[m]);
+    free(tri);
     sam_runtime_destroy(rt);
     samfile_free(&d);
 }
@@ -568,7 +639,7 @@ static void test_vertex_colors(void **state)
         for (int c = 0; c < 3; ++c)
             rgb[3 * (nv - 1 - v) + (uint32_t)c] = d.positions[3 * v + 2] > 0 ? 0.25f : 0.9f;
     assert_int_equal(sam_runtime_set_vertex_colors(rt, rgb, nv, &err), SAM_OK);
-    assert_two_tone(rt, &view, "vertex colours");
+    assert_two_tone(rt, &view, "vertex colours", 0.25 / 0.9);
     free(rgb);
     sam_runtime_destroy(rt);
     samfile_free(&d);
@@ -815,6 +886,7 @@ int main(void)
         cmocka_unit_test(test_optimizations_match),
         cmocka_unit_test(test_albedo_map),
         cmocka_unit_test(test_vertex_colors),
+        cmocka_unit_test(test_albedo_maps),
         cmocka_unit_test(test_overlapping_uvs_refused),
         cmocka_unit_test(test_uvs_past_the_square),
         cmocka_unit_test(test_tiled_albedo_repeats),

@@ -1791,6 +1791,88 @@ static void test_vertex_colors(void **state)
     remove(path);
 }
 
+/* The cube's six quads, each after a usemtl line of `uses` (6 names). */
+static void write_cube_materials(char *path, size_t n, const char *const uses[6])
+{
+    char obj[4096];
+    int len = snprintf(obj, sizeof obj, "mtllib materials.mtl\n");
+    const char *v = cube_obj, *f = strstr(cube_obj, "\nf ") + 1;
+    len += snprintf(obj + len, sizeof obj - (size_t)len, "%.*s", (int)(f - v), v);
+    for (int k = 0; k < 6; ++k) {
+        const char *end = strchr(f, '\n') + 1;
+        len += snprintf(obj + len, sizeof obj - (size_t)len, "usemtl %s\n%.*s", uses[k], (int)(end - f), f);
+        f = end;
+    }
+    write_tmp(path, n, "materials.obj", obj);
+}
+
+/* An OBJ whose faces' materials read several textures gives a map per
+ * distinct texture file and each face's (none for a colour-only
+ * material), in the order sam_mesh.face_of_triangle numbers the faces:
+ * each quad's two triangles read its map. One texture on every face
+ * needs no maps (sam_mesh_load_albedo's), nor does a texture that
+ * cannot be read leave anything but white. */
+static void test_albedo_maps(void **state)
+{
+    (void)state;
+    sam_error err;
+    char path[512], png[512], mtl[512], note[2304];
+    const float tones[2] = {0.5f, 0.25f};
+    const char *const names[2] = {"skin.png", "eyes.png"};
+    for (int k = 0; k < 2; ++k) {
+        sam_image image;
+        assert_int_equal(sam_image_create(&image, 2 + 2 * (uint32_t)k, 2, 3, &err), SAM_OK);
+        for (size_t i = 0; i < (size_t)image.width * image.height * 3; ++i)
+            image.pixels[i] = tones[k];
+        assert_int_equal(sam_image_write_png(sam_test_tmp_path(png, sizeof png, names[k]), &image, SAM_PNG_SRGB,
+                                             &err), SAM_OK);
+        sam_image_destroy(&image);
+    }
+    write_tmp(mtl, sizeof mtl, "materials.mtl",
+              "newmtl skin\nmap_Kd skin.png\nnewmtl lips\nmap_Kd -s 1 1 1 skin.png\nnewmtl eyes\nmap_Kd eyes.png\n"
+              "newmtl teeth\nKd 1 1 1\nnewmtl broken\nmap_Kd missing.png\n");
+    const char *const uses[6] = {"skin", "eyes", "teeth # a comment", "lips", "eyes", "skin"};
+    write_cube_materials(path, sizeof path, uses);
+    sam_albedo_maps maps;
+    assert_int_equal(sam_mesh_load_albedo_maps(path, &maps, note, sizeof note, &err), SAM_OK);
+    assert_string_equal(note, "");
+    assert_int_equal(maps.map_count, 2);
+    assert_int_equal(maps.face_count, 6);
+    const uint32_t want[6] = {0, 1, SAM_ALBEDO_NO_MAP, 0, 1, 0};
+    assert_memory_equal(maps.face_map, want, sizeof want);
+    for (uint32_t m = 0; m < 2; ++m) {
+        assert_int_equal(maps.maps[m].width, 2 + 2 * m);
+        assert_float_equal(maps.maps[m].pixels[0], sam_srgb_to_linear(sam_linear_to_srgb(tones[m])), 0.01f);
+    }
+    sam_mesh mesh;
+    assert_int_equal(sam_mesh_load(path, &mesh, NULL, &err), SAM_OK);
+    assert_int_equal(mesh.face_count, 6);
+    assert_int_equal(mesh.triangle_count, 12);
+    for (uint32_t t = 0; t < 12; ++t)
+        assert_int_equal(mesh.face_of_triangle[t], t / 2);
+    sam_mesh_destroy(&mesh);
+    sam_albedo_maps_destroy(&maps);
+
+    /* One texture everywhere (two materials naming it): no maps. */
+    const char *const one[6] = {"skin", "lips", "skin", "lips", "skin", "skin"};
+    write_cube_materials(path, sizeof path, one);
+    assert_int_equal(sam_mesh_load_albedo_maps(path, &maps, note, sizeof note, &err), SAM_OK);
+    assert_int_equal(maps.map_count, 0);
+    assert_null(maps.face_map);
+
+    /* A texture that cannot be read: its faces white, and a note. */
+    const char *const broken[6] = {"skin", "broken", "skin", "skin", "skin", "skin"};
+    write_cube_materials(path, sizeof path, broken);
+    assert_int_equal(sam_mesh_load_albedo_maps(path, &maps, note, sizeof note, &err), SAM_OK);
+    printf("%s\n", note);
+    assert_non_null(strstr(note, "the texture of material broken cannot be used"));
+    assert_int_equal(maps.map_count, 2);
+    assert_non_null(maps.maps[0].pixels);
+    assert_null(maps.maps[1].pixels);
+    sam_albedo_maps_destroy(&maps);
+    remove(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1803,6 +1885,7 @@ int main(void)
         cmocka_unit_test(test_ply_texture_file),
         cmocka_unit_test(test_obj_other_materials_textures),
         cmocka_unit_test(test_vertex_colors),
+        cmocka_unit_test(test_albedo_maps),
         cmocka_unit_test(test_obj_as_other_tools_write_it),
         cmocka_unit_test(test_body_leaves_out_loose_specks),
         cmocka_unit_test(test_open_sheet_rings_and_fan_areas),

@@ -47,31 +47,44 @@ static void base64(const uint8_t *in, size_t n, char *out)
     out[o] = '\0';
 }
 
-/* Writes NAME.gltf: the tetrahedron's buffer, and `nodes`, `primitive`
- * (its mode and indices) and `scene` spliced into the JSON. Returns the
- * path in `path`. */
-static void write_gltf(char *path, size_t n, const char *name, const char *nodes, const char *primitive,
-                       const char *accessors_extra, const char *scene)
+/* Writes NAME.gltf: the tetrahedron's buffer with its three views
+ * (positions, UVs, indices; `views` adds more after them) and accessors 0
+ * to 2 over them (`accessors` adds more), and `body` (the scene, nodes,
+ * meshes...) spliced into the JSON. Returns the path in `path`. */
+static void write_tetra(char *path, size_t n, const char *name, const char *body, const char *views,
+                        const char *accessors)
 {
     char data[256];
     base64((const uint8_t *)&k_tetra, sizeof k_tetra, data);
     char json[4096];
     snprintf(json, sizeof json,
-             "{\"asset\": {\"version\": \"2.0\"}, %s"
-             "\"nodes\": [%s], \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1}%s}]}],"
+             "{\"asset\": {\"version\": \"2.0\"}, %s,"
              "\"buffers\": [{\"byteLength\": %zu, \"uri\": \"data:application/octet-stream;base64,%s\"}],"
              "\"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},"
              " {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 32},"
-             " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12}],"
+             " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12}%s],"
              "\"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\","
              " \"min\": [0, 0, 0], \"max\": [1, 1, 1]},"
              " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
              " {\"bufferView\": 2, \"componentType\": 5121, \"count\": 12, \"type\": \"SCALAR\"}%s]}",
-             scene, nodes, primitive, sizeof k_tetra, data, accessors_extra);
+             body, sizeof k_tetra, data, views, accessors);
     char file[128];
     snprintf(file, sizeof file, "%s.gltf", name);
     sam_test_tmp_path(path, n, file);
     sam_test_write_text(path, json);
+}
+
+/* write_tetra with one mesh of one primitive: `nodes`, `primitive` (its
+ * mode and indices) and `scene` spliced in. */
+static void write_gltf(char *path, size_t n, const char *name, const char *nodes, const char *primitive,
+                       const char *accessors_extra, const char *scene)
+{
+    char body[1024];
+    snprintf(body, sizeof body,
+             "%s \"nodes\": [%s], \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, "
+             "\"TEXCOORD_0\": 1}%s}]}]",
+             scene, nodes, primitive);
+    write_tetra(path, n, name, body, "", accessors_extra);
 }
 
 static const char *k_scene = "\"scene\": 0, \"scenes\": [{\"nodes\": [0]}],";
@@ -399,23 +412,17 @@ static void test_texture_transform(void **state)
 static void test_vertex_colors(void **state)
 {
     (void)state;
-    char data[256], json[4096], path[512], note[256];
-    base64((const uint8_t *)&k_tetra, sizeof k_tetra, data);
+    char body[1024], accessor[128], path[512], note[256];
     static const char *const colour[] = {"\"VEC3\", \"count\": 4", "\"VEC4\", \"count\": 3"};
     for (int bad = 0; bad < 2; ++bad) {
-        snprintf(json, sizeof json,
-                 "{\"asset\": {\"version\": \"2.0\"}, %s \"nodes\": [{\"mesh\": 0}],"
-                 "\"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"COLOR_0\": 3}, \"indices\": 2},"
-                 " {\"attributes\": {\"POSITION\": 0}, \"indices\": 2}]}],"
-                 "\"buffers\": [{\"byteLength\": %zu, \"uri\": \"data:application/octet-stream;base64,%s\"}],"
-                 "\"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},"
-                 " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12}],"
-                 "\"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\","
-                 " \"min\": [0, 0, 0], \"max\": [1, 1, 1]}, {\"bufferView\": 0, \"componentType\": 5126, \"count\": 4,"
-                 " \"type\": \"VEC3\"}, {\"bufferView\": 1, \"componentType\": 5121, \"count\": 12, \"type\": \"SCALAR\"},"
-                 " {\"bufferView\": 0, \"componentType\": 5126, \"type\": %s}]}",
-                 k_scene, sizeof k_tetra, data, colour[bad]);
-        sam_test_write_text(sam_test_tmp_path(path, sizeof path, "colors.gltf"), json);
+        snprintf(body, sizeof body,
+                 "%s \"nodes\": [{\"mesh\": 0}], \"meshes\": [{\"primitives\": [{\"attributes\": "
+                 "{\"POSITION\": 0, \"COLOR_0\": 3}, \"indices\": 2}, {\"attributes\": {\"POSITION\": 0}, "
+                 "\"indices\": 2}]}]",
+                 k_scene);
+        snprintf(accessor, sizeof accessor, ", {\"bufferView\": 0, \"componentType\": 5126, \"type\": %s}",
+                 colour[bad]);
+        write_tetra(path, sizeof path, "colors", body, "", accessor);
         float *rgb = NULL;
         uint32_t count = 0;
         sam_error err;
@@ -450,25 +457,15 @@ static void test_vertex_colors(void **state)
 static void test_image_view_past_buffer(void **state)
 {
     (void)state;
-    char data[256], json[4096], path[512], note[2304];
-    base64((const uint8_t *)&k_tetra, sizeof k_tetra, data);
-    snprintf(json, sizeof json,
-             "{\"asset\": {\"version\": \"2.0\"}, %s \"nodes\": [{\"mesh\": 0}],"
-             "\"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1}, \"indices\": 2,"
-             " \"material\": 0}]}],"
+    char body[1024], path[512], note[2304];
+    snprintf(body, sizeof body,
+             "%s \"nodes\": [{\"mesh\": 0}], \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, "
+             "\"TEXCOORD_0\": 1}, \"indices\": 2, \"material\": 0}]}],"
              "\"materials\": [{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}],"
-             "\"textures\": [{\"source\": 0}], \"images\": [{\"bufferView\": 3, \"mimeType\": \"image/png\"}],"
-             "\"buffers\": [{\"byteLength\": %zu, \"uri\": \"data:application/octet-stream;base64,%s\"}],"
-             "\"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},"
-             " {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 32},"
-             " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12},"
-             " {\"buffer\": 0, \"byteOffset\": 88, \"byteLength\": 4000}],"
-             "\"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\","
-             " \"min\": [0, 0, 0], \"max\": [1, 1, 1]},"
-             " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
-             " {\"bufferView\": 2, \"componentType\": 5121, \"count\": 12, \"type\": \"SCALAR\"}]}",
-             k_scene, sizeof k_tetra, data);
-    sam_test_write_text(sam_test_tmp_path(path, sizeof path, "image_past.gltf"), json);
+             "\"textures\": [{\"source\": 0}], \"images\": [{\"bufferView\": 3, \"mimeType\": \"image/png\"}]",
+             k_scene);
+    write_tetra(path, sizeof path, "image_past", body, ", {\"buffer\": 0, \"byteOffset\": 88, \"byteLength\": 4000}",
+                "");
     sam_image image;
     sam_error err;
     assert_int_equal(sam_mesh_load_albedo(path, &image, note, sizeof note, &err), SAM_OK);
@@ -478,6 +475,37 @@ static void test_image_view_past_buffer(void **state)
     sam_mesh m;
     load_ok(path, &m);
     sam_mesh_destroy(&m);
+    remove(path);
+}
+
+/* Primitives of different materials read different maps: each used
+ * material's base colour (here a factor alone, as 1 x 1), faces of a
+ * primitive without a material none, in the soup's face order. */
+static void test_albedo_maps(void **state)
+{
+    (void)state;
+    char body[1024], path[512], note[256];
+    snprintf(body, sizeof body,
+             "%s \"nodes\": [{\"mesh\": 0}], \"meshes\": [{\"primitives\": ["
+             "{\"attributes\": {\"POSITION\": 0}, \"indices\": 2, \"material\": 1},"
+             " {\"attributes\": {\"POSITION\": 0}, \"indices\": 2, \"material\": 0},"
+             " {\"attributes\": {\"POSITION\": 0}, \"indices\": 2}]}],"
+             "\"materials\": [{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.5, 0.25, 1, 1]}}, {}]",
+             k_scene);
+    write_tetra(path, sizeof path, "materials", body, "", "");
+    sam_albedo_maps maps;
+    sam_error err;
+    assert_int_equal(sam_mesh_load_albedo_maps(path, &maps, note, sizeof note, &err), SAM_OK);
+    assert_int_equal(maps.map_count, 2);
+    assert_int_equal(maps.face_count, 12);
+    for (uint32_t f = 0; f < 12; ++f)
+        assert_int_equal(maps.face_map[f], f < 4 ? 1u : f < 8 ? 0u : SAM_ALBEDO_NO_MAP);
+    const float factor[3] = {0.5f, 0.25f, 1.0f};
+    for (uint32_t c = 0; c < 3; ++c) {
+        assert_float_equal(maps.maps[0].pixels[c], factor[c], 0.0f);
+        assert_float_equal(maps.maps[1].pixels[c], 1.0f, 0.0f);
+    }
+    sam_albedo_maps_destroy(&maps);
     remove(path);
 }
 
@@ -494,6 +522,7 @@ int main(void)
         cmocka_unit_test(test_buffer_naming_a_directory),
         cmocka_unit_test(test_vertex_colors),
         cmocka_unit_test(test_image_view_past_buffer),
+        cmocka_unit_test(test_albedo_maps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

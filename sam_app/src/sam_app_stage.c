@@ -313,14 +313,25 @@ sam_status sam_app_stage_scene(const char *mesh_path, const char *material, cons
      * say which, as every assumption is said. One that cannot be used is its
      * warning. */
     sam_image albedo;
+    sam_albedo_maps maps;
     char texture[2304]; /* a texture path, the mesh's, and a count of other textures */
     sam_error albedo_err;
-    if (st == SAM_OK && sam_mesh_load_albedo(mesh_path, &albedo, texture, sizeof texture, &albedo_err) == SAM_OK &&
-        albedo.pixels)
+    if (st == SAM_OK && sam_mesh_load_albedo_maps(mesh_path, &maps, texture, sizeof texture, &albedo_err) == SAM_OK &&
+        maps.map_count) {
+        uint32_t white = 0;
+        for (uint32_t f = 0; f < maps.face_count; ++f)
+            white += maps.face_map[f] == SAM_ALBEDO_NO_MAP;
+        note(notes, "albedo maps: %u of the materials of %s, each on its own faces%s, times the albedo (a scene's "
+                    "\"albedo_map\" replaces them)",
+             maps.map_count, mesh_path, white ? " (faces without one white)" : "");
+        sam_albedo_maps_destroy(&maps);
+    } else if (st == SAM_OK &&
+               sam_mesh_load_albedo(mesh_path, &albedo, texture, sizeof texture, &albedo_err) == SAM_OK &&
+               albedo.pixels) {
         note(notes, "albedo map: %s, %ux%u, times the albedo (a scene's \"albedo_map\" replaces it)", texture,
              albedo.width, albedo.height);
-    if (st == SAM_OK)
         sam_image_destroy(&albedo);
+    }
     float *colors = NULL;
     uint32_t color_count = 0;
     if (st == SAM_OK &&

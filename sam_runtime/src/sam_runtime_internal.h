@@ -43,7 +43,7 @@
 #define MAX_FLAT_SHADOWS 4
 #define CUBE_SHADOW_SIZE 512
 #define FLAT_SHADOW_SIZE 1024
-/* Texture units: the shadow maps take 0..7, then these (23 in all: GL 4.3
+/* Texture units: the shadow maps take 0..7, then these (25 in all: GL 4.3
  * promises 16 per stage, llvmpipe and desktop GPUs give 32). Every sampler
  * of a program gets its own unit, used or not: GL rejects a draw with two
  * sampler types on one unit. */
@@ -56,6 +56,8 @@
 #define UNIT_TSM_CUBE (UNIT_TSM_FLAT + 1)
 #define UNIT_LEVELS (UNIT_TSM_CUBE + 1)
 #define UNIT_STRETCH (UNIT_LEVELS + 1)
+#define UNIT_ALBEDO_ARRAY (UNIT_STRETCH + 1)  /* the albedo maps of a file with several */
+#define UNIT_TRIANGLE_MAP (UNIT_STRETCH + 2)  /* which of them each triangle reads */
 
 /* Where a pass's translucency comes from (technique.glsl's TECHNIQUE_*).
  * TSM passes NONE here: its light is added after the texture-space blur.
@@ -96,6 +98,9 @@ typedef struct sam_rt_surface {
     float roughness, rho_s, environment_rho_dt;
     float rho_table[RHO_SIZE * RHO_SIZE];
     GLuint albedo_tex;
+    /* Several maps (sam_runtime_set_albedo_maps): a 2D array texture, and
+     * per triangle its layer (a buffer texture of uints); 0 without. */
+    GLuint albedo_array, triangle_map_buffer, triangle_map_tex;
     GLuint color_buffer; /* vec4 per vertex, the vertex array's attribute 3; 0 without vertex colours */
     /* The .sam's vertex_source (SRCV), the order vertex colours come in;
      * NULL when the map has none (then they come in the map's order). */

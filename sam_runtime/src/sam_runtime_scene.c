@@ -15,6 +15,16 @@ static void set_warning(char *warning, size_t n, const char *text)
         snprintf(warning, n, "%s", text);
 }
 
+/* Appends `text` to `warning` (size n, may be NULL), after "; " when it
+ * holds one already. */
+static void add_warning(char *warning, size_t n, const char *text)
+{
+    if (!warning || !n)
+        return;
+    const size_t used = strlen(warning);
+    snprintf(warning + used, n - used, "%s%s", used ? "; " : "", text);
+}
+
 /* The mesh file's vertex colours, if it has any. Colours the map cannot
  * take (a map built from another mesh than the scene names) are a
  * warning, added to what `warning` holds, not an error. */
@@ -26,13 +36,56 @@ static sam_status set_vertex_colors(sam_runtime *rt, const char *mesh_path, char
     sam_status st = sam_mesh_load_vertex_colors(mesh_path, &rgb, &count, note, sizeof note, err);
     sam_error why;
     const sam_status set = st == SAM_OK && rgb ? sam_runtime_set_vertex_colors(rt, rgb, count, &why) : SAM_OK;
-    if (set == SAM_ERR_INVALID_ARGUMENT && warning && n) {
-        const size_t used = strlen(warning);
-        snprintf(warning + used, n - used, "%s%s ignored: %s", used ? "; " : "", note, why.message);
+    if (set == SAM_ERR_INVALID_ARGUMENT) {
+        char text[2304 + SAM_ERROR_MESSAGE_SIZE + 16];
+        snprintf(text, sizeof text, "%s ignored: %s", note, why.message);
+        add_warning(warning, n, text);
     } else if (set != SAM_OK && set != SAM_ERR_INVALID_ARGUMENT) {
         st = sam_fail(err, set, "%s", why.message);
     }
     free(rgb);
+    return st;
+}
+
+/* The albedo maps of a mesh file whose faces read several
+ * (sam_mesh_load_albedo_maps), each on its triangles: *several is 1 when
+ * the file has them, set or left out with a warning. The mesh is loaded
+ * for its triangles' faces: the map's triangles are its own, in order. */
+static sam_status set_albedo_maps(sam_runtime *rt, const char *mesh_path, int *several, char *warning, size_t n,
+                                  sam_error *err)
+{
+    sam_albedo_maps maps;
+    char note[2304];
+    sam_status st = sam_mesh_load_albedo_maps(mesh_path, &maps, note, sizeof note, err);
+    *several = st == SAM_OK && maps.map_count;
+    if (!*several)
+        return st;
+    if (note[0])
+        add_warning(warning, n, note);
+    sam_mesh mesh;
+    uint32_t *triangle_map = NULL;
+    if ((st = sam_mesh_load(mesh_path, &mesh, NULL, err)) == SAM_OK &&
+        !(triangle_map = malloc(((size_t)mesh.triangle_count + 1) * sizeof *triangle_map)))
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %u triangles", mesh_path,
+                      mesh.triangle_count);
+    for (uint32_t t = 0; st == SAM_OK && t < mesh.triangle_count; ++t) {
+        const uint32_t f = mesh.face_of_triangle[t];
+        triangle_map[t] = f < maps.face_count ? maps.face_map[f] : SAM_ALBEDO_NO_MAP;
+    }
+    sam_error why;
+    const sam_status set = st == SAM_OK ? sam_runtime_set_albedo_maps(rt, maps.maps, maps.map_count, triangle_map,
+                                                                      mesh.triangle_count, &why)
+                                        : SAM_OK;
+    if (set == SAM_ERR_INVALID_ARGUMENT || set == SAM_ERR_UNSUPPORTED) {
+        char text[2304];
+        snprintf(text, sizeof text, "the %u albedo maps of %s ignored: %s", maps.map_count, mesh_path, why.message);
+        add_warning(warning, n, text);
+    } else if (set != SAM_OK) {
+        st = sam_fail(err, set, "%s", why.message);
+    }
+    free(triangle_map);
+    sam_mesh_destroy(&mesh);
+    sam_albedo_maps_destroy(&maps);
     return st;
 }
 
@@ -76,6 +129,10 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
             return st;
     } else if (scene->mesh_path) {
         char note[2304]; /* as sam_app_stage.c's */
+        int several = 0;
+        if ((st = set_albedo_maps(rt, scene->mesh_path, &several, warning, n, err)) != SAM_OK || several)
+            return st == SAM_OK && scene->vertex_colors ? set_vertex_colors(rt, scene->mesh_path, warning, n, err)
+                                                        : st;
         if ((st = sam_mesh_load_albedo(scene->mesh_path, &map, note, sizeof note, err)) != SAM_OK)
             return st;
         if (note[0] && !map.pixels)

@@ -1,9 +1,15 @@
 /* rho_dt, the specular lobe and the albedo map (sam_runtime_surface.h). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "sam/sam_mesh.h"
 #include "sam_runtime_gpu.h"
 #include "sam_runtime_surface.h"
+
+/* Several albedo maps share one array of this many bytes at most: eight
+ * maps of 4096 x 4096 (a scan's texture pages), 16 of 2048 x 4096. */
+#define ALBEDO_ARRAY_BYTES (1ull << 30)
 
 sam_status sam_runtime_surface_create(sam_runtime *rt, const samfile_data *sam, sam_error *err)
 {
@@ -24,6 +30,17 @@ sam_status sam_runtime_surface_create(sam_runtime *rt, const samfile_data *sam, 
     return sam_runtime_set_surface(rt, 0.3f, 0.18f, err);
 }
 
+static void clear_albedo_maps(sam_runtime *rt)
+{
+    if (rt->surface.albedo_array)
+        glDeleteTextures(1, &rt->surface.albedo_array);
+    if (rt->surface.triangle_map_tex)
+        glDeleteTextures(1, &rt->surface.triangle_map_tex);
+    if (rt->surface.triangle_map_buffer)
+        glDeleteBuffers(1, &rt->surface.triangle_map_buffer);
+    rt->surface.albedo_array = rt->surface.triangle_map_tex = rt->surface.triangle_map_buffer = 0;
+}
+
 void sam_runtime_surface_destroy(sam_runtime *rt)
 {
     if (rt->surface.albedo_tex)
@@ -32,6 +49,7 @@ void sam_runtime_surface_destroy(sam_runtime *rt)
     if (rt->surface.color_buffer)
         glDeleteBuffers(1, &rt->surface.color_buffer);
     rt->surface.color_buffer = 0;
+    clear_albedo_maps(rt);
     free(rt->surface.vertex_source);
     rt->surface.vertex_source = NULL;
 }
@@ -91,6 +109,7 @@ sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam
     if (rt->surface.albedo_tex)
         glDeleteTextures(1, &rt->surface.albedo_tex);
     rt->surface.albedo_tex = 0;
+    clear_albedo_maps(rt);
     if (!map)
         return SAM_OK;
     GLsizei levels = 1;
@@ -107,6 +126,113 @@ sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam
      * sampler and every DCC tool do. */
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return SAM_OK;
+}
+
+/* Map `m` resampled (bilinear, wrapping as the sampler does) to w x h,
+ * as sRGB-encoded RGBA bytes into `out`, top row first; white when empty. */
+static void albedo_layer(const sam_image *m, uint32_t w, uint32_t h, uint8_t *out)
+{
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            uint8_t *o = out + 4 * ((size_t)y * w + x);
+            o[3] = 255;
+            if (!m->pixels) {
+                o[0] = o[1] = o[2] = 255;
+                continue;
+            }
+            const float fx = ((float)x + 0.5f) * (float)m->width / (float)w - 0.5f;
+            const float fy = ((float)y + 0.5f) * (float)m->height / (float)h - 0.5f;
+            const float x0f = floorf(fx), y0f = floorf(fy), ax = fx - x0f, ay = fy - y0f;
+            const uint32_t x0 = (uint32_t)((int64_t)x0f + m->width) % m->width, x1 = (x0 + 1) % m->width;
+            const uint32_t y0 = (uint32_t)((int64_t)y0f + m->height) % m->height, y1 = (y0 + 1) % m->height;
+            for (uint32_t c = 0; c < 3; ++c) {
+                const float *p = m->pixels + c;
+                const size_t n = m->channels, W = m->width;
+                const float v = (1 - ay) * ((1 - ax) * p[n * (y0 * W + x0)] + ax * p[n * (y0 * W + x1)]) +
+                                ay * ((1 - ax) * p[n * (y1 * W + x0)] + ax * p[n * (y1 * W + x1)]);
+                const float e = sam_linear_to_srgb(v < 0 ? 0 : v > 1 ? 1 : v);
+                o[c] = (uint8_t)(e * 255.0f + 0.5f);
+            }
+        }
+}
+
+sam_status sam_runtime_set_albedo_maps(sam_runtime *rt, const sam_image *maps, uint32_t count,
+                                       const uint32_t *triangle_map, uint32_t triangle_count, sam_error *err)
+{
+    if (!rt || !maps || !count || !triangle_map)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: albedo maps: NULL argument or no map");
+    if (!rt->tsd.has_uvs)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED, "runtime: albedo maps need UVs and this mesh has none");
+    if (triangle_count != rt->triangle_count)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: albedo maps for %u triangles, the map has %u",
+                        triangle_count, rt->triangle_count);
+    GLint side = 0, layers = 0, texels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &side);
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &layers);
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    if (count > (uint32_t)layers || triangle_count > (uint32_t)texels)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                        "runtime: %u albedo maps on %u triangles; this GL holds %d maps and %d triangles' choice",
+                        count, triangle_count, layers, texels);
+    uint32_t w = 1, h = 1;
+    for (uint32_t m = 0; m < count; ++m) {
+        w = maps[m].width > w ? maps[m].width : w;
+        h = maps[m].height > h ? maps[m].height : h;
+    }
+    for (uint32_t t = 0; t < triangle_count; ++t)
+        if (triangle_map[t] >= count && triangle_map[t] != SAM_ALBEDO_NO_MAP)
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: triangle %u reads albedo map %u of %u", t,
+                            triangle_map[t], count);
+    /* The largest map's size for every layer, halved to the GL's side and
+     * to ALBEDO_ARRAY_BYTES: sRGB bytes lose nothing of 8-bit textures. */
+    while (w > (uint32_t)side || h > (uint32_t)side || (uint64_t)count * w * h * 4 > ALBEDO_ARRAY_BYTES)
+        w = w > 1 ? w / 2 : 1, h = h > 1 ? h / 2 : 1;
+    uint8_t *layer = malloc((size_t)w * h * 4);
+    if (!layer)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for a %ux%u albedo map", w, h);
+    if (rt->surface.albedo_tex)
+        glDeleteTextures(1, &rt->surface.albedo_tex);
+    rt->surface.albedo_tex = 0;
+    clear_albedo_maps(rt);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    GLsizei levels = 1;
+    for (uint32_t s = w > h ? w : h; s > 1; s /= 2)
+        levels++;
+    glGenTextures(1, &rt->surface.albedo_array);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, rt->surface.albedo_array);
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, levels, GL_SRGB8_ALPHA8, (GLsizei)w, (GLsizei)h, (GLsizei)count);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (uint32_t m = 0; m < count; ++m) {
+        albedo_layer(&maps[m], w, h, layer);
+        /* Image rows run top-down and UV's v up. */
+        for (uint32_t y = 0; y < h; ++y)
+            glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, (GLint)(h - 1 - y), (GLint)m, (GLsizei)w, 1, 1, GL_RGBA,
+                            GL_UNSIGNED_BYTE, layer + (size_t)y * w * 4);
+    }
+    free(layer);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glGenerateMipmap(GL_TEXTURE_2D_ARRAY);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+    glGenBuffers(1, &rt->surface.triangle_map_buffer);
+    glBindBuffer(GL_TEXTURE_BUFFER, rt->surface.triangle_map_buffer);
+    glBufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)((size_t)triangle_count * sizeof *triangle_map), triangle_map,
+                 GL_STATIC_DRAW);
+    glGenTextures(1, &rt->surface.triangle_map_tex);
+    glBindTexture(GL_TEXTURE_BUFFER, rt->surface.triangle_map_tex);
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_R32UI, rt->surface.triangle_map_buffer);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    if (glGetError() != GL_NO_ERROR) {
+        clear_albedo_maps(rt);
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not store %u albedo maps of %ux%u", count,
+                        w, h);
+    }
     return SAM_OK;
 }
 
@@ -165,7 +291,15 @@ void sam_runtime_bind_albedo(const sam_runtime *rt, GLuint p)
     glBindTexture(GL_TEXTURE_2D, rt->surface.albedo_tex);
     glActiveTexture(GL_TEXTURE0);
     glUniform1i(glGetUniformLocation(p, "u_albedo_map"), UNIT_ALBEDO);
-    glUniform1i(glGetUniformLocation(p, "u_has_albedo_map"), rt->surface.albedo_tex != 0);
+    glActiveTexture(GL_TEXTURE0 + UNIT_ALBEDO_ARRAY);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, rt->surface.albedo_array);
+    glActiveTexture(GL_TEXTURE0 + UNIT_TRIANGLE_MAP);
+    glBindTexture(GL_TEXTURE_BUFFER, rt->surface.triangle_map_tex);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(glGetUniformLocation(p, "u_albedo_array"), UNIT_ALBEDO_ARRAY);
+    glUniform1i(glGetUniformLocation(p, "u_triangle_map"), UNIT_TRIANGLE_MAP);
+    glUniform1i(glGetUniformLocation(p, "u_has_albedo_map"),
+                rt->surface.albedo_array ? 2 : rt->surface.albedo_tex != 0);
 }
 
 void sam_runtime_bind_uv_atlas(const sam_runtime *rt, GLuint p)

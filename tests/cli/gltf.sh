@@ -166,21 +166,27 @@ grep -q "does not decode" "$tmp/draco_damaged.txt" || fail "damaged Draco data: 
 grep -q "component type 5123" "$tmp/draco_retyped.txt" || fail "retyped UVs: $(cat "$tmp/draco_retyped.txt")"
 grep -q "(NORMAL) has 100 elements, the Draco data of buffer view [0-9]* 384 points" "$tmp/draco_recounted.txt" \
   || fail "recounted normals: $(cat "$tmp/draco_recounted.txt")"
-# One albedo map is read at every part's UVs: a file whose materials have
-# two textures says so, as an OBJ and as gltfpack's GLB of it.
-png checker "$tmp/checker2.png" 32
+# A file whose materials have two textures reads each on its own faces, as
+# an OBJ and as gltfpack's GLB of it: the same picture, and not the one
+# of the first texture on every face.
+png checker "$tmp/checker2.png" 32 grey
 awk 'BEGIN { f = 0 } /^f / && f++ == 200 { print "usemtl other" } { print }' "$tmp/ear.obj" > "$tmp/two.obj"
 printf 'newmtl skin\nKd 1 1 1\nmap_Kd checker.png\nnewmtl other\nKd 1 1 1\nmap_Kd checker2.png\n' > "$tmp/ear.mtl"
 (cd "$tmp" && gltfpack -i two.obj -o two.glb -noq > /dev/null 2>&1) || fail "gltfpack two.obj"
 for f in two.obj two.glb; do
   render $f two_${f##*.}
-  grep -q "albedo map: .*$f[ ;(]*1 other texture of its materials not read: their parts show this one at their UVs)" \
-    "$tmp/two_${f##*.}.txt" \
-    || fail "$f: the other texture is not named: $(cat "$tmp/two_${f##*.}.txt")"
+  grep -q "albedo maps: 2 of the materials of .*$f, each on its own faces, times the albedo" "$tmp/two_${f##*.}.txt" \
+    || fail "$f: the two textures are not named: $(cat "$tmp/two_${f##*.}.txt")"
 done
-# The texture read is the first used material's that has one: with the
-# first material's texture taken away, the second's (32x32), and with no
-# primitive using the first, the same.
+render ear.obj one_texture
+db=$(png psnr "$tmp/two_obj.png" "$tmp/two_glb.png")
+one=$(png psnr "$tmp/two_obj.png" "$tmp/one_texture.png")
+echo "two textures, OBJ against GLB: $db dB; against the first texture on every face: $one dB"
+python3 -c "import sys; sys.exit(0 if float('$db') >= 35 else 1)" || fail "two.glb renders another picture ($db dB)"
+python3 -c "import sys; sys.exit(0 if float('$one') < 35 else 1)" || fail "the second texture is not read ($one dB)"
+# With the first material's texture taken away, its faces take its
+# colour (white) and the second's the second texture: two maps still.
+# With no primitive using the first, the second's texture is the one map.
 python3 - "$tmp/two.glb" "$tmp/two_first_plain.glb" "$tmp/two_first_unused.glb" <<'PY' || fail "editing two.glb"
 import json, struct, sys
 d = open(sys.argv[1], "rb").read()
@@ -199,11 +205,12 @@ for mesh in j["meshes"]:
         p["material"] = 1
 write(sys.argv[3], j)
 PY
-for f in two_first_plain two_first_unused; do
-  render $f.glb $f
-  grep -q "albedo map: the base colour texture of .*$f.glb, 32x32" "$tmp/$f.txt" \
-    || fail "$f.glb: not the used material's texture: $(cat "$tmp/$f.txt")"
-done
+render two_first_plain.glb two_first_plain
+grep -q "albedo maps: 2 of the materials of .*two_first_plain.glb" "$tmp/two_first_plain.txt" \
+  || fail "two_first_plain.glb: not two maps: $(cat "$tmp/two_first_plain.txt")"
+render two_first_unused.glb two_first_unused
+grep -q "albedo map: the base colour texture of .*two_first_unused.glb, 32x32" "$tmp/two_first_unused.txt" \
+  || fail "two_first_unused.glb: not the used material's texture: $(cat "$tmp/two_first_unused.txt")"
 printf 'newmtl skin\nKd 1 1 1\nmap_Kd checker.png\n' > "$tmp/ear.mtl"
 # A base colour of 8-bit grey (TinyGLTF gives it as RGBA) or 16-bit RGB (cut to
 # 8 bits) is read as the OBJ reads the same PNG: the same picture.

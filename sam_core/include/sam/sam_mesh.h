@@ -74,6 +74,11 @@ typedef struct sam_mesh {
     uint32_t source_count;
     uint32_t *source_of_render; /* vertex_count, each < source_count */
     uint32_t *render_of_source; /* source_count, each < vertex_count or SAM_MESH_DROPPED */
+    /* The input's face (a file's polygon, or sam_mesh_input's triangle)
+     * each triangle came from, in the input's order: what a face's
+     * material applies to (sam_mesh_load_albedo_maps). */
+    uint32_t face_count;
+    uint32_t *face_of_triangle; /* triangle_count, each < face_count */
 } sam_mesh;
 
 #define SAM_MESH_DROPPED 0xFFFFFFFFu
@@ -141,6 +146,31 @@ sam_status sam_mesh_create(const sam_mesh_input *input, sam_mesh *mesh, sam_mesh
  * Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_IO (the mesh file cannot be
  * read), SAM_ERR_OUT_OF_MEMORY. */
 sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, size_t note_size, sam_error *err);
+
+/* The albedo maps of a file whose faces read more than one (an OBJ's
+ * materials with their map_Kd, a glTF's with their base colours), for
+ * sam_runtime_set_albedo_maps. Caller frees with sam_albedo_maps_destroy. */
+typedef struct sam_albedo_maps {
+    uint32_t map_count;
+    sam_image *maps;     /* map_count linear images: an OBJ's distinct map_Kd files; a glTF's used
+                          * materials' base colour, its texture times its factor (1 x 1 without one) */
+    uint32_t face_count; /* the file's faces, as sam_mesh.face_of_triangle numbers them */
+    uint32_t *face_map;  /* face_count: the map each face reads, or SAM_ALBEDO_NO_MAP (white) */
+} sam_albedo_maps;
+
+#define SAM_ALBEDO_NO_MAP 0xFFFFFFFFu
+
+/* The maps of a file whose faces read more than one: faces of materials
+ * with different textures, or some with a texture and some without. A
+ * file that needs one map at most (one texture on every face; PLY, OFF,
+ * STL) gives map_count 0: sam_mesh_load_albedo reads it. A texture that
+ * cannot be used leaves its faces white and `note` (note_size bytes, > 0)
+ * says why, for a warning; else "". On failure `maps` is zeroed.
+ * Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_IO, SAM_ERR_FORMAT (a file
+ * sam_mesh_load refuses too), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_load_albedo_maps(const char *path, sam_albedo_maps *maps, char *note, size_t note_size,
+                                     sam_error *err);
+void sam_albedo_maps_destroy(sam_albedo_maps *maps);
 
 /* The colours a mesh file gives its vertices: a PLY's red, green and
  * blue (or diffuse_red...; sRGB-encoded, any integer type scaled by its

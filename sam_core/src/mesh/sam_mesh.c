@@ -129,6 +129,7 @@ void sam_mesh_destroy(sam_mesh *mesh)
     free(mesh->ring_offsets);
     free(mesh->ring);
     free(mesh->source_of_render);
+    free(mesh->face_of_triangle);
     free(mesh->render_of_source);
     memset(mesh, 0, sizeof *mesh);
 }

@@ -123,45 +123,42 @@ static void material_add(obj_materials *m, const char *name)
     }
 }
 
-/* The texture (map_Kd) of the first material an OBJ uses that names one,
- * into `texture`, and in *others how many other textures its other used
- * materials name; "" with a note when there is none to read. A colour-only
- * material often comes first (an exporter's default). */
-static sam_status obj_texture(const char *path, char *texture, size_t n, uint32_t *others, char *note,
-                              size_t note_size, sam_error *err)
+/* Reads the OBJ at `path` for its first mtllib, into `mtl` (the library's
+ * path, beside the OBJ; "" when it names none), and with `used` (may be
+ * NULL) its usemtl names. */
+static sam_status obj_library(const char *path, char *mtl, size_t n, obj_materials *used, sam_error *err)
 {
-    texture[0] = '\0';
-    *others = 0;
+    mtl[0] = '\0';
     uint8_t *text;
     size_t size;
     sam_status st = sam_read_file(path, &text, &size, err);
     if (st != SAM_OK)
         return st;
-    obj_materials *used = calloc(1, sizeof *used);
-    if (!used) {
-        free(text);
-        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    }
     char mtllib[512] = "", line_value[512];
     for (const char *line = (const char *)text; line && line < (const char *)text + size;) {
         if (!mtllib[0] && keyword_value(line, "mtllib", 1, line_value, sizeof line_value))
             snprintf(mtllib, sizeof mtllib, "%s", line_value);
-        if (keyword_value(line, "usemtl", 1, line_value, sizeof line_value))
+        if (used && keyword_value(line, "usemtl", 1, line_value, sizeof line_value))
             material_add(used, line_value);
         const char *next = memchr(line, '\n', (size_t)((const char *)text + size - line));
         line = next ? next + 1 : NULL;
     }
     free(text);
-    char mtl[1024];
-    beside_file(path, mtllib, mtl, sizeof mtl);
-    if (!mtllib[0] || sam_read_file(mtl, &text, &size, NULL) != SAM_OK) {
-        if (mtllib[0])
-            snprintf(note, note_size, "%s names the material library %s, which cannot be read", path, mtl);
-        free(used);
-        return SAM_OK;
-    }
-    /* The first map_Kd of each used material; of any material when the
-     * OBJ uses none by name. */
+    if (mtllib[0])
+        beside_file(path, mtllib, mtl, n);
+    return SAM_OK;
+}
+
+/* The first map_Kd of each of `used`'s materials in the library `mtl`
+ * (of any material when `used` names none: into map[0]); 0 when the
+ * library cannot be read. */
+static int mtl_maps(const char *mtl, obj_materials *used)
+{
+    uint8_t *text;
+    size_t size;
+    if (sam_read_file(mtl, &text, &size, NULL) != SAM_OK)
+        return 0;
+    char line_value[512];
     size_t at = used->count ? SIZE_MAX : 0;
     for (const char *line = (const char *)text; line && line < (const char *)text + size;) {
         if (keyword_value(line, "newmtl", 1, line_value, sizeof line_value)) {
@@ -179,6 +176,29 @@ static sam_status obj_texture(const char *path, char *texture, size_t n, uint32_
         line = next ? next + 1 : NULL;
     }
     free(text);
+    return 1;
+}
+
+/* The texture (map_Kd) of the first material an OBJ uses that names one,
+ * into `texture`, and in *others how many other textures its other used
+ * materials name; "" with a note when there is none to read. A colour-only
+ * material often comes first (an exporter's default). */
+static sam_status obj_texture(const char *path, char *texture, size_t n, uint32_t *others, char *note,
+                              size_t note_size, sam_error *err)
+{
+    texture[0] = '\0';
+    *others = 0;
+    obj_materials *used = calloc(1, sizeof *used);
+    if (!used)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    char mtl[1024];
+    sam_status st = obj_library(path, mtl, sizeof mtl, used, err);
+    if (st != SAM_OK || !mtl[0] || !mtl_maps(mtl, used)) {
+        if (st == SAM_OK && mtl[0])
+            snprintf(note, note_size, "%s names the material library %s, which cannot be read", path, mtl);
+        free(used);
+        return st;
+    }
     const size_t materials = used->count ? used->count : 1;
     size_t first = 0;
     while (first < materials && !used->map[first][0])
@@ -279,5 +299,153 @@ sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, 
     else
         snprintf(note, note_size, "%s (%s of %s%s)", texture, obj ? "map_Kd" : "TextureFile", path,
                  others_note(others, "; ", buf, sizeof buf));
+    return SAM_OK;
+}
+
+void sam_albedo_maps_destroy(sam_albedo_maps *maps)
+{
+    if (!maps)
+        return;
+    for (uint32_t m = 0; m < maps->map_count; ++m)
+        sam_image_destroy(&maps->maps[m]);
+    free(maps->maps);
+    free(maps->face_map);
+    memset(maps, 0, sizeof *maps);
+}
+
+/* Fills maps->face_map from each face's material and each material's map
+ * (SAM_ALBEDO_NO_MAP for either missing); 1 when the faces read more than
+ * one map, or some read one and some none: one map at every face is
+ * sam_mesh_load_albedo's. */
+static int assign_faces(sam_albedo_maps *maps, const uint32_t *face_material, uint32_t material_count,
+                        const uint32_t *material_map)
+{
+    int several = 0;
+    for (uint32_t f = 0; f < maps->face_count; ++f) {
+        const uint32_t m = face_material[f];
+        maps->face_map[f] = m < material_count ? material_map[m] : SAM_ALBEDO_NO_MAP;
+        several |= f > 0 && maps->face_map[f] != maps->face_map[0];
+    }
+    return several;
+}
+
+/* An OBJ's materials' map_Kd textures, each distinct file once. */
+static sam_status obj_maps(const char *path, sam_albedo_maps *maps, char *note, size_t note_size, sam_error *err)
+{
+    sam_mesh_expect expect;
+    sam_status st = sam_mesh_preflight(path, &expect, err);
+    if (st != SAM_OK || !expect.face_materials) {
+        sam_mesh_expect_free(&expect);
+        return st;
+    }
+    obj_materials *used = calloc(1, sizeof *used);
+    uint32_t *material_map = malloc(expect.material_count * sizeof *material_map);
+    maps->face_count = (uint32_t)expect.faces;
+    maps->face_map = malloc((size_t)maps->face_count * sizeof *maps->face_map);
+    maps->maps = calloc(expect.material_count, sizeof *maps->maps);
+    char mtl[1024] = "", texture[1024];
+    if (!used || !material_map || !maps->face_map || !maps->maps)
+        st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %u materials", path, expect.material_count);
+    /* The preflight's names, in its order: used->map[i] is material i's. */
+    for (uint32_t m = 0; st == SAM_OK && m < expect.material_count && m < MATERIALS_COUNTED; ++m) {
+        snprintf(used->name[m], sizeof used->name[0], "%s", expect.material_names[m]);
+        used->hash[m] = name_hash(used->name[m]);
+        used->count = m + 1;
+    }
+    if (st == SAM_OK)
+        st = obj_library(path, mtl, sizeof mtl, NULL, err);
+    int several = 0;
+    if (st == SAM_OK && mtl[0] && mtl_maps(mtl, used)) {
+        for (uint32_t m = 0; m < expect.material_count; ++m) {
+            material_map[m] = SAM_ALBEDO_NO_MAP;
+            for (uint32_t k = 0; k < m && m < used->count && used->map[m][0]; ++k)
+                if (!strcmp(used->map[k], used->map[m]))
+                    material_map[m] = material_map[k];
+            if (m < used->count && used->map[m][0] && material_map[m] == SAM_ALBEDO_NO_MAP)
+                material_map[m] = maps->map_count++;
+        }
+        several = assign_faces(maps, expect.face_materials, expect.material_count, material_map);
+    }
+    /* Decoded only when they are needed: one map is sam_mesh_load_albedo's. */
+    for (uint32_t m = 0; st == SAM_OK && several && m < used->count; ++m) {
+        const uint32_t k = material_map[m];
+        if (k == SAM_ALBEDO_NO_MAP || maps->maps[k].pixels)
+            continue;
+        beside_file(mtl, used->map[m], texture, sizeof texture);
+        sam_error why;
+        const sam_status read = sam_image_read_picture(texture, &maps->maps[k], SAM_PNG_SRGB, &why);
+        if (read == SAM_ERR_OUT_OF_MEMORY)
+            st = sam_fail(err, read, "%s", why.message);
+        else if (read != SAM_OK && !note[0])
+            snprintf(note, note_size, "%s: the texture of material %s cannot be used: %s", path, used->name[m],
+                     why.message);
+    }
+    if (st != SAM_OK || !several)
+        sam_albedo_maps_destroy(maps);
+    free(used);
+    free(material_map);
+    sam_mesh_expect_free(&expect);
+    return st;
+}
+
+/* A glTF's materials' base colours, one map per used material. */
+static sam_status gltf_maps(const char *path, sam_albedo_maps *maps, char *note, size_t note_size, sam_error *err)
+{
+    sam_mesh_soup soup;
+    sam_status st = sam_mesh_gltf_read(path, &soup, err);
+    if (st != SAM_OK || !soup.face_materials) {
+        sam_mesh_soup_free(&soup);
+        return st;
+    }
+    int several = 0;
+    for (uint32_t f = 1; f < soup.face_count; ++f)
+        several |= soup.face_materials[f] != soup.face_materials[0];
+    sam_image *colors = NULL;
+    uint32_t count = 0;
+    if (several)
+        st = sam_mesh_gltf_base_colors(path, &colors, &count, note, note_size, err);
+    uint32_t *material_map = several && st == SAM_OK ? malloc((count ? count : 1) * sizeof *material_map) : NULL;
+    if (several && st == SAM_OK) {
+        maps->face_count = soup.face_count;
+        maps->face_map = malloc((size_t)soup.face_count * sizeof *maps->face_map);
+        maps->maps = calloc(count ? count : 1, sizeof *maps->maps);
+        if (!material_map || !maps->face_map || !maps->maps)
+            st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %u materials", path, count);
+    }
+    if (several && st == SAM_OK) {
+        /* Each material with a usable colour its own map, taken over. */
+        for (uint32_t m = 0; m < count; ++m) {
+            material_map[m] = colors[m].pixels ? maps->map_count : SAM_ALBEDO_NO_MAP;
+            if (colors[m].pixels) {
+                maps->maps[maps->map_count++] = colors[m];
+                memset(&colors[m], 0, sizeof colors[m]);
+            }
+        }
+        several = assign_faces(maps, soup.face_materials, count, material_map);
+    }
+    for (uint32_t m = 0; m < count; ++m)
+        sam_image_destroy(&colors[m]);
+    free(colors);
+    free(material_map);
+    if (st != SAM_OK || !several)
+        sam_albedo_maps_destroy(maps);
+    sam_mesh_soup_free(&soup);
+    return st;
+}
+
+sam_status sam_mesh_load_albedo_maps(const char *path, sam_albedo_maps *maps, char *note, size_t note_size,
+                                     sam_error *err)
+{
+    if (!path || !maps || !note || !note_size)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "mesh albedo maps: NULL argument");
+    memset(maps, 0, sizeof *maps);
+    note[0] = '\0';
+    sam_status st = sam_check_regular_file(path, err);
+    if (st != SAM_OK)
+        return st;
+    if (sam_path_has_extension(path, ".gltf") || sam_path_has_extension(path, ".glb"))
+        return gltf_maps(path, maps, note, note_size, err);
+    if (sam_path_has_extension(path, ".obj"))
+        return obj_maps(path, maps, note, note_size, err);
     return SAM_OK;
 }

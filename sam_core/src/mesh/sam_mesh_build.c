@@ -469,6 +469,20 @@ static sam_status number_render_vertices(build_state *b)
 }
 
 /* The mesh owns its attributes per render vertex, each linked to its topo vertex and its fan's first copy. */
+/* The input face corner `c` belongs to (face_offsets increase). */
+static uint32_t face_of_corner(const sam_mesh_soup *in, uint32_t c)
+{
+    uint32_t lo = 0, hi = in->face_count; /* face_offsets[lo] <= c < face_offsets[hi] */
+    while (hi - lo > 1) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        if (in->face_offsets[mid] <= c)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
 static sam_status fill_render_vertices(build_state *b)
 {
     const sam_mesh_soup *in = b->in;
@@ -487,9 +501,14 @@ static sam_status fill_render_vertices(build_state *b)
     mesh->source_count = in->vertex_count;
     mesh->source_of_render = malloc((size_t)nr * sizeof *mesh->source_of_render);
     mesh->render_of_source = malloc(((size_t)in->vertex_count + 1) * sizeof *mesh->render_of_source);
+    mesh->face_count = in->face_count;
+    mesh->face_of_triangle = malloc((size_t)b->kept * sizeof *mesh->face_of_triangle);
     if (!mesh->positions || !mesh->normals || (has_uvs && !mesh->uvs) || !mesh->triangles || !mesh->topo_of ||
-        !mesh->topo_rep || !mesh->topo_normals || !mesh->source_of_render || !mesh->render_of_source)
+        !mesh->topo_rep || !mesh->topo_normals || !mesh->source_of_render || !mesh->render_of_source ||
+        !mesh->face_of_triangle)
         return sam_mesh_oom(b->err, b->name);
+    for (uint32_t t = 0; t < b->kept; ++t)
+        mesh->face_of_triangle[t] = face_of_corner(in, b->kept_corner[3 * (size_t)t]);
     for (uint32_t t = 0; t < topo_count; ++t)
         mesh->topo_rep[t] = NONE;
     for (uint32_t r = 0; r < nr; ++r)

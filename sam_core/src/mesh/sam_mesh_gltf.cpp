@@ -30,8 +30,8 @@ struct Reader {
     const tinygltf::Model &model;
     const char *path;
     std::vector<float> positions, normals, uvs, colors;
-    std::vector<uint32_t> corners;
-    bool all_normals = true, all_uvs = true, any_colors = false;
+    std::vector<uint32_t> corners, face_materials;
+    bool all_normals = true, all_uvs = true, any_colors = false, any_material = false;
     uint32_t skipped_primitives = 0; // points and lines
 };
 
@@ -438,6 +438,8 @@ void add_primitive(Reader &r, const tinygltf::Primitive &p, const Mat4 &world, c
     }
     if (r.corners.size() / 3 > UINT32_MAX / 4)
         fail(where + ": more triangles than 32-bit indices reach");
+    r.face_materials.resize(r.corners.size() / 3, p.material >= 0 ? uint32_t(p.material) : SAM_MESH_NO_MATERIAL);
+    r.any_material = r.any_material || p.material >= 0;
 }
 
 void add_node(Reader &r, int index, const Mat4 &parent, int depth)
@@ -637,7 +639,7 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
     if (!read || !load(path, false, source, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: not a readable glTF file: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
-    Reader r{model, path, {}, {}, {}, {}, {}};
+    Reader r{model, path, {}, {}, {}, {}, {}, {}};
     try {
         const Mat4 identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
         if (!model.scenes.empty()) {
@@ -670,6 +672,7 @@ sam_status read_soup(const char *path, sam_mesh_soup *soup, sam_error *err)
     soup->normals = r.all_normals ? sam_mesh_copy_out(r.normals) : nullptr;
     soup->uvs = r.all_uvs ? sam_mesh_copy_out(r.uvs) : nullptr;
     soup->colors = r.any_colors ? sam_mesh_copy_out(r.colors) : nullptr;
+    soup->face_materials = r.any_material ? sam_mesh_copy_out(r.face_materials) : nullptr;
     soup->face_offsets = sam_mesh_copy_out(offsets);
     soup->corners = sam_mesh_copy_out(r.corners);
     return SAM_OK;
@@ -715,16 +718,87 @@ uint32_t other_base_colors(const tinygltf::Model &model, const std::vector<size_
     return others;
 }
 
-// The base-colour texture of the first material the meshes' primitives
-// use that has one (of any material when none does).
-sam_status read_base_color(const char *path, sam_image *image, float factor[4], uint32_t *others, sam_error *err)
+// Image `source` of `model` as a linear sam_image.
+sam_status image_of(const char *path, const tinygltf::Model &model, int source, sam_image *image, sam_error *err)
+{
+    // TinyGLTF gives every 8- or 16-bit image as RGBA (its default of
+    // not keeping an image's own channels).
+    const tinygltf::Image &img = model.images[size_t(source)];
+    const size_t pixels = img.width > 0 && img.height > 0 ? size_t(img.width) * size_t(img.height) : 0;
+    const size_t bytes = size_t(img.bits / 8), channels = size_t(img.component);
+    if ((img.bits != 8 && img.bits != 16) || (channels != 3 && channels != 4) || !pixels ||
+        img.image.size() != pixels * channels * bytes)
+        return sam_fail(err, SAM_ERR_UNSUPPORTED,
+                        "%s: base-colour image %d is %d x %d with %d channels of %d bits (8 or 16 bits of RGB or "
+                        "RGBA expected)",
+                        path, source, img.width, img.height, img.component, img.bits);
+    // 16 bits cut to their high byte: an albedo needs no more.
+    std::vector<uint8_t> narrow;
+    if (bytes == 2) {
+        narrow.resize(pixels * channels);
+        for (size_t i = 0; i < narrow.size(); ++i) {
+            uint16_t wide;
+            std::memcpy(&wide, img.image.data() + 2 * i, 2);
+            narrow[i] = uint8_t(wide >> 8);
+        }
+    }
+    return sam_image_from_bytes(image, bytes == 2 ? narrow.data() : img.image.data(), uint32_t(img.width),
+                                uint32_t(img.height), uint32_t(channels), SAM_PNG_SRGB, err);
+}
+
+// The file with its images decoded, for its base colours.
+sam_status load_with_images(const char *path, tinygltf::Model &model, sam_error *err)
 {
     Source source;
-    tinygltf::Model model;
     std::string message;
     if (!read_source(path, source, message) || !load(path, true, source, model, message))
         return sam_fail(err, SAM_ERR_FORMAT, "%s: its textures cannot be read: %s", path,
                         message.empty() ? "TinyGLTF gave no reason" : message.c_str());
+    return SAM_OK;
+}
+
+// The base colour of every material: its texture times its factor, or
+// 1 x 1 of its factor without a texture; an image that cannot be used
+// leaves its material's empty and says why in `note`.
+sam_status read_base_colors(const char *path, std::vector<sam_image> &images, std::string &note, sam_error *err)
+{
+    tinygltf::Model model;
+    sam_status st = load_with_images(path, model, err);
+    if (st != SAM_OK)
+        return st;
+    images.assign(model.materials.size(), sam_image{});
+    for (size_t m = 0; m < model.materials.size(); ++m) {
+        const tinygltf::PbrMetallicRoughness &pbr = model.materials[m].pbrMetallicRoughness;
+        float factor[3];
+        for (int c = 0; c < 3; ++c)
+            factor[c] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[size_t(c)]) : 1.0f;
+        const int s = base_color_source(model, pbr.baseColorTexture);
+        sam_error why;
+        st = s >= 0 ? image_of(path, model, s, &images[m], &why) : sam_image_create(&images[m], 1, 1, 3, &why);
+        if (st == SAM_ERR_OUT_OF_MEMORY)
+            return sam_fail(err, st, "%s", why.message);
+        if (st != SAM_OK) {
+            if (note.empty())
+                note = why.message;
+            continue;
+        }
+        sam_image &im = images[m];
+        const size_t texels = size_t(im.width) * im.height;
+        for (size_t i = 0; i < texels; ++i)
+            for (uint32_t c = 0; c < 3; ++c)
+                im.pixels[i * im.channels + c] = (s >= 0 ? im.pixels[i * im.channels + c] : 1.0f) * factor[c];
+    }
+    return SAM_OK;
+}
+
+// The base-colour texture of the first material the meshes' primitives
+// use that has one (of any material when none does).
+sam_status read_base_color(const char *path, sam_image *image, float factor[4], uint32_t *others, sam_error *err)
+{
+    tinygltf::Model model;
+    sam_status st = load_with_images(path, model, err);
+    if (st != SAM_OK)
+        return st;
     // Materials in the order the primitives first use them, then the rest.
     const std::vector<size_t> used = used_materials(model);
     std::vector<size_t> order = used;
@@ -739,32 +813,10 @@ sam_status read_base_color(const char *path, sam_image *image, float factor[4], 
         const int source = base_color_source(model, pbr.baseColorTexture);
         if (source < 0)
             continue;
-        // TinyGLTF gives every 8- or 16-bit image as RGBA (its default of
-        // not keeping an image's own channels).
-        const tinygltf::Image &img = model.images[size_t(source)];
-        const size_t pixels = img.width > 0 && img.height > 0 ? size_t(img.width) * size_t(img.height) : 0;
-        const size_t bytes = size_t(img.bits / 8), channels = size_t(img.component);
-        if ((img.bits != 8 && img.bits != 16) || (channels != 3 && channels != 4) || !pixels ||
-            img.image.size() != pixels * channels * bytes)
-            return sam_fail(err, SAM_ERR_UNSUPPORTED,
-                            "%s: base-colour image %d is %d x %d with %d channels of %d bits (8 or 16 bits of RGB or "
-                            "RGBA expected)",
-                            path, source, img.width, img.height, img.component, img.bits);
-        // 16 bits cut to their high byte: an albedo needs no more.
-        std::vector<uint8_t> narrow;
-        if (bytes == 2) {
-            narrow.resize(pixels * channels);
-            for (size_t i = 0; i < narrow.size(); ++i) {
-                uint16_t wide;
-                std::memcpy(&wide, img.image.data() + 2 * i, 2);
-                narrow[i] = uint8_t(wide >> 8);
-            }
-        }
         for (int c = 0; c < 4; ++c)
             factor[c] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[size_t(c)]) : 1.0f;
         *others = other_base_colors(model, used, source);
-        return sam_image_from_bytes(image, bytes == 2 ? narrow.data() : img.image.data(), uint32_t(img.width),
-                                    uint32_t(img.height), uint32_t(channels), SAM_PNG_SRGB, err);
+        return image_of(path, model, source, image, err);
     }
     return SAM_OK;
 }
@@ -778,6 +830,33 @@ extern "C" sam_status sam_mesh_gltf_read(const char *path, sam_mesh_soup *soup, 
     if (st != SAM_OK)
         sam_mesh_soup_free(soup);
     return st;
+}
+
+extern "C" sam_status sam_mesh_gltf_base_colors(const char *path, sam_image **images, uint32_t *count, char *note,
+                                                size_t note_size, sam_error *err)
+{
+    if (!path || !images || !count || !note || !note_size)
+        return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "glTF base colours: NULL argument");
+    *images = nullptr;
+    *count = 0;
+    note[0] = '\0';
+    std::vector<sam_image> all;
+    std::string why;
+    sam_status st = sam_mesh_guarded(path, "TinyGLTF", err, [&] { return read_base_colors(path, all, why, err); });
+    if (st == SAM_OK && !all.empty()) {
+        *images = static_cast<sam_image *>(std::calloc(all.size(), sizeof **images));
+        if (!*images)
+            st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %zu materials", path, all.size());
+    }
+    if (st != SAM_OK) {
+        for (sam_image &im : all)
+            sam_image_destroy(&im);
+        return st;
+    }
+    std::copy(all.begin(), all.end(), *images);
+    *count = uint32_t(all.size());
+    std::snprintf(note, note_size, "%s", why.c_str());
+    return SAM_OK;
 }
 
 extern "C" sam_status sam_mesh_gltf_base_color(const char *path, sam_image *image, float factor[4], uint32_t *others,

@@ -46,6 +46,13 @@ void sam_mesh_expect_free(sam_mesh_expect *expect)
     free(expect->corner_uvs);
     free(expect->vertex_colors);
     expect->vertex_colors = NULL;
+    for (uint32_t m = 0; m < expect->material_count; ++m)
+        free(expect->material_names[m]);
+    free(expect->material_names);
+    free(expect->face_materials);
+    expect->material_names = NULL;
+    expect->material_count = 0;
+    expect->face_materials = NULL;
     expect->rewritten = NULL;
     expect->rewritten_size = 0;
     expect->corner_uvs = NULL;

@@ -356,5 +356,6 @@ extern "C" void sam_mesh_soup_free(sam_mesh_soup *soup)
     std::free(soup->corner_uvs);
     std::free(soup->corner_normals);
     std::free(soup->colors);
+    std::free(soup->face_materials);
     std::memset(soup, 0, sizeof *soup);
 }

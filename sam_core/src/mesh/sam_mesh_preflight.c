@@ -625,6 +625,66 @@ static void obj_colors_finish(const obj_colors *c, unsigned long long nv, sam_me
     }
 }
 
+/* The materials an OBJ's faces use (sam_mesh_expect.material_names,
+ * face_materials): the current usemtl's index, and room for the faces'. */
+typedef struct obj_materials {
+    uint32_t current;
+    size_t face_cap;
+} obj_materials;
+
+/* A usemtl line: its name as the MTL names it (the rest of the line, a
+ * comment after a blank and trailing blanks left out) becomes the
+ * current material; 0 when out of memory. */
+static int obj_use_material(obj_materials *m, sam_mesh_expect *e, const char *name, const char *eol)
+{
+    const char *end = eol;
+    for (const char *p = name + 1; p < eol; ++p)
+        if (*p == '#' && (p[-1] == ' ' || p[-1] == '\t')) {
+            end = p;
+            break;
+        }
+    while (end > name && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\r'))
+        --end;
+    const size_t len = (size_t)(end - name);
+    for (uint32_t i = 0; i < e->material_count; ++i)
+        if (strlen(e->material_names[i]) == len && !memcmp(e->material_names[i], name, len)) {
+            m->current = i;
+            return 1;
+        }
+    m->current = SAM_MESH_NO_MATERIAL;
+    if (e->material_count == SAM_MESH_MAX_MATERIALS)
+        return 1;
+    char **grown = realloc(e->material_names, (e->material_count + 1) * sizeof *grown);
+    if (!grown)
+        return 0;
+    e->material_names = grown;
+    if (!(grown[e->material_count] = malloc(len + 1)))
+        return 0;
+    memcpy(grown[e->material_count], name, len);
+    grown[e->material_count][len] = '\0';
+    m->current = e->material_count++;
+    return 1;
+}
+
+/* Face `face` (0-based among the kept ones) takes the current material;
+ * nothing is kept until a usemtl line has come. 0 when out of memory. */
+static int obj_face_material(obj_materials *m, sam_mesh_expect *e, uint64_t face)
+{
+    if (!e->material_count)
+        return 1;
+    if (face >= m->face_cap) {
+        const size_t old = m->face_cap, cap = old ? 2 * old : 1024;
+        uint32_t *grown = realloc(e->face_materials, cap * sizeof *grown);
+        if (!grown)
+            return 0;
+        for (size_t f = old; f < cap; ++f)
+            grown[f] = SAM_MESH_NO_MATERIAL;
+        e->face_materials = grown, m->face_cap = cap;
+    }
+    e->face_materials[face] = m->current;
+    return 1;
+}
+
 static sam_status walk_obj(const char *path, const char *data, size_t size, sam_mesh_expect *expect, sam_error *err)
 {
     sam_status st = sam_mesh_check_text(path, "OBJ", data, size, err);
@@ -635,6 +695,7 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
     unsigned long long nv = 0, nt = 0, nn = 0;
     sam_mesh_obj_gather g = {1, 0, 0, 0, 0, 0, 0};
     obj_colors colors = {0, 1, 0.0f};
+    obj_materials materials = {SAM_MESH_NO_MATERIAL, 0};
     while (sam_mesh_text_next_line(&c, &line, &eol)) {
         const char *tok[16];
         int len[16];
@@ -670,8 +731,11 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
             (*counter)++;
             continue;
         }
+        if (sam_mesh_token_is(tok[0], len[0], "usemtl") && count > 1 &&
+            !obj_use_material(&materials, expect, tok[1], eol))
+            return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's materials", path);
         if (!sam_mesh_token_is(tok[0], len[0], "f"))
-            continue; /* groups, materials, smoothing, lines: not geometry we read */
+            continue; /* groups, smoothing, lines: not geometry we read */
         /* Corners: v, v/t, v//n or v/t/n; all corners of a face alike.
          * OpenMesh drops repeated corners, and a face left with fewer
          * than 3. */
@@ -713,7 +777,9 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
         expect->file_faces++;
         if (distinct < 3 && expect->repeated_corner_faces++ == 0)
             expect->first_repeated_line = c.line_no;
-        if (distinct >= 3 && !sam_mesh_obj_gather_face(expect, &g, (uint32_t)corner))
+        if (distinct >= 3 && (!sam_mesh_obj_gather_face(expect, &g, (uint32_t)corner) ||
+                              !obj_face_material(&materials, expect,
+                                                 expect->file_faces - 1 - expect->repeated_corner_faces)))
             return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's corners", path);
     }
     sam_mesh_obj_gather_finish(expect, &g);

@@ -26,7 +26,11 @@ typedef struct sam_mesh_soup {
     float *corner_uvs;      /* 2 * corner_count per-corner UVs (OBJ vt), or NULL */
     float *corner_normals;  /* 3 * corner_count per-corner normals (OBJ vn), or NULL; before `normals` */
     float *colors;          /* 3 * vertex_count linear RGB in [0, 1] (glTF COLOR_0), or NULL */
+    uint32_t *face_materials; /* face_count: the glTF material of each face's primitive, or
+                               * SAM_MESH_NO_MATERIAL; NULL when no primitive names one */
 } sam_mesh_soup;
+
+#define SAM_MESH_NO_MATERIAL 0xFFFFFFFFu
 
 /* Reads OBJ, PLY (ASCII/binary), OFF or STL through OpenMesh's readers into
  * a soup. Every exception is caught. Indices are checked against the vertex
@@ -72,6 +76,16 @@ sam_status sam_mesh_gltf_read(const char *path, sam_mesh_soup *soup, sam_error *
 sam_status sam_mesh_gltf_base_color(const char *path, sam_image *image, float factor[4], uint32_t *others,
                                     sam_error *err);
 
+/* The base colour of each of a glTF file's materials, in its order: the
+ * texture times baseColorFactor (linear), or a 1 x 1 image of the factor
+ * when it has none; *count images in *images (caller destroys each and
+ * frees the array; NULL and 0 without materials). A texture that cannot
+ * be used leaves its material's image empty (pixels NULL) and `note`
+ * (note_size bytes) says why for the first; "" when all are read.
+ * Errors: SAM_ERR_FORMAT (an unreadable file), SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_gltf_base_colors(const char *path, sam_image **images, uint32_t *count, char *note,
+                                     size_t note_size, sam_error *err);
+
 /* What a mesh file holds, as the pre-check counts it: what OpenMesh's
  * reader must deliver for the file to have been read as written. */
 typedef struct sam_mesh_expect {
@@ -107,7 +121,17 @@ typedef struct sam_mesh_expect {
      * "v x y z r g b" give them (sRGB-encoded, scaled to [0, 1]): 3 *
      * vertices floats. Owned; NULL when not every vertex has one. */
     float *vertex_colors;
+    /* An OBJ's materials: the names its usemtl lines give, each once in
+     * first-use order (at most SAM_MESH_MAX_MATERIALS; later ones count
+     * as none), and each kept face's, in the order the reader delivers
+     * the faces: expect->faces entries, SAM_MESH_NO_MATERIAL before the
+     * first usemtl. Owned; NULL and 0 when the file has no usemtl. */
+    char **material_names;
+    uint32_t material_count;
+    uint32_t *face_materials;
 } sam_mesh_expect;
+
+#define SAM_MESH_MAX_MATERIALS 4096
 
 void sam_mesh_expect_free(sam_mesh_expect *expect);
 

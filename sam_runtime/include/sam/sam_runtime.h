@@ -525,6 +525,22 @@ sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *view, sam
  * larger than the GL's texture limit). */
 sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam_error *err);
 
+/* Sets several albedo maps, each read by its own triangles (a file whose
+ * materials have different textures: sam_mesh_load_albedo_maps), in place
+ * of one map. `maps`: `count` linear images (3 or 4 channels; one without
+ * pixels reads as white). `triangle_map`: per triangle of the map
+ * (triangle_count, the map's), the map it reads at its UVs, or
+ * SAM_ALBEDO_NO_MAP (sam_mesh.h) for none. The maps go to the GPU as one
+ * array of sRGB bytes at the largest map's size (smaller maps resampled,
+ * bilinear), halved until it holds at most 1 GiB and fits the GL's limits.
+ * sam_runtime_set_albedo_map clears them, and they clear it. Errors:
+ * SAM_ERR_INVALID_ARGUMENT (NULL or no maps, another triangle count, a
+ * triangle naming no map), SAM_ERR_UNSUPPORTED (the mesh has no UVs; more
+ * maps or triangles than the GL's array and buffer textures hold),
+ * SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_runtime_set_albedo_maps(sam_runtime *rt, const sam_image *maps, uint32_t count,
+                                       const uint32_t *triangle_map, uint32_t triangle_count, sam_error *err);
+
 /* Sets the vertex colours (linear RGB, 3 * count floats, copied to the
  * GPU) that multiply the albedo and its map in sam_runtime_render, or
  * clears them with NULL. They come in the order of the mesh the map was
