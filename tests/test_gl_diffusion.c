@@ -622,10 +622,7 @@ static void test_vertex_colors(void **state)
     sam_runtime_destroy(rt);
 
     /* The same plane as built from a mesh whose vertices came in reverse. */
-    d.source_vertex_count = nv;
-    d.vertex_source = malloc((size_t)nv * sizeof *d.vertex_source);
-    d.source_vertex = malloc((size_t)nv * sizeof *d.source_vertex);
-    assert_true(d.vertex_source && d.source_vertex);
+    assert_int_equal(d.source_vertex_count, nv);
     for (uint32_t v = 0; v < nv; ++v)
         d.vertex_source[v] = d.source_vertex[v] = nv - 1 - v;
     if (sam_runtime_create(&d, &profile, 1.0f, &rt, &err) != SAM_OK)

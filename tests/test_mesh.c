@@ -1710,6 +1710,11 @@ static void test_vertex_colors(void **state)
          "v 0 0 0 1 0.50196 0\nv 1 0 0 0 1 0.50196\nv 0 1 0 0.50196 0 1\nv 0 0 1 1 1 1\n"
          "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n",
          1},
+        /* A float a hair past 1 is clamped, not taken for a byte. */
+        {"colors_past_one.obj",
+         "v 0 0 0 1.0002 0.50196 0\nv 1 0 0 0 1 0.50196\nv 0 1 0 0.50196 0 1\nv 0 0 1 1 1 1\n"
+         "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n",
+         1},
         {"colors_bytes.obj",
          "v 0 0 0 255 128 0\nv 1 0 0 0 255 128\nv 0 1 0 128 0 255\nv 0 0 1 255 255 255\n"
          "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n",

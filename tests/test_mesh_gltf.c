@@ -479,8 +479,9 @@ static void test_image_view_past_buffer(void **state)
 }
 
 /* Primitives of different materials read different maps: each used
- * material's base colour (here a factor alone, as 1 x 1), faces of a
- * primitive without a material none, in the soup's face order. */
+ * material's base colour (here a factor alone, as 1 x 1; an unused one
+ * none), faces of a primitive without a material none, in the soup's face
+ * order. */
 static void test_albedo_maps(void **state)
 {
     (void)state;
@@ -490,7 +491,8 @@ static void test_albedo_maps(void **state)
              "{\"attributes\": {\"POSITION\": 0}, \"indices\": 2, \"material\": 1},"
              " {\"attributes\": {\"POSITION\": 0}, \"indices\": 2, \"material\": 0},"
              " {\"attributes\": {\"POSITION\": 0}, \"indices\": 2}]}],"
-             "\"materials\": [{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.5, 0.25, 1, 1]}}, {}]",
+             "\"materials\": [{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.5, 0.25, 1, 1]}}, {},"
+             " {\"pbrMetallicRoughness\": {\"baseColorFactor\": [0, 1, 0, 1]}}]",
              k_scene);
     write_tetra(path, sizeof path, "materials", body, "", "");
     sam_albedo_maps maps;
@@ -506,6 +508,22 @@ static void test_albedo_maps(void **state)
         assert_float_equal(maps.maps[1].pixels[c], 1.0f, 0.0f);
     }
     sam_albedo_maps_destroy(&maps);
+
+    /* An image TinyGLTF cannot decode fails the whole read: a note, no maps
+     * (and sam_mesh_load_albedo's note likewise), not an error. */
+    snprintf(body, sizeof body,
+             "%s \"nodes\": [{\"mesh\": 0}], \"meshes\": [{\"primitives\": ["
+             "{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1}, \"indices\": 2, \"material\": 1},"
+             " {\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1}, \"indices\": 2, \"material\": 0}]}],"
+             "\"materials\": [{}, {\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}],"
+             "\"textures\": [{\"source\": 0}], \"images\": [{\"bufferView\": 3, \"mimeType\": \"image/png\"}]",
+             k_scene);
+    write_tetra(path, sizeof path, "materials", body, ", {\"buffer\": 0, \"byteOffset\": 88, \"byteLength\": 4000}",
+                "");
+    assert_int_equal(sam_mesh_load_albedo_maps(path, &maps, note, sizeof note, &err), SAM_OK);
+    printf("%s\n", note);
+    assert_int_equal(maps.map_count, 0);
+    assert_non_null(strstr(note, "runs past its 92-byte buffer"));
     remove(path);
 }
 

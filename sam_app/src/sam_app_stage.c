@@ -321,7 +321,7 @@ sam_status sam_app_stage_scene(const char *mesh_path, const char *material, cons
         uint32_t white = 0;
         for (uint32_t f = 0; f < maps.face_count; ++f)
             white += maps.face_map[f] == SAM_ALBEDO_NO_MAP;
-        note(notes, "albedo maps: %u of the materials of %s, each on its own faces%s, times the albedo (a scene's "
+        note(notes, "albedo maps: %u for the materials of %s, each on its own faces%s, times the albedo (a scene's "
                     "\"albedo_map\" replaces them)",
              maps.map_count, mesh_path, white ? " (faces without one white)" : "");
         sam_albedo_maps_destroy(&maps);

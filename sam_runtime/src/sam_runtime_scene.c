@@ -120,7 +120,10 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
             *has_environment = 1;
     }
     /* The scene's albedo map, else the one the mesh file brings (an OBJ's
-     * map_Kd, a glTF's base colour). */
+     * map_Kd, a glTF's base colour), or its several. A scene set up again
+     * (sam_view reloading it) keeps none of the last one's. */
+    sam_runtime_set_albedo_map(rt, NULL, NULL);
+    sam_runtime_set_vertex_colors(rt, NULL, 0, NULL);
     sam_image map;
     memset(&map, 0, sizeof map);
     const char *source = scene->albedo_map;

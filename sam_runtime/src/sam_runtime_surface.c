@@ -177,8 +177,11 @@ sam_status sam_runtime_set_albedo_maps(sam_runtime *rt, const sam_image *maps, u
                         count, triangle_count, layers, texels);
     uint32_t w = 1, h = 1;
     for (uint32_t m = 0; m < count; ++m) {
-        w = maps[m].width > w ? maps[m].width : w;
-        h = maps[m].height > h ? maps[m].height : h;
+        if (maps[m].pixels && (maps[m].channels < 3 || !maps[m].width || !maps[m].height))
+            return sam_fail(err, SAM_ERR_INVALID_ARGUMENT, "runtime: albedo map %u is %ux%u with %u channels; need 3 "
+                            "or 4 channels", m, maps[m].width, maps[m].height, maps[m].channels);
+        w = maps[m].pixels && maps[m].width > w ? maps[m].width : w;
+        h = maps[m].pixels && maps[m].height > h ? maps[m].height : h;
     }
     for (uint32_t t = 0; t < triangle_count; ++t)
         if (triangle_map[t] >= count && triangle_map[t] != SAM_ALBEDO_NO_MAP)
@@ -261,6 +264,8 @@ sam_status sam_runtime_set_vertex_colors(sam_runtime *rt, const float *rgb, uint
         glBindVertexArray(0);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: out of memory for %zu vertex colours", nv);
     }
+    while (glGetError() != GL_NO_ERROR) {
+    }
     for (size_t v = 0; v < nv; ++v) {
         const size_t from = rt->surface.vertex_source ? rt->surface.vertex_source[v] : v;
         for (int k = 0; k < 3; ++k) {
@@ -278,8 +283,10 @@ sam_status sam_runtime_set_vertex_colors(sam_runtime *rt, const float *rgb, uint
     glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), NULL);
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
-    if (glGetError() != GL_NO_ERROR)
+    if (glGetError() != GL_NO_ERROR) {
+        sam_runtime_set_vertex_colors(rt, NULL, 0, NULL);
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "runtime: the GL could not store %zu vertex colours", nv);
+    }
     return SAM_OK;
 }
 

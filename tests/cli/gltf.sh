@@ -175,7 +175,7 @@ printf 'newmtl skin\nKd 1 1 1\nmap_Kd checker.png\nnewmtl other\nKd 1 1 1\nmap_K
 (cd "$tmp" && gltfpack -i two.obj -o two.glb -noq > /dev/null 2>&1) || fail "gltfpack two.obj"
 for f in two.obj two.glb; do
   render $f two_${f##*.}
-  grep -q "albedo maps: 2 of the materials of .*$f, each on its own faces, times the albedo" "$tmp/two_${f##*.}.txt" \
+  grep -q "albedo maps: 2 for the materials of .*$f, each on its own faces, times the albedo" "$tmp/two_${f##*.}.txt" \
     || fail "$f: the two textures are not named: $(cat "$tmp/two_${f##*.}.txt")"
 done
 render ear.obj one_texture
@@ -206,7 +206,7 @@ for mesh in j["meshes"]:
 write(sys.argv[3], j)
 PY
 render two_first_plain.glb two_first_plain
-grep -q "albedo maps: 2 of the materials of .*two_first_plain.glb" "$tmp/two_first_plain.txt" \
+grep -q "albedo maps: 2 for the materials of .*two_first_plain.glb" "$tmp/two_first_plain.txt" \
   || fail "two_first_plain.glb: not two maps: $(cat "$tmp/two_first_plain.txt")"
 render two_first_unused.glb two_first_unused
 grep -q "albedo map: the base colour texture of .*two_first_unused.glb, 32x32" "$tmp/two_first_unused.txt" \

@@ -76,7 +76,8 @@ typedef struct sam_mesh {
     uint32_t *render_of_source; /* source_count, each < vertex_count or SAM_MESH_DROPPED */
     /* The input's face (a file's polygon, or sam_mesh_input's triangle)
      * each triangle came from, in the input's order: what a face's
-     * material applies to (sam_mesh_load_albedo_maps). */
+     * material applies to (sam_mesh_load_albedo_maps). NULL in a mesh
+     * filled by hand. */
     uint32_t face_count;
     uint32_t *face_of_triangle; /* triangle_count, each < face_count */
 } sam_mesh;

@@ -380,6 +380,9 @@ static sam_status obj_maps(const char *path, sam_albedo_maps *maps, char *note, 
             snprintf(note, note_size, "%s: the texture of material %s cannot be used: %s", path, used->name[m],
                      why.message);
     }
+    if (st == SAM_OK && several && expect.material_count > MATERIALS_COUNTED && !note[0])
+        snprintf(note, note_size, "%s: %u materials; those past the first %d read no texture", path,
+                 expect.material_count, MATERIALS_COUNTED);
     if (st != SAM_OK || !several)
         sam_albedo_maps_destroy(maps);
     free(used);
@@ -402,8 +405,18 @@ static sam_status gltf_maps(const char *path, sam_albedo_maps *maps, char *note,
         several |= soup.face_materials[f] != soup.face_materials[0];
     sam_image *colors = NULL;
     uint32_t count = 0;
-    if (several)
-        st = sam_mesh_gltf_base_colors(path, &colors, &count, note, note_size, err);
+    if (several) {
+        /* Images TinyGLTF cannot decode make the whole read fail: a note,
+         * as sam_mesh_load_albedo makes it, and no maps. */
+        sam_error why;
+        st = sam_mesh_gltf_base_colors(path, &colors, &count, note, note_size, &why);
+        if (st == SAM_ERR_FORMAT || st == SAM_ERR_UNSUPPORTED) {
+            snprintf(note, note_size, "%s", why.message);
+            several = 0, st = SAM_OK;
+        } else if (st != SAM_OK) {
+            sam_fail(err, st, "%s", why.message);
+        }
+    }
     uint32_t *material_map = several && st == SAM_OK ? malloc((count ? count : 1) * sizeof *material_map) : NULL;
     if (several && st == SAM_OK) {
         maps->face_count = soup.face_count;
@@ -413,10 +426,16 @@ static sam_status gltf_maps(const char *path, sam_albedo_maps *maps, char *note,
             st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %u materials", path, count);
     }
     if (several && st == SAM_OK) {
-        /* Each material with a usable colour its own map, taken over. */
+        /* Each used material with a usable colour its own map, taken over. */
+        for (uint32_t m = 0; m < count; ++m)
+            material_map[m] = SAM_ALBEDO_NO_MAP;
+        for (uint32_t f = 0; f < soup.face_count; ++f)
+            if (soup.face_materials[f] < count)
+                material_map[soup.face_materials[f]] = 0;
         for (uint32_t m = 0; m < count; ++m) {
-            material_map[m] = colors[m].pixels ? maps->map_count : SAM_ALBEDO_NO_MAP;
-            if (colors[m].pixels) {
+            const int used = material_map[m] == 0;
+            material_map[m] = used && colors[m].pixels ? maps->map_count : SAM_ALBEDO_NO_MAP;
+            if (used && colors[m].pixels) {
                 maps->maps[maps->map_count++] = colors[m];
                 memset(&colors[m], 0, sizeof colors[m]);
             }

@@ -610,7 +610,8 @@ static int obj_color(obj_colors *c, sam_mesh_expect *e, unsigned long long nv, c
 }
 
 /* Keeps the colours when every one of the `nv` vertices has one, scaled to
- * [0, 1] (values past 1 mean the file wrote bytes); drops them otherwise. */
+ * [0, 1] (values past 1.5 mean the file wrote bytes; a float a hair past
+ * 1 is clamped); drops them otherwise. */
 static void obj_colors_finish(const obj_colors *c, unsigned long long nv, sam_mesh_expect *e)
 {
     if (!c->ok || !nv) {
@@ -618,7 +619,7 @@ static void obj_colors_finish(const obj_colors *c, unsigned long long nv, sam_me
         e->vertex_colors = NULL;
         return;
     }
-    const float scale = c->max > 1.0f ? 1.0f / 255.0f : 1.0f;
+    const float scale = c->max > 1.5f ? 1.0f / 255.0f : 1.0f;
     for (size_t i = 0; i < 3 * nv; ++i) {
         const float x = e->vertex_colors[i] * scale;
         e->vertex_colors[i] = x > 1.0f ? 1.0f : x > 0.0f ? x : 0.0f;

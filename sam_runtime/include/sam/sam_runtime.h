@@ -520,7 +520,8 @@ sam_status sam_runtime_gbuffer(sam_runtime *rt, const sam_render_view *view, sam
                                sam_image *positions, sam_image *normals, sam_error *err);
 
 /* Sets the albedo map (linear RGB or RGBA, read at the mesh's UVs; copied
- * to the GPU), or clears it with NULL. Errors: SAM_ERR_UNSUPPORTED (the
+ * to the GPU), or clears it with NULL; either clears several maps
+ * (sam_runtime_set_albedo_maps). Errors: SAM_ERR_UNSUPPORTED (the
  * mesh has no UVs), SAM_ERR_INVALID_ARGUMENT (fewer than 3 channels, or
  * larger than the GL's texture limit). */
 sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam_error *err);
@@ -532,7 +533,8 @@ sam_status sam_runtime_set_albedo_map(sam_runtime *rt, const sam_image *map, sam
  * (triangle_count, the map's), the map it reads at its UVs, or
  * SAM_ALBEDO_NO_MAP (sam_mesh.h) for none. The maps go to the GPU as one
  * array of sRGB bytes at the largest map's size (smaller maps resampled,
- * bilinear), halved until it holds at most 1 GiB and fits the GL's limits.
+ * bilinear), halved until it holds at most 1 GiB (its mipmaps a third
+ * more) and fits the GL's limits.
  * sam_runtime_set_albedo_map clears them, and they clear it. Errors:
  * SAM_ERR_INVALID_ARGUMENT (NULL or no maps, another triangle count, a
  * triangle naming no map), SAM_ERR_UNSUPPORTED (the mesh has no UVs; more

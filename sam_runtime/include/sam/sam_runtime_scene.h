@@ -17,8 +17,9 @@ extern "C" {
 
 /* Gives `rt` the scene's lights, its deformers (posed by
  * sam_runtime_deform), its environment (the lat-long map's SH-9 radiance,
- * rotated and scaled as the scene says) and its albedo map. Keyframes need
- * the .sam as well: sam_runtime_scene_keyframes.
+ * rotated and scaled as the scene says), its albedo maps and its vertex
+ * colours, replacing any an earlier setup gave. Keyframes need the .sam
+ * as well: sam_runtime_scene_keyframes.
  * `sh` (may be NULL) receives the environment's SH and `*has_environment`
  * (may be NULL) whether there is one, for CPU references that must light
  * the object alike. `warning` (size n, may be NULL) gets one line when
@@ -26,13 +27,18 @@ extern "C" {
  * map on a mesh without UVs), else "".
  * Without an "albedo_map" the mesh file's own texture is used, if it
  * brings one (sam_mesh_load_albedo); one it names but that cannot be read
- * is a warning. Unless "vertex_colors" is false, the mesh file's vertex
+ * is a warning. A file whose faces read several (sam_mesh_load_albedo_maps)
+ * gives each its triangles (the mesh is loaded again for its faces,
+ * sam_runtime_set_albedo_maps); maps the runtime cannot take are a
+ * warning. Unless "vertex_colors" is false, the mesh file's vertex
  * colours are set too (sam_mesh_load_vertex_colors,
  * sam_runtime_set_vertex_colors); colours of another vertex count than
  * the map's mesh (a map without SRCV) are a warning, added after any
  * other with "; ".
  * Errors: those of sam_image_read_exr / sam_image_read_picture (naming the
- * file), sam_mesh_load_albedo, sam_mesh_load_vertex_colors,
+ * file), sam_mesh_load_albedo, sam_mesh_load_albedo_maps, sam_mesh_load,
+ * sam_runtime_set_albedo_maps (but its SAM_ERR_INVALID_ARGUMENT and
+ * SAM_ERR_UNSUPPORTED), sam_mesh_load_vertex_colors,
  * sam_light_sh9_from_latlong, sam_runtime_set_lights,
  * sam_runtime_set_deformers, sam_runtime_set_albedo_map and
  * sam_runtime_set_vertex_colors (but its SAM_ERR_INVALID_ARGUMENT). */
