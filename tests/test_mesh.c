@@ -1878,6 +1878,48 @@ static void test_albedo_maps(void **state)
     remove(path);
 }
 
+/* A PLY as MeshLab and Metashape write several texture pages: a
+ * TextureFile comment per page, and each face's page in its texnumber
+ * (ASCII here; binary goes through the same walk). The same file twice
+ * is one map; a texnumber past the comments reads none. */
+static void test_ply_texture_pages(void **state)
+{
+    (void)state;
+    sam_error err;
+    char path[512], png[512], note[2304];
+    const char *const names[2] = {"page0.png", "page1.png"};
+    for (int k = 0; k < 2; ++k) {
+        sam_image image;
+        assert_int_equal(sam_image_create(&image, 2, 2, 3, &err), SAM_OK);
+        for (size_t i = 0; i < 12; ++i)
+            image.pixels[i] = 0.2f + 0.5f * (float)k;
+        assert_int_equal(sam_image_write_png(sam_test_tmp_path(png, sizeof png, names[k]), &image, SAM_PNG_SRGB,
+                                             &err), SAM_OK);
+        sam_image_destroy(&image);
+    }
+    write_tmp(path, sizeof path, "pages.ply",
+              "ply\nformat ascii 1.0\ncomment TextureFile page0.png\ncomment TextureFile page1.png\n"
+              "comment TextureFile page0.png\nelement vertex 4\nproperty float x\nproperty float y\n"
+              "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+              "property list uchar float texcoord\nproperty int texnumber\nend_header\n"
+              "0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+              "3 0 1 2 6 0 0 1 0 0 1 1\n3 0 3 1 6 0 0 1 0 0 1 0\n3 0 2 3 6 0 0 1 0 0 1 2\n"
+              "3 1 3 2 6 0 0 1 0 0 1 7\n");
+    sam_albedo_maps maps;
+    assert_int_equal(sam_mesh_load_albedo_maps(path, &maps, note, sizeof note, &err), SAM_OK);
+    assert_string_equal(note, "");
+    assert_int_equal(maps.map_count, 2);
+    const uint32_t want[4] = {1, 0, 0, SAM_ALBEDO_NO_MAP};
+    assert_memory_equal(maps.face_map, want, sizeof want);
+    assert_float_equal(maps.maps[1].pixels[0], sam_srgb_to_linear(sam_linear_to_srgb(0.7f)), 0.01f);
+    sam_albedo_maps_destroy(&maps);
+    sam_mesh mesh;
+    assert_int_equal(sam_mesh_load(path, &mesh, NULL, &err), SAM_OK);
+    assert_int_equal(mesh.face_count, 4);
+    sam_mesh_destroy(&mesh);
+    remove(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1891,6 +1933,7 @@ int main(void)
         cmocka_unit_test(test_obj_other_materials_textures),
         cmocka_unit_test(test_vertex_colors),
         cmocka_unit_test(test_albedo_maps),
+        cmocka_unit_test(test_ply_texture_pages),
         cmocka_unit_test(test_obj_as_other_tools_write_it),
         cmocka_unit_test(test_body_leaves_out_loose_specks),
         cmocka_unit_test(test_open_sheet_rings_and_fan_areas),

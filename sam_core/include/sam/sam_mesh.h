@@ -149,11 +149,12 @@ sam_status sam_mesh_create(const sam_mesh_input *input, sam_mesh *mesh, sam_mesh
 sam_status sam_mesh_load_albedo(const char *path, sam_image *image, char *note, size_t note_size, sam_error *err);
 
 /* The albedo maps of a file whose faces read more than one (an OBJ's
- * materials with their map_Kd, a glTF's with their base colours), for
+ * materials with their map_Kd, a PLY's TextureFile comments by its faces'
+ * texnumber, a glTF's materials with their base colours), for
  * sam_runtime_set_albedo_maps. Caller frees with sam_albedo_maps_destroy. */
 typedef struct sam_albedo_maps {
     uint32_t map_count;
-    sam_image *maps;     /* map_count linear images: an OBJ's distinct map_Kd files; a glTF's used
+    sam_image *maps;     /* map_count linear images: an OBJ's or PLY's distinct texture files; a glTF's used
                           * materials' base colour, its texture times its factor (1 x 1 without one) */
     uint32_t face_count; /* the file's faces, as sam_mesh.face_of_triangle numbers them */
     uint32_t *face_map;  /* face_count: the map each face reads, or SAM_ALBEDO_NO_MAP (white) */
@@ -163,8 +164,8 @@ typedef struct sam_albedo_maps {
 
 /* The maps of a file whose faces read more than one: faces of materials
  * with different textures, or some with a texture and some without. A
- * file that needs one map at most (one texture on every face; PLY, OFF,
- * STL) gives map_count 0: sam_mesh_load_albedo reads it. A texture that
+ * file that needs one map at most (one texture on every face; OFF, STL)
+ * gives map_count 0: sam_mesh_load_albedo reads it. A texture that
  * cannot be used leaves its faces white and `note` (note_size bytes, > 0)
  * says why, for a warning; else "". On failure `maps` is zeroed.
  * Errors: SAM_ERR_INVALID_ARGUMENT, SAM_ERR_IO, SAM_ERR_FORMAT (a file

@@ -215,12 +215,13 @@ static sam_status obj_texture(const char *path, char *texture, size_t n, uint32_
     return SAM_OK;
 }
 
-/* The texture a PLY's header names as MeshLab and Metashape write it
- * ("comment TextureFile NAME"), into `texture`; "" when it names none. Only
- * the header is read: a scan's body may be large. */
-static sam_status ply_texture(const char *path, char *texture, size_t n, sam_error *err)
+/* The textures a PLY's header names as MeshLab and Metashape write them
+ * ("comment TextureFile NAME", in order: a face's texnumber counts them),
+ * at most `max` paths of `n` bytes into `textures` (beside the PLY), their
+ * count into *count. Only the header is read: a scan's body may be large. */
+static sam_status ply_textures(const char *path, char *textures, size_t n, size_t max, size_t *count, sam_error *err)
 {
-    texture[0] = '\0';
+    *count = 0;
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return sam_fail(err, SAM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
@@ -234,17 +235,25 @@ static sam_status ply_texture(const char *path, char *texture, size_t n, sam_err
     fclose(fp);
     head[size] = '\0';
     char comment[512], name[512];
-    for (const char *line = head; line && line < head + size && !texture[0];) {
+    for (const char *line = head; line && line < head + size && *count < max;) {
         if (!strncmp(line, "end_header", 10))
             break;
         if (keyword_value(line, "comment", 0, comment, sizeof comment) &&
             keyword_value(comment, "TextureFile", 0, name, sizeof name))
-            beside_file(path, name, texture, n);
+            beside_file(path, name, textures + n * (*count)++, n);
         const char *next = memchr(line, '\n', (size_t)(head + size - line));
         line = next ? next + 1 : NULL;
     }
     free(head);
     return SAM_OK;
+}
+
+/* The first texture a PLY's header names, into `texture`; "" when none. */
+static sam_status ply_texture(const char *path, char *texture, size_t n, sam_error *err)
+{
+    size_t count;
+    texture[0] = '\0';
+    return ply_textures(path, texture, n, 1, &count, err);
 }
 
 /* What a note adds, after `lead`, when a file's materials name `others`
@@ -452,6 +461,56 @@ static sam_status gltf_maps(const char *path, sam_albedo_maps *maps, char *note,
     return st;
 }
 
+/* A PLY's TextureFile textures, each face's by its texnumber (MeshLab's
+ * and Metashape's several texture pages), each distinct file once. */
+static sam_status ply_maps(const char *path, sam_albedo_maps *maps, char *note, size_t note_size, sam_error *err)
+{
+    enum { PLY_TEXTURES = 256, PATH_BYTES = 1024 };
+    sam_mesh_expect expect;
+    sam_status st = sam_mesh_preflight(path, &expect, err);
+    char *textures = NULL;
+    uint32_t *texture_map = NULL;
+    size_t count = 0;
+    if (st == SAM_OK && expect.face_materials) {
+        textures = malloc((size_t)PLY_TEXTURES * PATH_BYTES);
+        texture_map = malloc(PLY_TEXTURES * sizeof *texture_map);
+        maps->face_count = (uint32_t)expect.faces;
+        maps->face_map = malloc(((size_t)maps->face_count + 1) * sizeof *maps->face_map);
+        maps->maps = calloc(PLY_TEXTURES, sizeof *maps->maps);
+        st = textures && texture_map && maps->face_map && maps->maps
+                 ? ply_textures(path, textures, PATH_BYTES, PLY_TEXTURES, &count, err)
+                 : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for its textures", path);
+    }
+    int several = 0;
+    if (st == SAM_OK && count) {
+        for (size_t t = 0; t < count; ++t) {
+            texture_map[t] = maps->map_count;
+            for (size_t k = 0; k < t && texture_map[t] == maps->map_count; ++k)
+                if (!strcmp(textures + k * PATH_BYTES, textures + t * PATH_BYTES))
+                    texture_map[t] = texture_map[k];
+            maps->map_count += texture_map[t] == maps->map_count;
+        }
+        several = assign_faces(maps, expect.face_materials, (uint32_t)count, texture_map);
+    }
+    for (size_t t = 0; st == SAM_OK && several && t < count; ++t) {
+        sam_image *map = &maps->maps[texture_map[t]];
+        if (map->pixels)
+            continue;
+        sam_error why;
+        const sam_status read = sam_image_read_picture(textures + t * PATH_BYTES, map, SAM_PNG_SRGB, &why);
+        if (read == SAM_ERR_OUT_OF_MEMORY)
+            st = sam_fail(err, read, "%s", why.message);
+        else if (read != SAM_OK && !note[0])
+            snprintf(note, note_size, "%s: its texture %zu cannot be used: %s", path, t, why.message);
+    }
+    if (st != SAM_OK || !several)
+        sam_albedo_maps_destroy(maps);
+    free(textures);
+    free(texture_map);
+    sam_mesh_expect_free(&expect);
+    return st;
+}
+
 sam_status sam_mesh_load_albedo_maps(const char *path, sam_albedo_maps *maps, char *note, size_t note_size,
                                      sam_error *err)
 {
@@ -466,5 +525,7 @@ sam_status sam_mesh_load_albedo_maps(const char *path, sam_albedo_maps *maps, ch
         return gltf_maps(path, maps, note, note_size, err);
     if (sam_path_has_extension(path, ".obj"))
         return obj_maps(path, maps, note, note_size, err);
+    if (sam_path_has_extension(path, ".ply"))
+        return ply_maps(path, maps, note, note_size, err);
     return SAM_OK;
 }

@@ -134,14 +134,49 @@ static int color_channel(const sam_mesh_ply_property *pr)
     return -1;
 }
 
+/* Walks the body up to element `target` (the pre-check checked it), giving
+ * `take` each of its rows' scalar values whose property `slot` names
+ * (>= 0), as read. */
+static void walk_element(const char *data, size_t size, const sam_mesh_ply_header *h, int target,
+                         int (*slot)(const sam_mesh_ply_property *), void (*take)(void *, unsigned long long, int,
+                                                                                  const sam_mesh_ply_property *, double),
+                         void *to)
+{
+    ply_cursor c = {data + h->body, data + size, h->format};
+    for (int e = 0; e <= target; ++e)
+        for (unsigned long long i = 0; i < h->element[e].count; ++i)
+            for (int k = 0; k < h->element[e].property_count; ++k) {
+                const sam_mesh_ply_property *pr = &h->element[e].property[k];
+                const double n = pr->is_list ? read_value(&c, pr->count_type) : 1;
+                for (double j = 0; j < n; ++j) {
+                    const double x = read_value(&c, pr->value_type);
+                    const int at = e == target && !pr->is_list ? slot(pr) : -1;
+                    if (at >= 0)
+                        take(to, i, at, pr, x);
+                }
+            }
+}
+
+/* The element named `name`, or -1. */
+static int element_named(const sam_mesh_ply_header *h, const char *name)
+{
+    for (int e = 0; e < h->element_count; ++e)
+        if (!strcmp(h->element[e].name, name))
+            return e;
+    return -1;
+}
+
+static void take_color(void *to, unsigned long long row, int channel, const sam_mesh_ply_property *pr, double x)
+{
+    ((float *)to)[3 * row + (unsigned)channel] = (float)fmin(fmax(x / type_max(pr->value_type), 0.0), 1.0);
+}
+
 sam_status sam_mesh_ply_colors(const char *path, const char *data, size_t size, const sam_mesh_ply_header *h,
                                float **rgb, sam_error *err)
 {
     *rgb = NULL;
-    int vertex = -1, found = 0;
-    for (int e = 0; e < h->element_count && vertex < 0; ++e)
-        if (!strcmp(h->element[e].name, "vertex"))
-            vertex = e;
+    const int vertex = element_named(h, "vertex");
+    int found = 0;
     for (int k = 0; vertex >= 0 && k < h->element[vertex].property_count; ++k) {
         const int ch = color_channel(&h->element[vertex].property[k]);
         found |= ch >= 0 ? 1 << ch : 0;
@@ -152,20 +187,39 @@ sam_status sam_mesh_ply_colors(const char *path, const char *data, size_t size, 
     float *out = malloc((size_t)el->count * 3 * sizeof *out);
     if (!out)
         return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %llu vertex colours", path, el->count);
-    ply_cursor c = {data + h->body, data + size, h->format};
-    for (int e = 0; e <= vertex; ++e)
-        for (unsigned long long i = 0; i < h->element[e].count; ++i)
-            for (int k = 0; k < h->element[e].property_count; ++k) {
-                const sam_mesh_ply_property *pr = &h->element[e].property[k];
-                const double n = pr->is_list ? read_value(&c, pr->count_type) : 1;
-                for (double j = 0; j < n; ++j) {
-                    const double x = read_value(&c, pr->value_type);
-                    const int ch = e == vertex ? color_channel(pr) : -1;
-                    if (ch >= 0)
-                        out[3 * i + (unsigned)ch] = (float)fmin(fmax(x / type_max(pr->value_type), 0.0), 1.0);
-                }
-            }
+    walk_element(data, size, h, vertex, color_channel, take_color, out);
     *rgb = out;
+    return SAM_OK;
+}
+
+static int is_texnumber(const sam_mesh_ply_property *pr)
+{
+    return !strcmp(pr->name, "texnumber") ? 0 : -1;
+}
+
+static void take_texnumber(void *to, unsigned long long row, int slot, const sam_mesh_ply_property *pr, double x)
+{
+    (void)slot, (void)pr;
+    ((uint32_t *)to)[row] = x >= 0 && x < 4294967295.0 && x == floor(x) ? (uint32_t)x : 0xFFFFFFFFu;
+}
+
+sam_status sam_mesh_ply_texnumbers(const char *path, const char *data, size_t size, const sam_mesh_ply_header *h,
+                                   uint32_t **numbers, sam_error *err)
+{
+    *numbers = NULL;
+    const int face = element_named(h, "face");
+    int found = 0;
+    for (int k = 0; face >= 0 && k < h->element[face].property_count; ++k)
+        found |= !h->element[face].property[k].is_list && is_texnumber(&h->element[face].property[k]) == 0;
+    if (!found || !h->element[face].count)
+        return SAM_OK;
+    const sam_mesh_ply_element *el = &h->element[face];
+    uint32_t *out = malloc((size_t)el->count * sizeof *out);
+    if (!out)
+        return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %llu faces' texture numbers", path,
+                        el->count);
+    walk_element(data, size, h, face, is_texnumber, take_texnumber, out);
+    *numbers = out;
     return SAM_OK;
 }
 

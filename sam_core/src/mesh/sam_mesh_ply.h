@@ -99,4 +99,12 @@ sam_status sam_mesh_ply_rewrite(const char *path, const char *data, size_t size,
 sam_status sam_mesh_ply_colors(const char *path, const char *data, size_t size, const sam_mesh_ply_header *header,
                                float **rgb, sam_error *err);
 
+/* The face element's `texnumber` (MeshLab's and Metashape's: which of the
+ * header's "comment TextureFile" lines each face reads), one per face into
+ * *numbers (the caller frees it), 0xFFFFFFFF for a value that is no
+ * index; *numbers NULL when the faces have no such scalar. The file as
+ * sam_mesh_ply_colors takes it. Errors: SAM_ERR_OUT_OF_MEMORY. */
+sam_status sam_mesh_ply_texnumbers(const char *path, const char *data, size_t size, const sam_mesh_ply_header *header,
+                                   uint32_t **numbers, sam_error *err);
+
 #endif

@@ -286,6 +286,8 @@ static sam_status preflight_ply(const char *path, const char *data, size_t size,
             }
             if (st == SAM_OK)
                 st = sam_mesh_ply_colors(path, data, size, h, &expect->vertex_colors, err);
+            if (st == SAM_OK)
+                st = sam_mesh_ply_texnumbers(path, data, size, h, &expect->face_materials, err);
             expect->known = st == SAM_OK;
             goto done;
         } else if (count == 3 && sam_mesh_token_is(tok[0], len[0], "element")) {

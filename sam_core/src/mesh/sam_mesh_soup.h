@@ -125,7 +125,9 @@ typedef struct sam_mesh_expect {
      * first-use order (at most SAM_MESH_MAX_MATERIALS; later ones count
      * as none), and each kept face's, in the order the reader delivers
      * the faces: expect->faces entries, SAM_MESH_NO_MATERIAL before the
-     * first usemtl. Owned; NULL and 0 when the file has no usemtl. */
+     * first usemtl. Owned; NULL and 0 when the file has no usemtl. A
+     * PLY's faces' texnumber goes to face_materials (sam_mesh_ply.h), its
+     * names being its TextureFile comments, not listed here. */
     char **material_names;
     uint32_t material_count;
     uint32_t *face_materials;
