@@ -338,6 +338,59 @@ static int assign_faces(sam_albedo_maps *maps, const uint32_t *face_material, ui
     return several;
 }
 
+/* Bytes of each path in the lists of texture files below. */
+enum { PATH_BYTES = 1024 };
+
+/* The maps of `count` materials whose texture files are `files` (PATH_BYTES
+ * apart; "" for none): a map per distinct file, each of the `face_count`
+ * faces' by its material (`face_material`), the files decoded when the
+ * faces read more than one; otherwise `maps` is left empty. A file that
+ * cannot be read leaves its faces white, and the first says why in `note`,
+ * naming its material (`names`, or its number when NULL). */
+static sam_status maps_from_files(const char *path, const char *files, uint32_t count, const char *const *names,
+                                  const uint32_t *face_material, uint32_t face_count, sam_albedo_maps *maps,
+                                  char *note, size_t note_size, sam_error *err)
+{
+    uint32_t *material_map = malloc((count ? count : 1) * sizeof *material_map);
+    maps->face_count = face_count;
+    maps->face_map = malloc(((size_t)face_count + 1) * sizeof *maps->face_map);
+    maps->maps = calloc(count ? count : 1, sizeof *maps->maps);
+    sam_status st = material_map && maps->face_map && maps->maps
+                        ? SAM_OK
+                        : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %u materials", path, count);
+    int several = 0;
+    if (st == SAM_OK) {
+        for (uint32_t m = 0; m < count; ++m) {
+            const char *file = files + (size_t)m * PATH_BYTES;
+            material_map[m] = file[0] ? maps->map_count : SAM_ALBEDO_NO_MAP;
+            for (uint32_t k = 0; k < m && file[0] && material_map[m] == maps->map_count; ++k)
+                if (!strcmp(files + (size_t)k * PATH_BYTES, file))
+                    material_map[m] = material_map[k];
+            maps->map_count += file[0] && material_map[m] == maps->map_count;
+        }
+        several = assign_faces(maps, face_material, count, material_map);
+    }
+    /* Decoded only when they are needed: one map is sam_mesh_load_albedo's. */
+    for (uint32_t m = 0; st == SAM_OK && several && m < count; ++m) {
+        sam_image *map = material_map[m] == SAM_ALBEDO_NO_MAP ? NULL : &maps->maps[material_map[m]];
+        if (!map || map->pixels)
+            continue;
+        sam_error why;
+        const sam_status read = sam_image_read_picture(files + (size_t)m * PATH_BYTES, map, SAM_PNG_SRGB, &why);
+        if (read == SAM_ERR_OUT_OF_MEMORY)
+            st = sam_fail(err, read, "%s", why.message);
+        else if (read != SAM_OK && !note[0] && names)
+            snprintf(note, note_size, "%s: the texture of material %s cannot be used: %s", path, names[m],
+                     why.message);
+        else if (read != SAM_OK && !note[0])
+            snprintf(note, note_size, "%s: its texture %u cannot be used: %s", path, m, why.message);
+    }
+    if (st != SAM_OK || !several)
+        sam_albedo_maps_destroy(maps);
+    free(material_map);
+    return st;
+}
+
 /* An OBJ's materials' map_Kd textures, each distinct file once. */
 static sam_status obj_maps(const char *path, sam_albedo_maps *maps, char *note, size_t note_size, sam_error *err)
 {
@@ -348,12 +401,9 @@ static sam_status obj_maps(const char *path, sam_albedo_maps *maps, char *note, 
         return st;
     }
     obj_materials *used = calloc(1, sizeof *used);
-    uint32_t *material_map = malloc(expect.material_count * sizeof *material_map);
-    maps->face_count = (uint32_t)expect.faces;
-    maps->face_map = malloc((size_t)maps->face_count * sizeof *maps->face_map);
-    maps->maps = calloc(expect.material_count, sizeof *maps->maps);
-    char mtl[1024] = "", texture[1024];
-    if (!used || !material_map || !maps->face_map || !maps->maps)
+    char *files = calloc(expect.material_count, PATH_BYTES);
+    char mtl[1024] = "";
+    if (!used || !files)
         st = sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for %u materials", path, expect.material_count);
     /* The preflight's names, in its order: used->map[i] is material i's. */
     for (uint32_t m = 0; st == SAM_OK && m < expect.material_count && m < MATERIALS_COUNTED; ++m) {
@@ -363,39 +413,18 @@ static sam_status obj_maps(const char *path, sam_albedo_maps *maps, char *note, 
     }
     if (st == SAM_OK)
         st = obj_library(path, mtl, sizeof mtl, NULL, err);
-    int several = 0;
     if (st == SAM_OK && mtl[0] && mtl_maps(mtl, used)) {
-        for (uint32_t m = 0; m < expect.material_count; ++m) {
-            material_map[m] = SAM_ALBEDO_NO_MAP;
-            for (uint32_t k = 0; k < m && m < used->count && used->map[m][0]; ++k)
-                if (!strcmp(used->map[k], used->map[m]))
-                    material_map[m] = material_map[k];
-            if (m < used->count && used->map[m][0] && material_map[m] == SAM_ALBEDO_NO_MAP)
-                material_map[m] = maps->map_count++;
-        }
-        several = assign_faces(maps, expect.face_materials, expect.material_count, material_map);
+        for (size_t m = 0; m < used->count; ++m)
+            if (used->map[m][0])
+                beside_file(mtl, used->map[m], files + m * PATH_BYTES, PATH_BYTES);
+        st = maps_from_files(path, files, expect.material_count, (const char *const *)expect.material_names,
+                             expect.face_materials, (uint32_t)expect.faces, maps, note, note_size, err);
     }
-    /* Decoded only when they are needed: one map is sam_mesh_load_albedo's. */
-    for (uint32_t m = 0; st == SAM_OK && several && m < used->count; ++m) {
-        const uint32_t k = material_map[m];
-        if (k == SAM_ALBEDO_NO_MAP || maps->maps[k].pixels)
-            continue;
-        beside_file(mtl, used->map[m], texture, sizeof texture);
-        sam_error why;
-        const sam_status read = sam_image_read_picture(texture, &maps->maps[k], SAM_PNG_SRGB, &why);
-        if (read == SAM_ERR_OUT_OF_MEMORY)
-            st = sam_fail(err, read, "%s", why.message);
-        else if (read != SAM_OK && !note[0])
-            snprintf(note, note_size, "%s: the texture of material %s cannot be used: %s", path, used->name[m],
-                     why.message);
-    }
-    if (st == SAM_OK && several && expect.material_count > MATERIALS_COUNTED && !note[0])
+    if (st == SAM_OK && maps->map_count && expect.material_count > MATERIALS_COUNTED && !note[0])
         snprintf(note, note_size, "%s: %u materials; those past the first %d read no texture", path,
                  expect.material_count, MATERIALS_COUNTED);
-    if (st != SAM_OK || !several)
-        sam_albedo_maps_destroy(maps);
     free(used);
-    free(material_map);
+    free(files);
     sam_mesh_expect_free(&expect);
     return st;
 }
@@ -465,48 +494,20 @@ static sam_status gltf_maps(const char *path, sam_albedo_maps *maps, char *note,
  * and Metashape's several texture pages), each distinct file once. */
 static sam_status ply_maps(const char *path, sam_albedo_maps *maps, char *note, size_t note_size, sam_error *err)
 {
-    enum { PLY_TEXTURES = 256, PATH_BYTES = 1024 };
+    enum { PLY_TEXTURES = 256 };
     sam_mesh_expect expect;
     sam_status st = sam_mesh_preflight(path, &expect, err);
-    char *textures = NULL;
-    uint32_t *texture_map = NULL;
+    char *files = NULL;
     size_t count = 0;
     if (st == SAM_OK && expect.face_materials) {
-        textures = malloc((size_t)PLY_TEXTURES * PATH_BYTES);
-        texture_map = malloc(PLY_TEXTURES * sizeof *texture_map);
-        maps->face_count = (uint32_t)expect.faces;
-        maps->face_map = malloc(((size_t)maps->face_count + 1) * sizeof *maps->face_map);
-        maps->maps = calloc(PLY_TEXTURES, sizeof *maps->maps);
-        st = textures && texture_map && maps->face_map && maps->maps
-                 ? ply_textures(path, textures, PATH_BYTES, PLY_TEXTURES, &count, err)
-                 : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for its textures", path);
+        files = calloc(PLY_TEXTURES, PATH_BYTES);
+        st = files ? ply_textures(path, files, PATH_BYTES, PLY_TEXTURES, &count, err)
+                   : sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for its textures", path);
     }
-    int several = 0;
-    if (st == SAM_OK && count) {
-        for (size_t t = 0; t < count; ++t) {
-            texture_map[t] = maps->map_count;
-            for (size_t k = 0; k < t && texture_map[t] == maps->map_count; ++k)
-                if (!strcmp(textures + k * PATH_BYTES, textures + t * PATH_BYTES))
-                    texture_map[t] = texture_map[k];
-            maps->map_count += texture_map[t] == maps->map_count;
-        }
-        several = assign_faces(maps, expect.face_materials, (uint32_t)count, texture_map);
-    }
-    for (size_t t = 0; st == SAM_OK && several && t < count; ++t) {
-        sam_image *map = &maps->maps[texture_map[t]];
-        if (map->pixels)
-            continue;
-        sam_error why;
-        const sam_status read = sam_image_read_picture(textures + t * PATH_BYTES, map, SAM_PNG_SRGB, &why);
-        if (read == SAM_ERR_OUT_OF_MEMORY)
-            st = sam_fail(err, read, "%s", why.message);
-        else if (read != SAM_OK && !note[0])
-            snprintf(note, note_size, "%s: its texture %zu cannot be used: %s", path, t, why.message);
-    }
-    if (st != SAM_OK || !several)
-        sam_albedo_maps_destroy(maps);
-    free(textures);
-    free(texture_map);
+    if (st == SAM_OK && count)
+        st = maps_from_files(path, files, (uint32_t)count, NULL, expect.face_materials, (uint32_t)expect.faces, maps,
+                             note, note_size, err);
+    free(files);
     sam_mesh_expect_free(&expect);
     return st;
 }
