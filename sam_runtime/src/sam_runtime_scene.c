@@ -89,6 +89,38 @@ static sam_status set_albedo_maps(sam_runtime *rt, const char *mesh_path, int *s
     return st;
 }
 
+/* The scene's albedo map, else the one the mesh file brings (an OBJ's
+ * map_Kd, a glTF's base colour), or its several. */
+static sam_status set_albedo(sam_runtime *rt, const sam_scene *scene, char *warning, size_t n, sam_error *err)
+{
+    sam_image map;
+    memset(&map, 0, sizeof map);
+    const char *source = scene->albedo_map;
+    sam_status st;
+    if (source) {
+        if ((st = sam_image_read_picture(source, &map, SAM_PNG_SRGB, err)) != SAM_OK)
+            return st;
+    } else if (scene->mesh_path) {
+        char note[2304]; /* as sam_app_stage.c's */
+        int several = 0;
+        if ((st = set_albedo_maps(rt, scene->mesh_path, &several, warning, n, err)) != SAM_OK || several)
+            return st;
+        if ((st = sam_mesh_load_albedo(scene->mesh_path, &map, note, sizeof note, err)) != SAM_OK)
+            return st;
+        if (note[0] && !map.pixels)
+            add_warning(warning, n, note);
+        source = scene->mesh_path;
+    }
+    st = map.pixels ? sam_runtime_set_albedo_map(rt, &map, err) : SAM_OK;
+    sam_image_destroy(&map);
+    if (st != SAM_ERR_UNSUPPORTED)
+        return st;
+    char text[2304];
+    snprintf(text, sizeof text, "albedo map of %s ignored: the mesh has no UVs", source);
+    add_warning(warning, n, text);
+    return SAM_OK;
+}
+
 sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, float sh[9][3], int *has_environment,
                                    char *warning, size_t n, sam_error *err)
 {
@@ -119,37 +151,11 @@ sam_status sam_runtime_scene_setup(sam_runtime *rt, const sam_scene *scene, floa
         if (has_environment)
             *has_environment = 1;
     }
-    /* The scene's albedo map, else the one the mesh file brings (an OBJ's
-     * map_Kd, a glTF's base colour), or its several. A scene set up again
-     * (sam_view reloading it) keeps none of the last one's. */
+    /* A scene set up again (sam_view reloading it) keeps none of the last
+     * one's maps or colours. */
     sam_runtime_set_albedo_map(rt, NULL, NULL);
     sam_runtime_set_vertex_colors(rt, NULL, 0, NULL);
-    sam_image map;
-    memset(&map, 0, sizeof map);
-    const char *source = scene->albedo_map;
-    if (source) {
-        if ((st = sam_image_read_picture(source, &map, SAM_PNG_SRGB, err)) != SAM_OK)
-            return st;
-    } else if (scene->mesh_path) {
-        char note[2304]; /* as sam_app_stage.c's */
-        int several = 0;
-        if ((st = set_albedo_maps(rt, scene->mesh_path, &several, warning, n, err)) != SAM_OK || several)
-            return st == SAM_OK && scene->vertex_colors ? set_vertex_colors(rt, scene->mesh_path, warning, n, err)
-                                                        : st;
-        if ((st = sam_mesh_load_albedo(scene->mesh_path, &map, note, sizeof note, err)) != SAM_OK)
-            return st;
-        if (note[0] && !map.pixels)
-            set_warning(warning, n, note);
-        source = scene->mesh_path;
-    }
-    if (map.pixels) {
-        st = sam_runtime_set_albedo_map(rt, &map, err);
-        if (st == SAM_ERR_UNSUPPORTED && warning && n)
-            snprintf(warning, n, "albedo map of %s ignored: the mesh has no UVs", source);
-        if (st == SAM_ERR_UNSUPPORTED)
-            st = SAM_OK;
-    }
-    sam_image_destroy(&map);
+    st = set_albedo(rt, scene, warning, n, err);
     if (st == SAM_OK && scene->vertex_colors && scene->mesh_path)
         st = set_vertex_colors(rt, scene->mesh_path, warning, n, err);
     return st;
