@@ -573,121 +573,6 @@ static float token_float(const char *tok, int len)
     return strtof(buf, NULL);
 }
 
-/* The colours of an OBJ's "v x y z r g b" lines (MeshLab's, ZBrush's and
- * many scanners'), gathered into expect->vertex_colors (freed with it)
- * while every vertex so far has one. */
-typedef struct obj_colors {
-    size_t cap; /* floats */
-    int ok;
-    float max;
-} obj_colors;
-
-/* Takes vertex `nv`'s colour from its line's tokens (`count` with the
- * "v"); 0 when out of memory. */
-static int obj_color(obj_colors *c, sam_mesh_expect *e, unsigned long long nv, const char *const *tok,
-                     const int *len, int count)
-{
-    if (!c->ok)
-        return 1;
-    int numbers = count == 7;
-    for (int i = 4; numbers && i < 7; ++i)
-        numbers = sam_mesh_token_number(tok[i], len[i]) > 0;
-    if (!numbers) {
-        c->ok = 0;
-        return 1;
-    }
-    if (3 * (nv + 1) > c->cap) {
-        const size_t cap = c->cap ? 2 * c->cap : 3 * 1024;
-        float *grown = realloc(e->vertex_colors, cap * sizeof *grown);
-        if (!grown)
-            return 0;
-        e->vertex_colors = grown, c->cap = cap;
-    }
-    for (int k = 0; k < 3; ++k) {
-        const float x = token_float(tok[4 + k], len[4 + k]);
-        e->vertex_colors[3 * nv + (unsigned)k] = x;
-        c->max = x > c->max ? x : c->max;
-    }
-    return 1;
-}
-
-/* Keeps the colours when every one of the `nv` vertices has one, scaled to
- * [0, 1] (values past 1.5 mean the file wrote bytes; a float a hair past
- * 1 is clamped); drops them otherwise. */
-static void obj_colors_finish(const obj_colors *c, unsigned long long nv, sam_mesh_expect *e)
-{
-    if (!c->ok || !nv) {
-        free(e->vertex_colors);
-        e->vertex_colors = NULL;
-        return;
-    }
-    const float scale = c->max > 1.5f ? 1.0f / 255.0f : 1.0f;
-    for (size_t i = 0; i < 3 * nv; ++i) {
-        const float x = e->vertex_colors[i] * scale;
-        e->vertex_colors[i] = x > 1.0f ? 1.0f : x > 0.0f ? x : 0.0f;
-    }
-}
-
-/* The materials an OBJ's faces use (sam_mesh_expect.material_names,
- * face_materials): the current usemtl's index, and room for the faces'. */
-typedef struct obj_materials {
-    uint32_t current;
-    size_t face_cap;
-} obj_materials;
-
-/* A usemtl line: its name as the MTL names it (the rest of the line, a
- * comment after a blank and trailing blanks left out) becomes the
- * current material; 0 when out of memory. */
-static int obj_use_material(obj_materials *m, sam_mesh_expect *e, const char *name, const char *eol)
-{
-    const char *end = eol;
-    for (const char *p = name + 1; p < eol; ++p)
-        if (*p == '#' && (p[-1] == ' ' || p[-1] == '\t')) {
-            end = p;
-            break;
-        }
-    while (end > name && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\r'))
-        --end;
-    const size_t len = (size_t)(end - name);
-    for (uint32_t i = 0; i < e->material_count; ++i)
-        if (strlen(e->material_names[i]) == len && !memcmp(e->material_names[i], name, len)) {
-            m->current = i;
-            return 1;
-        }
-    m->current = SAM_MESH_NO_MATERIAL;
-    if (e->material_count == SAM_MESH_MAX_MATERIALS)
-        return 1;
-    char **grown = realloc(e->material_names, (e->material_count + 1) * sizeof *grown);
-    if (!grown)
-        return 0;
-    e->material_names = grown;
-    if (!(grown[e->material_count] = malloc(len + 1)))
-        return 0;
-    memcpy(grown[e->material_count], name, len);
-    grown[e->material_count][len] = '\0';
-    m->current = e->material_count++;
-    return 1;
-}
-
-/* Face `face` (0-based among the kept ones) takes the current material;
- * nothing is kept until a usemtl line has come. 0 when out of memory. */
-static int obj_face_material(obj_materials *m, sam_mesh_expect *e, uint64_t face)
-{
-    if (!e->material_count)
-        return 1;
-    if (face >= m->face_cap) {
-        const size_t old = m->face_cap, cap = old ? 2 * old : 1024;
-        uint32_t *grown = realloc(e->face_materials, cap * sizeof *grown);
-        if (!grown)
-            return 0;
-        for (size_t f = old; f < cap; ++f)
-            grown[f] = SAM_MESH_NO_MATERIAL;
-        e->face_materials = grown, m->face_cap = cap;
-    }
-    e->face_materials[face] = m->current;
-    return 1;
-}
-
 static sam_status walk_obj(const char *path, const char *data, size_t size, sam_mesh_expect *expect, sam_error *err)
 {
     sam_status st = sam_mesh_check_text(path, "OBJ", data, size, err);
@@ -697,8 +582,8 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
     const char *line, *eol;
     unsigned long long nv = 0, nt = 0, nn = 0;
     sam_mesh_obj_gather g = {1, 0, 0, 0, 0, 0, 0};
-    obj_colors colors = {0, 1, 0.0f};
-    obj_materials materials = {SAM_MESH_NO_MATERIAL, 0};
+    sam_mesh_obj_colors colors = {0, 1, 0.0f};
+    sam_mesh_obj_materials materials = {SAM_MESH_NO_MATERIAL, 0};
     while (sam_mesh_text_next_line(&c, &line, &eol)) {
         const char *tok[16];
         int len[16];
@@ -723,8 +608,18 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
                     return sam_fail(err, SAM_ERR_FORMAT, "%s: OBJ line %d: \"%.*s\" %s", path, c.line_no,
                                     len[i] < 40 ? len[i] : 40, tok[i], kind < 0 ? SAM_MESH_NOT_A_FLOAT : "is not a valid number");
             }
-            if (counter == &nv && !obj_color(&colors, expect, nv, tok, len, count))
-                return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's vertex colours", path);
+            if (counter == &nv) {
+                /* "v x y z r g b" (MeshLab's, ZBrush's, many scanners'). */
+                int colored = count == 7;
+                for (int i = 4; colored && i < 7; ++i)
+                    colored = sam_mesh_token_number(tok[i], len[i]) > 0;
+                float rgb[3] = {0, 0, 0};
+                for (int k = 0; colored && k < 3; ++k)
+                    rgb[k] = token_float(tok[4 + k], len[4 + k]);
+                if (!sam_mesh_obj_gather_color(expect, &colors, nv, colored ? rgb : NULL))
+                    return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's vertex colours",
+                                    path);
+            }
             if (counter == &nn) {
                 const float v[3] = {token_float(tok[1], len[1]), token_float(tok[2], len[2]),
                                     token_float(tok[3], len[3])};
@@ -735,7 +630,7 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
             continue;
         }
         if (sam_mesh_token_is(tok[0], len[0], "usemtl") && count > 1 &&
-            !obj_use_material(&materials, expect, tok[1], eol))
+            !sam_mesh_obj_use_material(expect, &materials, tok[1], eol))
             return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's materials", path);
         if (!sam_mesh_token_is(tok[0], len[0], "f"))
             continue; /* groups, smoothing, lines: not geometry we read */
@@ -781,12 +676,12 @@ static sam_status walk_obj(const char *path, const char *data, size_t size, sam_
         if (distinct < 3 && expect->repeated_corner_faces++ == 0)
             expect->first_repeated_line = c.line_no;
         if (distinct >= 3 && (!sam_mesh_obj_gather_face(expect, &g, (uint32_t)corner) ||
-                              !obj_face_material(&materials, expect,
+                              !sam_mesh_obj_face_material(expect, &materials,
                                                  expect->file_faces - 1 - expect->repeated_corner_faces)))
             return sam_fail(err, SAM_ERR_OUT_OF_MEMORY, "%s: out of memory for the OBJ's corners", path);
     }
     sam_mesh_obj_gather_finish(expect, &g);
-    obj_colors_finish(&colors, nv, expect);
+    sam_mesh_obj_colors_finish(expect, &colors, nv);
     expect->known = 1;
     expect->vertices = nv;
     expect->faces = expect->file_faces - expect->repeated_corner_faces;

@@ -159,6 +159,33 @@ int sam_mesh_obj_gather_corner(sam_mesh_expect *e, sam_mesh_obj_gather *g, uint3
 int sam_mesh_obj_gather_face(sam_mesh_expect *e, sam_mesh_obj_gather *g, uint32_t corners);
 void sam_mesh_obj_gather_finish(sam_mesh_expect *e, sam_mesh_obj_gather *g);
 
+/* The pre-check's gathering of an OBJ's vertex colours and faces'
+ * materials into `expect` (sam_mesh_obj_attributes.c), in the order it
+ * reads the file:
+ *   sam_mesh_obj_colors c = {0, 1, 0};  sam_mesh_obj_materials m = {SAM_MESH_NO_MATERIAL, 0};
+ *   for each v line:       sam_mesh_obj_gather_color(e, &c, its 0-based index, its r g b, or NULL
+ *                          when it has none: then no vertex keeps one)
+ *   for each usemtl line:  sam_mesh_obj_use_material(e, &m, the name's first character, the line's end)
+ *                          (the name is the rest of the line, a comment after a blank and trailing
+ *                          blanks left out; SAM_MESH_MAX_MATERIALS names, later ones none)
+ *   for each kept face:    sam_mesh_obj_face_material(e, &m, its 0-based index among the kept)
+ *   at the end:            sam_mesh_obj_colors_finish(e, &c, the vertex count): the colours scaled
+ *                          to [0, 1] (bytes when a value passes 1.5), or dropped
+ * Each int function returns 0 when out of memory (then free `expect`). */
+typedef struct sam_mesh_obj_colors {
+    size_t cap; /* floats of expect->vertex_colors */
+    int ok;     /* every vertex so far has a colour */
+    float max;
+} sam_mesh_obj_colors;
+typedef struct sam_mesh_obj_materials {
+    uint32_t current; /* the last usemtl's index, or SAM_MESH_NO_MATERIAL */
+    size_t face_cap;  /* entries of expect->face_materials */
+} sam_mesh_obj_materials;
+int sam_mesh_obj_gather_color(sam_mesh_expect *e, sam_mesh_obj_colors *c, uint64_t v, const float *rgb);
+void sam_mesh_obj_colors_finish(sam_mesh_expect *e, const sam_mesh_obj_colors *c, uint64_t vertices);
+int sam_mesh_obj_use_material(sam_mesh_expect *e, sam_mesh_obj_materials *m, const char *name, const char *eol);
+int sam_mesh_obj_face_material(sam_mesh_expect *e, sam_mesh_obj_materials *m, uint64_t face);
+
 /* The file's normal at every corner of `soup` (read from the file that
  * filled `expect`), 3 * corner_count floats into *out (caller frees), the
  * normal of the first corner of the file's face at the same position.
