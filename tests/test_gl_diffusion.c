@@ -447,6 +447,49 @@ static double worst_relative(const sam_image *plain, const sam_image *other)
     return worst;
 }
 
+/* Sets (on) or clears the albedo source a test gives in `what`. */
+typedef void (*albedo_setter)(sam_runtime *rt, int on, const void *what);
+
+static void set_map(sam_runtime *rt, int on, const void *map)
+{
+    sam_error err;
+    assert_int_equal(sam_runtime_set_albedo_map(rt, on ? map : NULL, &err), SAM_OK);
+}
+
+typedef struct vertex_colors {
+    const float *rgb;
+    uint32_t count;
+} vertex_colors;
+
+static void set_colors(sam_runtime *rt, int on, const void *colors)
+{
+    const vertex_colors *c = colors;
+    sam_error err;
+    assert_int_equal(sam_runtime_set_vertex_colors(rt, on ? c->rgb : NULL, on ? c->count : 0, &err), SAM_OK);
+}
+
+/* In every diffusion mode, an albedo of `tone` that `set` gives (`what`,
+ * `name` in the output) renders as the view's uniform albedo `tone`. */
+static void assert_like_uniform(sam_runtime *rt, sam_render_view *view, const float tone[3], albedo_setter set,
+                                const void *what, const char *name)
+{
+    for (int mode = 0; mode <= 3; ++mode) {
+        sam_image plain, given;
+        view->diffusion = mode;
+        memcpy(view->albedo, tone, 3 * sizeof *tone);
+        set(rt, 0, what);
+        render(rt, view, &plain);
+        view->albedo[0] = view->albedo[1] = view->albedo[2] = 1.0f;
+        set(rt, 1, what);
+        render(rt, view, &given);
+        const double worst = worst_relative(&plain, &given);
+        printf("diffusion %d: %s vs uniform albedo, worst relative difference %.2e\n", mode, name, worst);
+        assert_true(worst < 1e-5);
+        sam_image_destroy(&plain);
+        sam_image_destroy(&given);
+    }
+}
+
 /* Under uniform light, an albedo of 0.25 on the plane's z > 0 half (the
  * image's bottom) and 0.9 on the other comes out at their ratio away from
  * the edge, without diffusion and in texture space; `ratio` is that of
@@ -485,21 +528,7 @@ static void test_albedo_map(void **state)
     assert_int_equal(sam_image_create(&map, 8, 8, 3, &err), SAM_OK);
     for (int i = 0; i < 64; ++i)
         memcpy(map.pixels + 3 * i, tone, sizeof tone);
-    for (int mode = 0; mode <= 3; ++mode) {
-        sam_image plain, mapped;
-        view.diffusion = mode;
-        memcpy(view.albedo, tone, sizeof tone);
-        assert_int_equal(sam_runtime_set_albedo_map(rt, NULL, &err), SAM_OK);
-        render(rt, &view, &plain);
-        view.albedo[0] = view.albedo[1] = view.albedo[2] = 1.0f;
-        assert_int_equal(sam_runtime_set_albedo_map(rt, &map, &err), SAM_OK);
-        render(rt, &view, &mapped);
-        const double worst = worst_relative(&plain, &mapped);
-        printf("diffusion %d: constant albedo map vs uniform albedo, worst relative difference %.2e\n", mode, worst);
-        assert_true(worst < 1e-5);
-        sam_image_destroy(&plain);
-        sam_image_destroy(&mapped);
-    }
+    assert_like_uniform(rt, &view, tone, set_map, &map, "constant albedo map");
     /* Top rows of the map (v = 1, the image's bottom) dark. */
     for (int y = 0; y < 4; ++y)
         for (int i = 0; i < 8 * 3; ++i)
@@ -603,22 +632,8 @@ static void test_vertex_colors(void **state)
         memcpy(rgb + 3 * v, tone, sizeof tone);
     assert_int_equal(sam_runtime_set_vertex_colors(rt, rgb, nv - 1, &err), SAM_ERR_INVALID_ARGUMENT);
     printf("%s\n", err.message);
-    for (int mode = 0; mode <= 3; ++mode) {
-        sam_image plain, colored;
-        view.diffusion = mode;
-        memcpy(view.albedo, tone, sizeof tone);
-        assert_int_equal(sam_runtime_set_vertex_colors(rt, NULL, 0, &err), SAM_OK);
-        render(rt, &view, &plain);
-        view.albedo[0] = view.albedo[1] = view.albedo[2] = 1.0f;
-        assert_int_equal(sam_runtime_set_vertex_colors(rt, rgb, nv, &err), SAM_OK);
-        render(rt, &view, &colored);
-        const double worst = worst_relative(&plain, &colored);
-        printf("diffusion %d: constant vertex colours vs uniform albedo, worst relative difference %.2e\n", mode,
-               worst);
-        assert_true(worst < 1e-5);
-        sam_image_destroy(&plain);
-        sam_image_destroy(&colored);
-    }
+    const vertex_colors colors = {rgb, nv};
+    assert_like_uniform(rt, &view, tone, set_colors, &colors, "constant vertex colours");
     sam_runtime_destroy(rt);
 
     /* The same plane as built from a mesh whose vertices came in reverse. */
