@@ -351,7 +351,7 @@ static sam_status maps_from_files(const char *path, const char *files, uint32_t 
                                   const uint32_t *face_material, uint32_t face_count, sam_albedo_maps *maps,
                                   char *note, size_t note_size, sam_error *err)
 {
-    uint32_t *material_map = malloc((count ? count : 1) * sizeof *material_map);
+    uint32_t *material_map = calloc(count ? count : 1, sizeof *material_map);
     maps->face_count = face_count;
     maps->face_map = malloc(((size_t)face_count + 1) * sizeof *maps->face_map);
     maps->maps = calloc(count ? count : 1, sizeof *maps->maps);
